@@ -1,0 +1,87 @@
+"""The Python entry points: statics, simulate, modes (see CONTRACT.md)."""
+from __future__ import annotations
+
+import logging
+import time as _time
+
+from . import __version__
+from .errors import CancelledError, SolverError
+from .model.compile import compile_scenario
+from .scenario import Scenario, load_scenario
+from .solvers.dynamics import Counters, Recorder, run_dynamics
+from .solvers.modal import ModalResults, modal_analysis
+from .solvers.statics import solve_statics
+from .solvers.system import System
+
+log = logging.getLogger("rfesim")
+
+
+def _scenario(scenario) -> Scenario:
+    return scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
+
+
+def _static_state(system: System, sc: Scenario, progress=None):
+    s = sc.analysis.statics
+    state, info = solve_statics(system, tolerance=s.tolerance, max_iterations=s.max_iterations,
+                                load_steps=s.load_steps, progress=progress)
+    return state, info
+
+
+def statics(scenario, *, progress=None):
+    """Static equilibrium of a scenario -> Results with one time point."""
+    sc = _scenario(scenario)
+    system = System(compile_scenario(sc))
+    wall0 = _time.perf_counter()
+    state, info = _static_state(system, sc, progress)
+    rec = Recorder(system, 1)
+    rec.record(state, state.qdd)
+    counters = {"newton_iterations": info.iterations, "load_steps": info.load_steps,
+                "wall_time": _time.perf_counter() - wall0}
+    return rec.results(status=0, message=info.message, counters=counters, scenario_json=sc.model_dump_json(),
+                       version=__version__, kind="statics")
+
+
+def simulate(scenario, *, progress=None):
+    """Statics (if enabled) then dynamics (if enabled and duration > 0) -> Results.
+
+    ``progress(fraction, time)`` is called as the run advances; if it raises, the run stops
+    with ``rfesim.CancelledError``. A diverging run raises ``rfesim.SolverError`` whose
+    ``results`` hold everything computed before.
+    """
+    sc = _scenario(scenario)
+    model = compile_scenario(sc)
+    system = System(model)
+    an = sc.analysis
+    meta = dict(scenario_json=sc.model_dump_json(), version=__version__)
+    counters = Counters()
+    state = model.initial
+    if an.statics.enabled:
+        state, info = _static_state(system, sc)
+        counters["statics_iterations"] = info.iterations
+    dyn = an.dynamics
+    if not (dyn.enabled and dyn.duration > 0):
+        rec = Recorder(system, 1)
+        rec.record(state, state.qdd)
+        return rec.results(status=0, message="statics only", counters=dict(counters), kind="statics", **meta)
+    try:
+        state, rec, counters = run_dynamics(system, state, dyn, progress=progress, counters=counters)
+    except SolverError as exc:
+        if exc.results is not None:
+            exc.results.scenario_json = meta["scenario_json"]
+            exc.results.version = __version__
+        raise
+    except CancelledError:
+        raise
+    return rec.results(status=0, message=f"finished: {counters.get('steps', 0)} steps", counters=dict(counters),
+                       **meta)
+
+
+def modes(scenario, n: int | None = None) -> ModalResults:
+    """Natural frequencies (Hz) and mode shapes about the static equilibrium."""
+    sc = _scenario(scenario)
+    system = System(compile_scenario(sc))
+    state = system.model.initial
+    if sc.analysis.statics.enabled:
+        state, _ = _static_state(system, sc)
+    nmodes = n or (sc.analysis.modal.modes if sc.analysis.modal else 10)
+    return modal_analysis(system, state, nmodes)

@@ -1,0 +1,567 @@
+"""MoorDyn reference runs of benchmark line H1, for work-precision comparisons.
+
+Benchmark line H1 is a steel pipe (outer diameter 0.3 m, wall 0.02 m, empty) lying
+partly on a flat seabed in 100 m of water: end A is pinned on the seabed at
+(0, 0, -100) m, end B is a prescribed fairlead at (250, 0, -10) m, and the unstretched
+length is 290 m. The fairlead heaves as ``z_B(t) = -10 + r(t) sin(2 pi t / 8)`` m with
+the cosine ramp ``r(t) = 0.5 (1 - cos(pi t / 8))`` for ``t < 8`` s and 1 afterwards;
+60 s are simulated. Two quantities are measured over the window 28-60 s:
+
+1. the first-harmonic amplitude of the fairlead tension (N), from a least-squares fit
+   of ``a0 + a cos(w t) + b sin(w t)`` at ``w = 2 pi / 8`` rad/s, amplitude
+   ``sqrt(a^2 + b^2)``;
+2. the largest sag-bend bending moment (N*m), the maximum over time and over the line
+   nodes of ``EI * curvature`` with MoorDyn's node curvature.
+
+This module runs the C++ MoorDyn v2 (PyPI package ``moordyn``) in-process on that line.
+
+How the H1 data are written for MoorDyn
+---------------------------------------
+MoorDyn describes a line by one "volume-equivalent" diameter ``d`` that sets both the
+buoyancy (``rho_water * pi/4 * d^2`` per metre) and the hydrodynamic and seabed areas.
+H1 is an empty pipe whose submerged weight is defined as
+``w = (rho_steel - rho_water) * g * A_steel`` (so the buoyant volume is the steel
+volume), while drag acts on the outer diameter. The input file therefore uses
+
+* ``Diam = sqrt(D_outer^2 - D_inner^2)`` (about 0.1497 m), so that MoorDyn's buoyant
+  area is the steel area, and ``Mass/m = rho_steel * A_steel`` (about 138.1 kg/m):
+  MoorDyn's submerged weight is then exactly ``w`` (about 1177.9 N/m);
+* the drag coefficients multiplied by ``D_outer / Diam`` (about 2.004), so that the
+  normal drag per metre is ``0.5 rho_water 1.2 D_outer |v|v`` and the axial drag per
+  metre is ``0.5 rho_water 0.008 pi D_outer |v|v`` (MoorDyn's own definitions);
+* the seabed stiffness and damping multiplied by the same ratio, so that the contact
+  acts on the outer diameter (see ``SEABED_STIFFNESS`` and ``SEABED_DAMPING``);
+* ``EA = E * A_steel``, ``EI = E * pi/64 * (D_outer^4 - D_inner^4)``, ``Ca = CaAx = 0``.
+
+Axial internal damping uses MoorDyn's negative-BA convention: ``BA = -0.8`` asks for
+0.8 of the critical damping of one segment's axial mode (MoorDyn then sets
+``BA = 0.8 * (L/N) * sqrt(EA * m)`` in N*s). Its effect on the tension amplitude is
+small (see the convergence study in ``__main__``).
+
+Coupling and time steps
+-----------------------
+MoorDyn is driven with a coupling step (one ``moordyn.Step`` call) of at most 1 ms; with
+larger coupling steps its tension amplitude comes out 20-30 % low. At each coupling step
+the fairlead is given its exact position at the start of the step and the constant
+velocity that reaches the exact position at the end of the step (MoorDyn moves a
+coupled point linearly within a step). MoorDyn's internal step ``dtM`` must satisfy the
+explicit (RK2) stability limit of the axial segment mode: see
+``default_internal_step``. The initial condition comes from MoorDyn's dynamic
+relaxation (``ICgenDynamic 1``); its default stationary solver leaves this stiff line's
+tension 36-42 % off.
+"""
+from __future__ import annotations
+
+import contextlib
+import ctypes
+import math
+import os
+import sys
+import tempfile
+import time as time_module
+
+import numpy as np
+
+# --------------------------------------------------------------------------------------
+# Benchmark line H1 (SI units throughout)
+# --------------------------------------------------------------------------------------
+OUTER_DIAMETER = 0.3  # m
+WALL_THICKNESS = 0.02  # m
+INNER_DIAMETER = OUTER_DIAMETER - 2.0 * WALL_THICKNESS  # m
+STEEL_AREA = math.pi / 4.0 * (OUTER_DIAMETER**2 - INNER_DIAMETER**2)  # m^2
+YOUNG_MODULUS = 2.1e11  # Pa
+STEEL_DENSITY = 7850.0  # kg/m^3
+WATER_DENSITY = 1025.0  # kg/m^3
+GRAVITY = 9.81  # m/s^2
+WATER_DEPTH = 100.0  # m (flat seabed at z = -100 m)
+AXIAL_STIFFNESS = YOUNG_MODULUS * STEEL_AREA  # EA, N
+BENDING_STIFFNESS = YOUNG_MODULUS * math.pi / 64.0 * (OUTER_DIAMETER**4 - INNER_DIAMETER**4)  # EI, N*m^2
+MASS_PER_LENGTH = STEEL_DENSITY * STEEL_AREA  # kg/m (empty pipe)
+SUBMERGED_WEIGHT_PER_LENGTH = (STEEL_DENSITY - WATER_DENSITY) * GRAVITY * STEEL_AREA  # N/m
+ANCHOR_POSITION = (0.0, 0.0, -100.0)  # m, end A, pinned on the seabed
+FAIRLEAD_POSITION = (250.0, 0.0, -10.0)  # m, end B, prescribed
+UNSTRETCHED_LENGTH = 290.0  # m
+NORMAL_DRAG_COEFFICIENT = 1.2  # -, on the outer diameter
+AXIAL_DRAG_COEFFICIENT = 0.008  # -, on the outer circumference pi * D_outer
+NORMAL_ADDED_MASS_COEFFICIENT = 0.0  # -
+AXIAL_ADDED_MASS_COEFFICIENT = 0.0  # -
+SEABED_STIFFNESS = 3.0e6  # Pa/m, contact pressure per metre of penetration, on D_outer
+SEABED_DAMPING = 3.0e5  # Pa*s/m, contact pressure per m/s of penetration rate, on D_outer
+AXIAL_DAMPING_RATIO = 0.8  # fraction of critical damping of a segment's axial mode
+
+# Fairlead motion and measurement window
+HEAVE_AMPLITUDE = 1.0  # m
+HEAVE_PERIOD = 8.0  # s
+RAMP_DURATION = 8.0  # s
+ANALYSIS_START = 28.0  # s
+HEAVE_ANGULAR_FREQUENCY = 2.0 * math.pi / HEAVE_PERIOD  # rad/s
+
+# MoorDyn's line diameter: volume-equivalent, so that the buoyant area is the steel area
+MOORDYN_DIAMETER = math.sqrt(OUTER_DIAMETER**2 - INNER_DIAMETER**2)  # m
+# Factor on drag coefficients and seabed constants so that they act on D_outer
+OUTER_TO_MOORDYN_DIAMETER = OUTER_DIAMETER / MOORDYN_DIAMETER  # -
+
+# Axial wave speed sqrt(EA / m) that sets the explicit stability limit
+AXIAL_WAVE_SPEED = math.sqrt(AXIAL_STIFFNESS / MASS_PER_LENGTH)  # m/s
+
+# Fraction of the axial wave transit time of one segment used as default dtM.
+# MoorDyn's RK2 integrator with BA = -0.8 was measured stable on this line up to about
+# 0.8 transit times for 50 to 200 segments (unstable at 0.9; noisy tension near the
+# limit with 200 segments); a larger damping ratio lowers the limit (BA = -1.6 failed
+# at 0.45). 0.5 keeps a margin of about 1.6.
+DEFAULT_TRANSIT_FRACTION = 0.5
+
+# Dynamic-relaxation initial condition (MoorDyn options dtIC, TmaxIC, CdScaleIC, threshIC)
+IC_CONVERGENCE_INTERVAL = 1.0  # s
+IC_MAXIMUM_TIME = 300.0  # s
+IC_DRAG_SCALE = 5.0  # -
+IC_THRESHOLD = 1.0e-5  # - (relative fairlead tension change)
+
+# Sampling interval of the node curvatures in the analysis window
+MOMENT_SAMPLE_INTERVAL = 0.01  # s
+
+
+def moordyn_available() -> bool:
+    """Return True when the ``moordyn`` Python package (MoorDyn v2) can be imported."""
+    try:
+        import moordyn  # noqa: F401
+    except Exception:
+        return False
+    return True
+
+
+def fairlead_heave(time: float) -> float:
+    """Prescribed fairlead height z_B (m) at ``time`` (s), ramped over the first 8 s."""
+    if time < RAMP_DURATION:
+        ramp = 0.5 * (1.0 - math.cos(math.pi * time / RAMP_DURATION))
+    else:
+        ramp = 1.0
+    return FAIRLEAD_POSITION[2] + ramp * HEAVE_AMPLITUDE * math.sin(HEAVE_ANGULAR_FREQUENCY * time)
+
+
+def segment_transit_time(segments: int) -> float:
+    """Time (s) an axial wave needs to cross one segment: ``(L / N) / sqrt(EA / m)``.
+
+    MoorDyn's "natural period" of a segment, used for its CFL factor, is
+    ``2 pi`` times this value.
+    """
+    return UNSTRETCHED_LENGTH / segments / AXIAL_WAVE_SPEED
+
+
+def default_internal_step(segments: int, coupling_step: float = 1e-3) -> float:
+    """Default MoorDyn internal step dtM (s) for ``segments`` segments.
+
+    ``DEFAULT_TRANSIT_FRACTION`` times the axial transit time of one segment
+    (0.5 * (290 m / N) / 5172 m/s = 0.02804 s / N), lowered so that a whole number of
+    internal steps fits in one coupling step (MoorDyn otherwise ends each coupling step
+    with one short internal step).
+    """
+    return _fit_to_coupling_step(DEFAULT_TRANSIT_FRACTION * segment_transit_time(segments), coupling_step)
+
+
+def _fit_to_coupling_step(dt_internal: float, coupling_step: float) -> float:
+    """Largest step <= ``dt_internal`` that divides ``coupling_step`` into equal parts."""
+    substeps = max(1, math.ceil(coupling_step / dt_internal - 1e-6))
+    return coupling_step / substeps
+
+
+def elastic_catenary_estimate() -> dict:
+    """Static estimate of H1 as an inextensible catenary on a rigid seabed (no EI).
+
+    Returns a dict with ``horizontal_tension`` (N), ``fairlead_tension`` (N),
+    ``suspended_length`` (m) and ``grounded_length`` (m). Bending stiffness is ignored,
+    and axial strain (below 1e-4 here) changes these numbers by less than 0.1 %.
+    The submerged weight per metre is ``SUBMERGED_WEIGHT_PER_LENGTH``.
+    """
+    span = FAIRLEAD_POSITION[0] - ANCHOR_POSITION[0]
+    height = FAIRLEAD_POSITION[2] - ANCHOR_POSITION[2]
+
+    def span_mismatch(catenary_parameter: float) -> float:
+        suspended = math.sqrt(height**2 + 2.0 * height * catenary_parameter)
+        return (UNSTRETCHED_LENGTH - suspended) + catenary_parameter * math.asinh(
+            suspended / catenary_parameter) - span
+
+    low, high = 1e-3, 1e5  # bisection on the catenary parameter H / w (m)
+    for _ in range(200):
+        middle = 0.5 * (low + high)
+        if span_mismatch(middle) > 0.0:
+            high = middle
+        else:
+            low = middle
+    catenary_parameter = 0.5 * (low + high)
+    suspended = math.sqrt(height**2 + 2.0 * height * catenary_parameter)
+    horizontal = catenary_parameter * SUBMERGED_WEIGHT_PER_LENGTH
+    return {
+        "horizontal_tension": horizontal,
+        "fairlead_tension": horizontal + SUBMERGED_WEIGHT_PER_LENGTH * height,
+        "suspended_length": suspended,
+        "grounded_length": UNSTRETCHED_LENGTH - suspended,
+    }
+
+
+def first_harmonic_amplitude(time: np.ndarray, signal: np.ndarray,
+                             angular_frequency: float = HEAVE_ANGULAR_FREQUENCY,
+                             start: float = ANALYSIS_START) -> float:
+    """Amplitude of ``signal`` at ``angular_frequency`` (rad/s) over ``time >= start`` (s).
+
+    Least-squares fit of ``a0 + a cos(w t) + b sin(w t)``; returns ``sqrt(a^2 + b^2)`` in
+    the units of ``signal``.
+    """
+    time = np.asarray(time, dtype=float)
+    signal = np.asarray(signal, dtype=float)
+    window = time >= start - 1e-9
+    phase = angular_frequency * time[window]
+    basis = np.column_stack([np.ones_like(phase), np.cos(phase), np.sin(phase)])
+    coefficients = np.linalg.lstsq(basis, signal[window], rcond=None)[0]
+    return float(math.hypot(coefficients[1], coefficients[2]))
+
+
+def moordyn_input_text(segments: int, dt_internal: float,
+                       axial_damping_ratio: float = AXIAL_DAMPING_RATIO) -> str:
+    """Text of a MoorDyn v2 input file for H1 with ``segments`` segments and step dtM (s).
+
+    Point 1 is the anchor ("Fixed"), point 2 the fairlead ("Coupled"); the line runs
+    from point 1 (end A) to point 2 (end B). ``axial_damping_ratio`` is written as a
+    negative BA (fraction of critical damping of a segment's axial mode).
+    """
+    scale = OUTER_TO_MOORDYN_DIAMETER
+    ax, ay, az = ANCHOR_POSITION
+    fx, fy, fz = FAIRLEAD_POSITION
+    return f"""--------------------- MoorDyn Input File ------------------------------------
+Benchmark line H1 (rfesim.bench.moordyn_h1): steel pipe OD 0.3 m, wall 0.02 m, empty.
+Diam is volume-equivalent (buoyant area = steel area); Cd, CdAx, kBot and cBot are
+scaled by D_outer/Diam = {scale:.6f} so that drag and seabed contact act on D_outer.
+---------------------- LINE TYPES ----------------------------------------------------
+TypeName  Diam  Mass/m  EA  BA/-zeta  EI  Cd  Ca  CdAx  CaAx
+(name)  (m)  (kg/m)  (N)  (N-s/-)  (N-m^2)  (-)  (-)  (-)  (-)
+pipe  {MOORDYN_DIAMETER:.12g}  {MASS_PER_LENGTH:.12g}  {AXIAL_STIFFNESS:.12g}  {-axial_damping_ratio:.6g}  {BENDING_STIFFNESS:.12g}  {NORMAL_DRAG_COEFFICIENT * scale:.12g}  {NORMAL_ADDED_MASS_COEFFICIENT:g}  {AXIAL_DRAG_COEFFICIENT * scale:.12g}  {AXIAL_ADDED_MASS_COEFFICIENT:g}
+---------------------- POINTS --------------------------------------------------------
+ID  Attachment  X  Y  Z  Mass  Volume  CdA  Ca
+(#)  (word/ID)  (m)  (m)  (m)  (kg)  (m^3)  (m^2)  (-)
+1  Fixed  {ax:.12g}  {ay:.12g}  {az:.12g}  0  0  0  0
+2  Coupled  {fx:.12g}  {fy:.12g}  {fz:.12g}  0  0  0  0
+---------------------- LINES ---------------------------------------------------------
+ID  LineType  AttachA  AttachB  UnstrLen  NumSegs  LineOutputs
+(#)  (name)  (ID)  (ID)  (m)  (-)  (-)
+1  pipe  1  2  {UNSTRETCHED_LENGTH:.12g}  {int(segments)}  -
+---------------------- OPTIONS -------------------------------------------------------
+0  writeLog  no log file
+{dt_internal:.12g}  dtM  internal time step (s)
+{GRAVITY:.12g}  g  gravity (m/s^2)
+{WATER_DENSITY:.12g}  rho  water density (kg/m^3)
+{WATER_DEPTH:.12g}  WtrDpth  water depth (m)
+{SEABED_STIFFNESS * scale:.12g}  kBot  seabed stiffness on Diam (Pa/m)
+{SEABED_DAMPING * scale:.12g}  cBot  seabed damping on Diam (Pa-s/m)
+1  ICgenDynamic  dynamic-relaxation initial condition
+{IC_CONVERGENCE_INTERVAL:.12g}  dtIC  convergence check interval (s)
+{IC_MAXIMUM_TIME:.12g}  TmaxIC  longest relaxation (s)
+{IC_DRAG_SCALE:.12g}  CdScaleIC  drag factor during relaxation (-)
+{IC_THRESHOLD:.12g}  threshIC  relative tension change to stop (-)
+1  disableOutput  no output files beyond headers
+1  disableOutTime  no time printing
+------------------------- need this line ---------------------------------------------
+"""
+
+
+@contextlib.contextmanager
+def _quiet_standard_output(enabled: bool = True):
+    """Send file descriptor 1 (MoorDyn's C++ console messages) to /dev/null."""
+    if not enabled:
+        yield
+        return
+    sys.stdout.flush()
+    saved_descriptor = os.dup(1)
+    null_descriptor = os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(null_descriptor, 1)
+        yield
+    finally:
+        with contextlib.suppress(Exception):
+            ctypes.CDLL(None).fflush(None)
+        os.dup2(saved_descriptor, 1)
+        os.close(saved_descriptor)
+        os.close(null_descriptor)
+
+
+def run_moordyn_h1(segments: int, dt_internal: float | None = None, coupling_step: float = 1e-3,
+                   duration: float = 60.0, workdir: str | None = None,
+                   axial_damping_ratio: float = AXIAL_DAMPING_RATIO,
+                   quiet: bool = True) -> dict:
+    """Run MoorDyn on line H1 and measure the fairlead tension amplitude and sag-bend moment.
+
+    Parameters
+    ----------
+    segments:
+        Number of line segments N (the line has N + 1 nodes).
+    dt_internal:
+        MoorDyn's internal step dtM (s); ``None`` picks ``default_internal_step``. It is
+        lowered, if needed, so that it divides ``coupling_step`` into equal parts.
+    coupling_step:
+        Interval (s) between ``moordyn.Step`` calls, i.e. between fairlead updates.
+        Must not exceed 1 ms (larger coupling steps bias the tension amplitude low).
+    duration:
+        Simulated time (s) after the initial condition; the analysis window is
+        ``ANALYSIS_START`` (28 s) to ``duration``.
+    workdir:
+        Directory for MoorDyn's input and output files (kept); ``None`` uses a temporary
+        directory that is removed afterwards.
+    axial_damping_ratio:
+        Axial internal damping as a fraction of a segment's critical damping (written as
+        a negative BA).
+    quiet:
+        Silence MoorDyn's console messages.
+
+    Returns
+    -------
+    dict with
+        ``tension_amplitude`` (N): first-harmonic amplitude over 28 s .. ``duration`` of
+        the fairlead tension, the magnitude of the force the line applies to the coupled
+        fairlead point (what ``moordyn.Step`` returns);
+        ``max_sagbend_moment`` (N*m): largest ``EI * curvature`` over the line nodes and
+        over the analysis window (curvatures sampled every ``MOMENT_SAMPLE_INTERVAL``);
+        ``wall_time`` (s): wall-clock time of the dynamic run only (the coupling loop,
+        without input writing and initial-condition generation);
+        ``ic_wall_time`` (s): wall-clock time of ``moordyn.Init`` (dynamic relaxation);
+        ``segments``; ``dt_internal`` (s, the dtM used); ``coupling_step`` (s);
+        ``time`` (s) and ``fairlead_tension`` (N): arrays at every coupling step from 0;
+        ``line_fairlead_tension_amplitude`` (N): the same fit on
+        ``moordyn.GetLineFairTen`` (tension of the top segment, without the top node's
+        half-segment weight and drag);
+        ``max_sagbend_moment_time`` (s) and ``max_sagbend_moment_node_position`` (m, xyz):
+        where and when the largest moment occurred;
+        ``static_fairlead_force`` (N, xyz), ``static_fairlead_tension`` (N),
+        ``static_grounded_length`` (m, unstretched length of segments whose both nodes
+        touch the seabed, within 1 cm) and ``static_max_moment`` (N*m): the
+        configuration after the initial condition.
+    """
+    import moordyn
+
+    segments = int(segments)
+    if segments < 2:
+        raise ValueError(f"segments must be at least 2, got {segments}")
+    if not 0.0 < coupling_step <= 1e-3 * (1.0 + 1e-9):
+        raise ValueError(f"coupling_step must be in (0, 1e-3] s, got {coupling_step}")
+    if duration <= ANALYSIS_START + HEAVE_PERIOD:
+        raise ValueError(f"duration must exceed {ANALYSIS_START + HEAVE_PERIOD} s, got {duration}")
+    if dt_internal is None:
+        dt_internal = default_internal_step(segments, coupling_step)
+    else:
+        dt_internal = _fit_to_coupling_step(float(dt_internal), coupling_step)
+
+    with contextlib.ExitStack() as stack:
+        if workdir is None:
+            directory = stack.enter_context(tempfile.TemporaryDirectory(prefix="moordyn_h1_"))
+        else:
+            directory = os.path.abspath(workdir)
+            os.makedirs(directory, exist_ok=True)
+        input_path = os.path.join(directory, f"h1_n{segments}.dat")
+        # MoorDyn subtracts dtM from the coupling step until nothing is left; written as
+        # coupling_step / k exactly, rounding often leaves a ~1e-19 s remainder and thus
+        # a (k+1)-th internal step. A dtM larger by 1e-9 (relative) gives exactly k steps.
+        with open(input_path, "w") as handle:
+            handle.write(moordyn_input_text(segments, dt_internal * (1.0 + 1e-9), axial_damping_ratio))
+
+        with _quiet_standard_output(quiet):
+            system = moordyn.Create(input_path)
+        if system is None:
+            raise RuntimeError(f"MoorDyn could not load {input_path}")
+        try:
+            return _simulate(moordyn, system, segments, dt_internal, coupling_step, duration, quiet)
+        finally:
+            with _quiet_standard_output(quiet):
+                moordyn.Close(system)
+
+
+def _simulate(moordyn, system, segments: int, dt_internal: float, coupling_step: float,
+              duration: float, quiet: bool) -> dict:
+    """Initial condition and coupled time loop of ``run_moordyn_h1``."""
+    fairlead_x, fairlead_y, fairlead_z = FAIRLEAD_POSITION
+    start_clock = time_module.perf_counter()
+    with _quiet_standard_output(quiet):
+        error_code = moordyn.Init(system, [fairlead_x, fairlead_y, fairlead_z], [0.0, 0.0, 0.0])
+    ic_wall_time = time_module.perf_counter() - start_clock
+    if error_code != 0:
+        raise RuntimeError(f"moordyn.Init failed with error code {error_code}")
+
+    line = moordyn.GetLine(system, 1)
+    fairlead_point = moordyn.GetPoint(system, 2)
+    node_count = segments + 1
+
+    static_force = np.array(moordyn.GetPointForce(fairlead_point), dtype=float)
+    static_positions = np.array([moordyn.GetLineNodePos(line, node) for node in range(node_count)])
+    static_curvatures = np.array([moordyn.GetLineNodeCurv(line, node) for node in range(node_count)])
+    touching = static_positions[:, 2] <= -WATER_DEPTH + 0.01
+    static_grounded_length = float(np.sum(touching[:-1] & touching[1:])) * UNSTRETCHED_LENGTH / segments
+
+    step_count = int(round(duration / coupling_step))
+    times = np.arange(step_count + 1) * coupling_step
+    fairlead_tension = np.empty(step_count + 1)
+    line_fairlead_tension = np.empty(step_count + 1)
+    fairlead_tension[0] = float(np.linalg.norm(static_force))
+    line_fairlead_tension[0] = moordyn.GetLineFairTen(line)
+
+    sample_every = max(1, int(round(MOMENT_SAMPLE_INTERVAL / coupling_step)))
+    largest_curvature = -1.0
+    largest_curvature_time = float("nan")
+    largest_curvature_node = -1
+    nodes = range(node_count)
+    get_curvature = moordyn.GetLineNodeCurv
+    step = moordyn.Step
+    get_line_tension = moordyn.GetLineFairTen
+
+    height_now = fairlead_heave(0.0)
+    start_clock = time_module.perf_counter()
+    for index in range(step_count):
+        time_now = times[index]
+        height_next = fairlead_heave(times[index + 1])
+        # exact position at the start of the step, secant velocity to the exact end position
+        force = step(system, [fairlead_x, fairlead_y, height_now],
+                     [0.0, 0.0, (height_next - height_now) / coupling_step], time_now, coupling_step)
+        height_now = height_next
+        fairlead_tension[index + 1] = math.sqrt(force[0] ** 2 + force[1] ** 2 + force[2] ** 2)
+        line_fairlead_tension[index + 1] = get_line_tension(line)
+        if (index + 1) % sample_every == 0 and times[index + 1] >= ANALYSIS_START - 1e-9:
+            curvatures = [get_curvature(line, node) for node in nodes]
+            node = int(np.argmax(curvatures))
+            if curvatures[node] > largest_curvature:
+                largest_curvature = curvatures[node]
+                largest_curvature_time = float(times[index + 1])
+                largest_curvature_node = node
+                largest_curvature_position = moordyn.GetLineNodePos(line, node)
+    wall_time = time_module.perf_counter() - start_clock
+
+    if not np.all(np.isfinite(fairlead_tension)):
+        raise RuntimeError(f"MoorDyn diverged (segments={segments}, dtM={dt_internal:g} s)")
+
+    return {
+        "tension_amplitude": first_harmonic_amplitude(times, fairlead_tension),
+        "max_sagbend_moment": BENDING_STIFFNESS * largest_curvature,
+        "wall_time": wall_time,
+        "ic_wall_time": ic_wall_time,
+        "segments": segments,
+        "dt_internal": dt_internal,
+        "coupling_step": coupling_step,
+        "time": times,
+        "fairlead_tension": fairlead_tension,
+        "line_fairlead_tension_amplitude": first_harmonic_amplitude(times, line_fairlead_tension),
+        "max_sagbend_moment_time": largest_curvature_time,
+        "max_sagbend_moment_node": largest_curvature_node,
+        "max_sagbend_moment_node_position": tuple(float(value) for value in largest_curvature_position),
+        "static_fairlead_force": tuple(float(value) for value in static_force),
+        "static_fairlead_tension": float(np.linalg.norm(static_force)),
+        "static_grounded_length": static_grounded_length,
+        "static_max_moment": BENDING_STIFFNESS * float(static_curvatures.max()),
+    }
+
+
+def convergence_study(segment_counts=(25, 50, 100, 200, 400), step_factors=(1.0, 0.5),
+                      time_budget: float = 600.0, damping_check_segments: int | None = 100,
+                      report=print) -> list[dict]:
+    """Run ``run_moordyn_h1`` over segment counts and internal steps and print a table.
+
+    ``step_factors`` multiply ``default_internal_step(N)``. Segment counts above 200 are
+    run only while the predicted wall time of all their runs (scaled from the previous
+    segment count: twice the nodes, and the step ratio) stays below ``time_budget`` (s);
+    when it does not, only the default step is tried under the same rule. When
+    ``damping_check_segments`` is set, that segment count is also run with axial damping
+    ratios 0.4 and 1.6 at the smaller step factor (BA = -1.6 needs the smaller step).
+    Returns the list of result dicts (without the time series).
+    """
+    results: list[dict] = []
+    header = (f"{'N':>5} {'dtM (s)':>10} {'dtM/transit':>11} {'zeta':>5} {'T amp (N)':>11} "
+              f"{'M max (kN*m)':>12} {'wall (s)':>9} {'x real':>7} {'IC (s)':>7} {'T static (N)':>12}")
+    report(header)
+    report("-" * len(header))
+
+    def run_and_report(segments: int, dt_internal: float, damping_ratio: float) -> dict:
+        result = run_moordyn_h1(segments, dt_internal, axial_damping_ratio=damping_ratio)
+        summary = {key: value for key, value in result.items() if key not in ("time", "fairlead_tension")}
+        summary["axial_damping_ratio"] = damping_ratio
+        summary["real_time_factor"] = (result["time"][-1]) / result["wall_time"]
+        results.append(summary)
+        report(f"{segments:>5} {result['dt_internal']:>10.4g} "
+               f"{result['dt_internal'] / segment_transit_time(segments):>11.3f} {damping_ratio:>5.2f} "
+               f"{result['tension_amplitude']:>11.1f} {result['max_sagbend_moment'] / 1e3:>12.2f} "
+               f"{result['wall_time']:>9.1f} {summary['real_time_factor']:>7.2f} "
+               f"{result['ic_wall_time']:>7.1f} {result['static_fairlead_tension']:>12.0f}")
+        return summary
+
+    previous_cost = None  # (segments, dtM, wall time + IC time) of the last default-step run
+    for segments in segment_counts:
+        steps = [default_internal_step(segments) * factor for factor in step_factors]
+        steps = [_fit_to_coupling_step(step, 1e-3) for step in steps]
+        if previous_cost is not None and segments > 200:
+            previous_segments, previous_step, previous_seconds = previous_cost
+
+            def predicted(step: float) -> float:
+                return previous_seconds * (segments / previous_segments) * (previous_step / step)
+
+            if sum(predicted(step) for step in steps) > time_budget:
+                steps = steps[:1]
+                if predicted(steps[0]) > time_budget:
+                    report(f"{segments:>5}  skipped: predicted {predicted(steps[0]):.0f} s > budget {time_budget:.0f} s")
+                    continue
+        for index, step in enumerate(steps):
+            summary = run_and_report(segments, step, AXIAL_DAMPING_RATIO)
+            if index == 0:
+                previous_cost = (segments, step, summary["wall_time"] + summary["ic_wall_time"])
+
+    if damping_check_segments:
+        step = _fit_to_coupling_step(default_internal_step(damping_check_segments) * min(step_factors), 1e-3)
+        for damping_ratio in (0.4, 1.6):
+            run_and_report(damping_check_segments, step, damping_ratio)
+
+    _report_estimates(results, report)
+    return results
+
+
+def _report_estimates(results: list[dict], report=print) -> None:
+    """Print zero-step extrapolations per segment count and the damping sensitivity."""
+    report("")
+    report("Zero-step extrapolation per N (first order in dtM, from dtM and dtM/2; zeta = 0.8):")
+    by_segments: dict[int, list[dict]] = {}
+    for result in results:
+        if result["axial_damping_ratio"] == AXIAL_DAMPING_RATIO:
+            by_segments.setdefault(result["segments"], []).append(result)
+    for segments, runs in sorted(by_segments.items()):
+        runs = sorted(runs, key=lambda run: -run["dt_internal"])
+        if len(runs) >= 2 and math.isclose(runs[-1]["dt_internal"] * 2.0, runs[-2]["dt_internal"], rel_tol=0.2):
+            coarse, fine = runs[-2], runs[-1]
+            ratio = coarse["dt_internal"] / fine["dt_internal"]
+            tension = fine["tension_amplitude"] + (fine["tension_amplitude"] - coarse["tension_amplitude"]) / (ratio - 1.0)
+            moment = fine["max_sagbend_moment"] + (fine["max_sagbend_moment"] - coarse["max_sagbend_moment"]) / (ratio - 1.0)
+            report(f"  N = {segments:>4}: tension amplitude {tension:9.1f} N, max sag-bend moment {moment / 1e3:8.2f} kN*m")
+        else:
+            report(f"  N = {segments:>4}: single step only (tension amplitude {runs[0]['tension_amplitude']:.1f} N "
+                   f"at dtM = {runs[0]['dt_internal']:.4g} s)")
+    damping_checks = [result for result in results if result["axial_damping_ratio"] != AXIAL_DAMPING_RATIO]
+    damping_runs = sorted((result for result in results if damping_checks
+                           and result["segments"] == damping_checks[0]["segments"]
+                           and math.isclose(result["dt_internal"], damping_checks[0]["dt_internal"])),
+                          key=lambda run: run["axial_damping_ratio"])
+    if len(damping_runs) >= 2:
+        report("Axial damping sensitivity (same N and dtM):")
+        for run in damping_runs:
+            report(f"  zeta = {run['axial_damping_ratio']:.2f}: tension amplitude {run['tension_amplitude']:9.1f} N, "
+                   f"max sag-bend moment {run['max_sagbend_moment'] / 1e3:8.2f} kN*m")
+
+
+if __name__ == "__main__":
+    import argparse
+
+    parser = argparse.ArgumentParser(description="MoorDyn convergence study on benchmark line H1.")
+    parser.add_argument("--segments", type=int, nargs="+", default=[25, 50, 100, 200, 400])
+    parser.add_argument("--step-factors", type=float, nargs="+", default=[1.0, 0.5],
+                        help="multiples of the default dtM (0.5 segment transit time)")
+    parser.add_argument("--time-budget", type=float, default=600.0,
+                        help="largest predicted wall time (s) for the runs of one N above 200")
+    parser.add_argument("--damping-check-segments", type=int, default=100,
+                        help="N for the axial-damping sensitivity runs (0 to skip)")
+    arguments = parser.parse_args()
+    if not moordyn_available():
+        raise SystemExit("the moordyn package is not installed (pip install moordyn)")
+    estimate = elastic_catenary_estimate()
+    print(f"Elastic-catenary estimate (no EI): fairlead tension {estimate['fairlead_tension']:.0f} N, "
+          f"horizontal {estimate['horizontal_tension']:.0f} N, on the seabed {estimate['grounded_length']:.1f} m")
+    convergence_study(arguments.segments, arguments.step_factors, arguments.time_budget,
+                      arguments.damping_check_segments or None)

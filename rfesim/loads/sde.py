@@ -1,0 +1,136 @@
+"""Spring-damping elements (SDEs) of the large-deflection formulation, section 8.4.
+
+SDE ``s`` joins RFE ``a`` (its left neighbour, RFE i-1 in the chapter) and RFE ``b``
+(RFE i). Following eqs. 8.76-8.85 its deformation is measured in the frame {i'} that
+follows the mean orientation of the two RFEs:
+
+* ``g = r_R - r_L``: gap between the left end of RFE b (eq. 8.79) and the right end of
+  RFE a (eq. 8.78), in the global frame;
+* ``theta = log(R_a^T R_b)``: the relative rotation vector, the singularity-free form of
+  the Euler-angle difference of eq. 8.75 (identical to first order);
+* ``R' = R_a exp(theta/2)``: the mean orientation (geodesic midpoint, eq. 8.77);
+* deformation ``eps = [R'^T g, theta]`` (eq. 8.85).
+
+The SDE forces in {i'} are ``F' = C_r eps_r + D_r d(eps_r)/dt`` and
+``M' = C_phi theta + D_phi d(theta)/dt`` (eqs. 8.86-8.87, Kelvin-Voigt damping). They are
+applied to the RFEs with the exact transpose of the deformation rate map,
+``generalised force = -B^T sigma``, so the elastic forces are the gradient of
+``V = 1/2 eps^T C eps`` and conserve momentum and energy to round-off (eqs. 8.90-8.91
+and 8.96 are the leading-order terms of this; docs/theory.md).
+"""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from ..kinematics import (cross_into, exp_so3_into, log_so3_into, matmul_into, matTmul_into, matTvec_into,
+                          matvec_into, right_jacobian_into, right_jacobian_inverse_into)
+
+
+@njit(cache=True)
+def sde_forces(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiffness, sde_damping,
+               R, rbase, roff, v, w, F, M, eps_out, sigma_out, point_out):
+    """Add the SDE forces and moments (global, about each RFE's centre) to F and M.
+
+    Inputs per SDE: neighbour indices, body-frame arms from the RFE centres to the SDE
+    ends (8.76/8.79), stiffness and damping (nsde, 6) in the order
+    [axial x, shear y, shear z, torsion x, bending y, bending z].
+    Outputs per SDE: eps (deformation), sigma (forces F' and moments M' in {i'}), and the
+    SDE point (midpoint of the gap).
+    """
+    pa = np.empty(3)
+    pb = np.empty(3)
+    g = np.empty(3)
+    gdot = np.empty(3)
+    Rrel = np.empty((3, 3))
+    Rh = np.empty((3, 3))
+    Rp = np.empty((3, 3))
+    th = np.empty(3)
+    half = np.empty(3)
+    Jri = np.empty((3, 3))
+    Jrh = np.empty((3, 3))
+    tmp = np.empty(3)
+    tmp2 = np.empty(3)
+    dw = np.empty(3)
+    thdot = np.empty(3)
+    wp = np.empty(3)
+    dlt = np.empty(3)
+    dltdot = np.empty(3)
+    Fp = np.empty(3)
+    Mp = np.empty(3)
+    Fg = np.empty(3)
+    h = np.empty(3)
+    mg = np.empty(3)
+    wth = np.empty(3)
+    for s in range(sde_left.shape[0]):
+        a = sde_left[s]
+        b = sde_right[s]
+        Ra = R[a]
+        Rb = R[b]
+        matvec_into(Ra, sde_arm_left[s], pa)
+        matvec_into(Rb, sde_arm_right[s], pb)
+        for k in range(3):
+            # eq. 8.78-8.79: r_R - r_L, differencing reference positions and displacements apart
+            g[k] = (rbase[b, k] - rbase[a, k]) + (roff[b, k] - roff[a, k]) + (pb[k] - pa[k])
+        matTmul_into(Ra, Rb, Rrel)
+        log_so3_into(Rrel, th)                                      # eq. 8.75 (rotation-vector form)
+        for k in range(3):
+            half[k] = 0.5 * th[k]
+        exp_so3_into(half[0], half[1], half[2], Rh)
+        matmul_into(Ra, Rh, Rp)                                     # eq. 8.77: mean orientation {i'}
+        matTvec_into(Rp, g, dlt)                                    # eq. 8.85: R'^T (r_R - r_L)
+        # rates
+        cross_into(w[b], pb, tmp)
+        cross_into(w[a], pa, tmp2)
+        for k in range(3):
+            gdot[k] = v[b, k] + tmp[k] - v[a, k] - tmp2[k]
+            dw[k] = w[b, k] - w[a, k]
+        right_jacobian_inverse_into(th, Jri)
+        right_jacobian_into(half, Jrh)
+        matTvec_into(Rb, dw, tmp)
+        matvec_into(Jri, tmp, thdot)                                # d(theta)/dt
+        matvec_into(Jrh, thdot, tmp)
+        matvec_into(Rp, tmp, tmp2)
+        for k in range(3):
+            wp[k] = w[a, k] + 0.5 * tmp2[k]                         # angular velocity of {i'}
+        cross_into(g, wp, tmp)
+        for k in range(3):
+            tmp[k] += gdot[k]
+        matTvec_into(Rp, tmp, dltdot)                               # d(R'^T g)/dt
+        # eqs. 8.86-8.87 with Kelvin-Voigt damping
+        st = sde_stiffness[s]
+        sd = sde_damping[s]
+        for k in range(3):
+            Fp[k] = st[k] * dlt[k] + sd[k] * dltdot[k]
+            Mp[k] = st[3 + k] * th[k] + sd[3 + k] * thdot[k]
+            eps_out[s, k] = dlt[k]
+            eps_out[s, 3 + k] = th[k]
+            sigma_out[s, k] = Fp[k]
+            sigma_out[s, 3 + k] = Mp[k]
+            point_out[s, k] = rbase[a, k] + roff[a, k] + pa[k] + 0.5 * g[k]
+        matvec_into(Rp, Fp, Fg)                                     # eq. 8.90.1
+        cross_into(Fg, g, h)                                        # consistency moment (tiny: g is the gap)
+        matTvec_into(Jri, Mp, tmp)
+        matvec_into(Rb, tmp, mg)                                    # eq. 8.90.2 with the exact J_r^-T
+        # W^T h = Rb Jri^T Jrh^T Rp^T h
+        matTvec_into(Rp, h, tmp)
+        matTvec_into(Jrh, tmp, tmp2)
+        matTvec_into(Jri, tmp2, tmp)
+        matvec_into(Rb, tmp, wth)
+        cross_into(pb, Fg, tmp)
+        cross_into(pa, Fg, tmp2)
+        for k in range(3):
+            F[b, k] -= Fg[k]
+            F[a, k] += Fg[k]
+            M[b, k] += -tmp[k] - mg[k] - 0.5 * wth[k]
+            M[a, k] += tmp2[k] + mg[k] - h[k] + 0.5 * wth[k]
+
+
+@njit(cache=True)
+def sde_elastic_energy(sde_stiffness, eps):
+    """V = 1/2 sum eps^T C eps over all SDEs (J)."""
+    e = 0.0
+    for s in range(eps.shape[0]):
+        for k in range(6):
+            e += 0.5 * sde_stiffness[s, k] * eps[s, k] * eps[s, k]
+    return e

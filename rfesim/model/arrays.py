@@ -1,0 +1,130 @@
+"""Frozen model arrays, mutable workspace and attachment kinematics passed to the kernels.
+
+Shapes and units are written where each field is declared. ``n`` is the number of RFEs
+of the whole scene (all lines back to back), ``nsde`` the number of SDEs, ``nload`` the
+number of point loads, ``natt`` the number of attachments (0 is the fixed global frame,
+then one per vessel).
+"""
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+KIND_FREE = 0      # 6 coordinates: position of the centre and ZYX angles from R0
+KIND_PINNED = 1    # 3 coordinates: ZYX angles; the end point follows its attachment
+KIND_CLAMPED = 2   # no coordinates: the pose follows its attachment
+
+
+class KernelModel(NamedTuple):
+    # --- RFEs (secondary division, Fig. 8.2b)
+    rfe_mass: np.ndarray            # (n,) kg
+    rfe_inertia: np.ndarray         # (n, 3) kg*m^2, principal inertia about the centre, body axes x (along), y, z
+    rfe_length: np.ndarray          # (n,) m
+    rfe_kind: np.ndarray            # (n,) int64, KIND_FREE | KIND_PINNED | KIND_CLAMPED
+    rfe_attach: np.ndarray          # (n,) int64, attachment index for pinned/clamped RFEs, -1 otherwise
+    rfe_attach_offset: np.ndarray   # (n, 3) m, the attached end point in the attachment frame
+    rfe_pin_arm: np.ndarray         # (n, 3) m, body-frame vector from the centre to the attached end point
+    rfe_clamp_R: np.ndarray         # (n, 3, 3) orientation of a clamped RFE in its attachment frame
+    rfe_diameter: np.ndarray        # (n,) m, hydrodynamic outer diameter (0: no sea loads)
+    rfe_disp_area: np.ndarray       # (n,) m^2, displaced area per unit length (buoyancy, added mass)
+    rfe_cdn: np.ndarray             # (n,) normal drag coefficient
+    rfe_cdt: np.ndarray             # (n,) axial drag coefficient
+    rfe_can: np.ndarray             # (n,) normal added-mass coefficient
+    rfe_cat: np.ndarray             # (n,) axial added-mass coefficient
+    rfe_contact_radius: np.ndarray  # (n,) m, seabed contact radius (outer radius)
+    rfe_seabed_c: np.ndarray        # (n,) N*s/m/m, seabed normal damping per unit length
+    # --- SDEs (primary division, eqs. 8.86-8.89)
+    sde_left: np.ndarray            # (nsde,) int64, RFE i-1
+    sde_right: np.ndarray           # (nsde,) int64, RFE i
+    sde_arm_left: np.ndarray        # (nsde, 3) m, body vector from centre of RFE i-1 to its right end (8.76)
+    sde_arm_right: np.ndarray       # (nsde, 3) m, body vector from centre of RFE i to its left end (8.79)
+    sde_stiffness: np.ndarray       # (nsde, 6) N/m x3, N*m/rad x3: [axial, shear y, shear z, torsion, bend y, bend z]
+    sde_damping: np.ndarray         # (nsde, 6) N*s/m x3, N*m*s/rad x3
+    sde_length: np.ndarray          # (nsde,) m, primary element length Delta
+    # --- point loads (eq. 8.93)
+    load_rfe: np.ndarray            # (nload,) int64
+    load_arm: np.ndarray            # (nload, 3) m, body vector from the RFE centre to the point of application
+    load_force: np.ndarray          # (nload, 3) N
+    load_moment: np.ndarray         # (nload, 3) N*m
+    load_local: np.ndarray          # (nload,) int64, 1: given in the RFE frame (follower)
+    # --- environment
+    gravity: float                  # m/s^2
+    water_density: float            # kg/m^3
+    water_level: float              # m, z of the still surface
+    seabed_z: float                 # m
+    seabed_k: float                 # N/m/m, normal stiffness per unit length
+    # --- what the scene contains (a term it does not contain costs nothing)
+    has_water: bool
+    has_morison: bool
+    has_seabed: bool
+    has_loads: bool
+
+
+class Workspace(NamedTuple):
+    """Buffers written by one evaluation of the equations of motion (allocated once)."""
+
+    R: np.ndarray           # (n, 3, 3) RFE orientation (global)
+    r: np.ndarray           # (n, 3) m, RFE centre (global)
+    rbase: np.ndarray       # (n, 3) m, r = rbase + roff with rbase the reference position (free RFEs)
+    roff: np.ndarray        # (n, 3) m, displacement part of r (differenced exactly in the SDE gaps)
+    v: np.ndarray           # (n, 3) m/s
+    w: np.ndarray           # (n, 3) rad/s, global angular velocity
+    wb: np.ndarray          # (n, 3) rad/s, body angular velocity
+    E: np.ndarray           # (n, 3, 3) Euler-rate matrix, wb = E * angle rates
+    Edot: np.ndarray        # (n, 3) rad/s^2, velocity part of d(wb)/dt
+    F: np.ndarray           # (n, 3) N, resultant force on each RFE (global)
+    M: np.ndarray           # (n, 3) N*m, resultant moment about each RFE centre (global)
+    Ma: np.ndarray          # (n, 3, 3) kg, added mass (global)
+    Ja: np.ndarray          # (n, 3) kg*m^2, added rotational inertia (body axes)
+    eps: np.ndarray         # (nsde, 6) SDE deformation [m x3, rad x3] in {i'}
+    sigma: np.ndarray       # (nsde, 6) SDE forces [N x3] and moments [N*m x3] in {i'}
+    sde_point: np.ndarray   # (nsde, 3) m, SDE position
+    surface_z: np.ndarray   # (n,) m, water surface above each RFE
+    water_vel: np.ndarray   # (n, 3) m/s, water particle velocity at each RFE
+    water_acc: np.ndarray   # (n, 3) m/s^2
+    sub_frac: np.ndarray    # (n,) submerged fraction of each RFE
+    sub_point: np.ndarray   # (n, 3) m, centroid of the submerged part
+    contact_force: np.ndarray   # (n,) N, seabed normal force on each RFE
+    contact_length: np.ndarray  # (n,) m, length of each RFE in seabed contact
+    Mgen: np.ndarray        # (n, 6, 6) generalised mass block of each RFE
+    fgen: np.ndarray        # (n, 6) generalised force (applied - velocity terms)
+    tmp3: np.ndarray        # (8, 3) scratch
+
+
+class Reference(NamedTuple):
+    """Per-RFE reference pose the coordinates are measured from (re-based as the run goes):
+    orientation R = R0 Rzyx(angles), centre r = X0 + displacement. Keeping the coordinates
+    small keeps the SDE gaps free of the round-off of large absolute positions."""
+
+    R: np.ndarray       # (n, 3, 3) reference rotation R0
+    X: np.ndarray       # (n, 3) m, reference position X0
+
+
+class AttachmentState(NamedTuple):
+    """Kinematics of every attachment at one time (0: fixed global frame)."""
+
+    p: np.ndarray       # (natt, 3) m, origin
+    R: np.ndarray       # (natt, 3, 3)
+    v: np.ndarray       # (natt, 3) m/s
+    w: np.ndarray       # (natt, 3) rad/s
+    a: np.ndarray       # (natt, 3) m/s^2
+    alpha: np.ndarray   # (natt, 3) rad/s^2
+
+
+def new_workspace(n: int, nsde: int) -> Workspace:
+    return Workspace(
+        R=np.zeros((n, 3, 3)), r=np.zeros((n, 3)), rbase=np.zeros((n, 3)), roff=np.zeros((n, 3)), v=np.zeros((n, 3)), w=np.zeros((n, 3)),
+        wb=np.zeros((n, 3)), E=np.zeros((n, 3, 3)), Edot=np.zeros((n, 3)), F=np.zeros((n, 3)),
+        M=np.zeros((n, 3)), Ma=np.zeros((n, 3, 3)), Ja=np.zeros((n, 3)), eps=np.zeros((nsde, 6)),
+        sigma=np.zeros((nsde, 6)), sde_point=np.zeros((nsde, 3)), surface_z=np.zeros(n),
+        water_vel=np.zeros((n, 3)), water_acc=np.zeros((n, 3)), sub_frac=np.zeros(n),
+        sub_point=np.zeros((n, 3)), contact_force=np.zeros(n), contact_length=np.zeros(n),
+        Mgen=np.zeros((n, 6, 6)), fgen=np.zeros((n, 6)), tmp3=np.zeros((8, 3)))
+
+
+def new_attachment_state(natt: int) -> AttachmentState:
+    R = np.zeros((natt, 3, 3))
+    R[:] = np.eye(3)
+    return AttachmentState(p=np.zeros((natt, 3)), R=R, v=np.zeros((natt, 3)), w=np.zeros((natt, 3)),
+                           a=np.zeros((natt, 3)), alpha=np.zeros((natt, 3)))

@@ -1,0 +1,332 @@
+"""Equations of motion of the absolute-coordinate RFE model (section 8.4.1, eq. 8.92).
+
+``evaluate`` computes, for a state (q, qdot) and the attachments' kinematics, every RFE's
+generalised mass block ``Mgen`` (6x6) and generalised force ``fgen`` (applied forces minus
+velocity terms), so that ``Mgen qddot = fgen`` RFE by RFE (the mass matrix A of eq. 8.92
+is block diagonal).
+
+Coordinates of RFE i (eq. 8.72): ``[x, y, z, psi, theta, phi]``, centre position and ZYX
+angles measured from the RFE's reference rotation R0 (R = R0 Rzyx). For a pinned RFE only
+the angles are coordinates (its end point follows the attachment); a clamped RFE has
+none. Unused coordinates have identity mass and zero force, so they stay zero.
+
+Projection of forces (the content of eq. 8.94): a resultant force F at the centre and a
+moment M (global) give ``Q_r = F`` and ``Q_angles = E^T R^T M`` with E the Euler-rate
+matrix (``omega_body = E d(angles)/dt``); the kinetic energy terms (eqs. 8.11-8.18) give
+``E^T J E`` and the velocity terms ``E^T (omega x J omega + J dE/dt rates)``.
+"""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from ..kinematics import (cross_into, euler_rate_derivative_into, euler_rate_matrix_into, matmul_into,
+                          matTvec_into, matvec_into, rot_zyx_into, solve3_sym_into)
+from ..loads.gravity import gravity_forces
+from ..loads.hydro import buoyancy_forces, morison_forces, submergence
+from ..loads.point import point_loads
+from ..loads.sde import sde_forces
+from ..loads.seabed import seabed_forces
+
+
+@njit(cache=True)
+def poses(km, att, q, qd, ref, ws):
+    """Orientation, position, velocities of every RFE from the coordinates (eqs. 8.73-8.74)."""
+    Rz = np.empty((3, 3))
+    P = np.empty(3)
+    tmp = np.empty(3)
+    c = np.empty(3)
+    for i in range(q.shape[0]):
+        kind = km.rfe_kind[i]
+        R = ws.R[i]
+        if kind == 2:
+            a = km.rfe_attach[i]
+            matmul_into(att.R[a], km.rfe_clamp_R[i], R)
+            matvec_into(att.R[a], km.rfe_attach_offset[i], P)
+            matvec_into(R, km.rfe_pin_arm[i], tmp)
+            for k in range(3):
+                P[k] += att.p[a, k]
+                ws.r[i, k] = P[k] - tmp[k]
+                ws.rbase[i, k] = P[k]
+                ws.roff[i, k] = -tmp[k]
+                ws.w[i, k] = att.w[a, k]
+                c[k] = ws.r[i, k] - att.p[a, k]
+            cross_into(att.w[a], c, tmp)
+            for k in range(3):
+                ws.v[i, k] = att.v[a, k] + tmp[k]
+            matTvec_into(R, ws.w[i], ws.wb[i])
+            for k in range(3):
+                ws.Edot[i, k] = 0.0
+                for m in range(3):
+                    ws.E[i, k, m] = 0.0
+            continue
+        rot_zyx_into(q[i, 3], q[i, 4], q[i, 5], Rz)
+        matmul_into(ref.R[i], Rz, R)
+        euler_rate_matrix_into(q[i, 3], q[i, 4], q[i, 5], ws.E[i])
+        matvec_into(ws.E[i], qd[i, 3:6], ws.wb[i])
+        matvec_into(R, ws.wb[i], ws.w[i])
+        euler_rate_derivative_into(q[i, 3], q[i, 4], q[i, 5], qd[i, 3], qd[i, 4], qd[i, 5], ws.Edot[i])
+        if kind == 0:
+            for k in range(3):
+                ws.rbase[i, k] = ref.X[i, k]
+                ws.roff[i, k] = q[i, k]
+                ws.r[i, k] = ref.X[i, k] + q[i, k]
+                ws.v[i, k] = qd[i, k]
+        else:
+            a = km.rfe_attach[i]
+            matvec_into(att.R[a], km.rfe_attach_offset[i], P)
+            for k in range(3):
+                P[k] += att.p[a, k]
+            matvec_into(R, km.rfe_pin_arm[i], tmp)
+            for k in range(3):
+                ws.r[i, k] = P[k] - tmp[k]
+                ws.rbase[i, k] = P[k]
+                ws.roff[i, k] = -tmp[k]
+                c[k] = P[k] - att.p[a, k]
+            # velocity of the pin point, then of the centre
+            cross_into(att.w[a], c, tmp)
+            for k in range(3):
+                ws.v[i, k] = att.v[a, k] + tmp[k]
+                c[k] = ws.r[i, k] - P[k]
+            cross_into(ws.w[i], c, tmp)
+            for k in range(3):
+                ws.v[i, k] += tmp[k]
+
+
+@njit(cache=True)
+def accumulate_forces(km, ws, scale):
+    """Zero the accumulators and add every load module the scene contains."""
+    n = ws.F.shape[0]
+    for i in range(n):
+        for k in range(3):
+            ws.F[i, k] = 0.0
+            ws.M[i, k] = 0.0
+    sde_forces(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, km.sde_stiffness, km.sde_damping,
+               ws.R, ws.rbase, ws.roff, ws.v, ws.w, ws.F, ws.M, ws.eps, ws.sigma, ws.sde_point)
+    if km.gravity != 0.0:
+        gravity_forces(km.rfe_mass, km.rfe_kind, km.gravity, scale, ws.F)
+    if km.has_water:
+        submergence(km.rfe_length, km.rfe_disp_area, ws.R, ws.r, ws.surface_z, ws.sub_frac, ws.sub_point)
+        buoyancy_forces(km.rfe_length, km.rfe_disp_area, km.rfe_kind, km.water_density, km.gravity, scale,
+                        ws.r, ws.sub_frac, ws.sub_point, ws.F, ws.M)
+        if km.has_morison:
+            morison_forces(km.rfe_length, km.rfe_diameter, km.rfe_disp_area, km.rfe_cdn, km.rfe_cdt, km.rfe_can,
+                           km.rfe_cat, km.water_density, ws.R, ws.r, ws.v, ws.w, ws.sub_frac, ws.sub_point,
+                           ws.water_vel, ws.water_acc, ws.F, ws.M, ws.Ma, ws.Ja)
+    if km.has_seabed:
+        seabed_forces(km.rfe_length, km.rfe_contact_radius, km.rfe_seabed_c, km.seabed_z, km.seabed_k,
+                      ws.R, ws.r, ws.v, ws.w, ws.F, ws.M, ws.contact_force, ws.contact_length)
+    if km.has_loads:
+        point_loads(km.load_rfe, km.load_arm, km.load_force, km.load_moment, km.load_local, scale,
+                    ws.R, ws.F, ws.M, ws.tmp3)
+
+
+@njit(cache=True)
+def project(km, att, ws):
+    """Generalised mass blocks and forces of every RFE (eqs. 8.92, 8.94)."""
+    Jb = np.empty((3, 3))
+    Jg = np.empty((3, 3))
+    Mt = np.empty((3, 3))
+    JP = np.empty((3, 3))
+    B = np.empty((3, 3))
+    T1 = np.empty((3, 3))
+    Cx = np.empty((3, 3))
+    rhs = np.empty(3)
+    tmp = np.empty(3)
+    tmp2 = np.empty(3)
+    c = np.empty(3)
+    P = np.empty(3)
+    for i in range(ws.F.shape[0]):
+        Mg = ws.Mgen[i]
+        f = ws.fgen[i]
+        for a in range(6):
+            f[a] = 0.0
+            for b in range(6):
+                Mg[a, b] = 0.0
+        kind = km.rfe_kind[i]
+        if kind == 2:
+            for a in range(6):
+                Mg[a, a] = 1.0
+            continue
+        m = km.rfe_mass[i]
+        for a in range(3):
+            for b in range(3):
+                Jb[a, b] = 0.0
+            Jb[a, a] = km.rfe_inertia[i, a] + ws.Ja[i, a]
+        E = ws.E[i]
+        wb = ws.wb[i]
+        if kind == 0:
+            for a in range(3):
+                for b in range(3):
+                    Mg[a, b] = ws.Ma[i, a, b]
+                Mg[a, a] += m
+                f[a] = ws.F[i, a]
+            # body-frame moment minus gyroscopic and Euler-rate terms
+            matTvec_into(ws.R[i], ws.M[i], rhs)
+            matvec_into(Jb, wb, tmp)
+            cross_into(wb, tmp, tmp2)
+            matvec_into(Jb, ws.Edot[i], tmp)
+            for a in range(3):
+                rhs[a] -= tmp2[a] + tmp[a]
+            # E^T J E and E^T rhs
+            matmul_into(Jb, E, T1)
+            for a in range(3):
+                for b in range(3):
+                    Mg[3 + a, 3 + b] = E[0, a] * T1[0, b] + E[1, a] * T1[1, b] + E[2, a] * T1[2, b]
+                f[3 + a] = E[0, a] * rhs[0] + E[1, a] * rhs[1] + E[2, a] * rhs[2]
+        else:
+            for a in range(3):
+                Mg[a, a] = 1.0
+            at = km.rfe_attach[i]
+            R = ws.R[i]
+            matvec_into(att.R[at], km.rfe_attach_offset[i], P)
+            for k in range(3):
+                P[k] += att.p[at, k]
+                c[k] = ws.r[i, k] - P[k]
+            # Jg = R Jb R^T ; Mt = m I + Ma ; JP = Jg - [c]x Mt [c]x
+            for a in range(3):
+                for b in range(3):
+                    s = 0.0
+                    for k in range(3):
+                        s += R[a, k] * Jb[k, k] * R[b, k]
+                    Jg[a, b] = s
+                    Mt[a, b] = ws.Ma[i, a, b]
+                Mt[a, a] += m
+            Cx[0, 0] = 0.0
+            Cx[0, 1] = -c[2]
+            Cx[0, 2] = c[1]
+            Cx[1, 0] = c[2]
+            Cx[1, 1] = 0.0
+            Cx[1, 2] = -c[0]
+            Cx[2, 0] = -c[1]
+            Cx[2, 1] = c[0]
+            Cx[2, 2] = 0.0
+            matmul_into(Mt, Cx, T1)
+            for a in range(3):
+                for b in range(3):
+                    JP[a, b] = Jg[a, b] - (Cx[a, 0] * T1[0, b] + Cx[a, 1] * T1[1, b] + Cx[a, 2] * T1[2, b])
+            # acceleration of the pin point: a + alpha x d + w x (w x d), d = P - p_att
+            for k in range(3):
+                tmp2[k] = P[k] - att.p[at, k]
+            cross_into(att.alpha[at], tmp2, tmp)
+            cross_into(att.w[at], tmp2, rhs)
+            cross_into(att.w[at], rhs, tmp2)
+            w = ws.w[i]
+            for k in range(3):
+                tmp2[k] += att.a[at, k] + tmp[k]          # a_P
+            cross_into(w, c, tmp)
+            cross_into(w, tmp, rhs)                        # w x (w x c)
+            for k in range(3):
+                tmp2[k] += rhs[k]                          # a_P + w x (w x c)
+            matvec_into(Mt, tmp2, tmp)
+            cross_into(c, tmp, rhs)                        # c x Mt(...)
+            # rhs_g = M + c x F - w x (Jg w) - c x Mt(...) - JP R Edot
+            cross_into(c, ws.F[i], tmp)
+            for k in range(3):
+                rhs[k] = ws.M[i, k] + tmp[k] - rhs[k]
+            matvec_into(Jg, w, tmp)
+            cross_into(w, tmp, tmp2)
+            matvec_into(R, ws.Edot[i], tmp)
+            for k in range(3):
+                rhs[k] -= tmp2[k]
+            matvec_into(JP, tmp, tmp2)
+            for k in range(3):
+                rhs[k] -= tmp2[k]
+            # B = R E (angle rates -> global angular velocity)
+            matmul_into(R, E, B)
+            matmul_into(JP, B, T1)
+            for a in range(3):
+                for b in range(3):
+                    Mg[3 + a, 3 + b] = B[0, a] * T1[0, b] + B[1, a] * T1[1, b] + B[2, a] * T1[2, b]
+                f[3 + a] = B[0, a] * rhs[0] + B[1, a] * rhs[1] + B[2, a] * rhs[2]
+
+
+@njit(cache=True)
+def evaluate(km, att, q, qd, ref, ws, scale):
+    """One evaluation of the equations of motion: fills ws (poses, forces, Mgen, fgen)."""
+    poses(km, att, q, qd, ref, ws)
+    accumulate_forces(km, ws, scale)
+    project(km, att, ws)
+
+
+@njit(cache=True)
+def solve_accelerations(ws, qdd):
+    """qdd = Mgen^-1 fgen, RFE by RFE (3x3 translational and rotational blocks)."""
+    A = np.empty((3, 3))
+    b = np.empty(3)
+    x = np.empty(3)
+    for i in range(qdd.shape[0]):
+        for blk in range(2):
+            o = 3 * blk
+            for a in range(3):
+                b[a] = ws.fgen[i, o + a]
+                for c in range(3):
+                    A[a, c] = ws.Mgen[i, o + a, o + c]
+            solve3_sym_into(A, b, x)
+            for a in range(3):
+                qdd[i, o + a] = x[a]
+
+
+@njit(cache=True)
+def residual_into(ws, qdd, out):
+    """out = Mgen qdd - fgen (the implicit residual of eq. 8.92)."""
+    for i in range(qdd.shape[0]):
+        for a in range(6):
+            s = -ws.fgen[i, a]
+            for c in range(6):
+                s += ws.Mgen[i, a, c] * qdd[i, c]
+            out[i, a] = s
+
+
+@njit(cache=True)
+def rebase(q, qd, ref, kind, threshold, qdd, aux, map_aux):
+    """Move every free RFE's reference position to its current position (exact: rates and
+    accelerations of the displacement do not change), and each RFE's reference rotation to
+    its current orientation when its angles exceed ``threshold`` (rad), mapping angle rates
+    and accelerations to the new chart exactly
+    (omega_body and d(omega_body)/dt are unchanged). ``aux`` is a second acceleration-like
+    array mapped the same way (the generalised-alpha algorithmic acceleration). Returns the
+    number of RFEs re-based."""
+    Rz = np.empty((3, 3))
+    Rn = np.empty((3, 3))
+    E = np.empty((3, 3))
+    wb = np.empty(3)
+    ed = np.empty(3)
+    ed0 = np.empty(3)
+    wd = np.empty(3)
+    count = 0
+    for i in range(q.shape[0]):
+        if kind[i] == 2:
+            continue
+        if kind[i] == 0:
+            for k in range(3):
+                ref.X[i, k] += q[i, k]
+                q[i, k] = 0.0
+        if abs(q[i, 3]) <= threshold and abs(q[i, 4]) <= threshold and abs(q[i, 5]) <= threshold:
+            continue
+        count += 1
+        rot_zyx_into(q[i, 3], q[i, 4], q[i, 5], Rz)
+        matmul_into(ref.R[i], Rz, Rn)
+        for a in range(3):
+            for b in range(3):
+                ref.R[i, a, b] = Rn[a, b]
+        euler_rate_matrix_into(q[i, 3], q[i, 4], q[i, 5], E)
+        matvec_into(E, qd[i, 3:6], wb)
+        euler_rate_derivative_into(q[i, 3], q[i, 4], q[i, 5], qd[i, 3], qd[i, 4], qd[i, 5], ed)
+        # new chart at zero angles: E0 maps (psi', theta', phi') -> (phi', theta', psi')
+        q[i, 3] = 0.0
+        q[i, 4] = 0.0
+        q[i, 5] = 0.0
+        qd[i, 3] = wb[2]
+        qd[i, 4] = wb[1]
+        qd[i, 5] = wb[0]
+        euler_rate_derivative_into(0.0, 0.0, 0.0, qd[i, 3], qd[i, 4], qd[i, 5], ed0)
+        for arr_id in range(2 if map_aux else 1):
+            acc = qdd if arr_id == 0 else aux
+            matvec_into(E, acc[i, 3:6], wd)
+            for k in range(3):
+                wd[k] += ed[k] - ed0[k]
+            acc[i, 3] = wd[2]
+            acc[i, 4] = wd[1]
+            acc[i, 5] = wd[0]
+    return count

@@ -1,0 +1,579 @@
+"""compile(scenario) -> Model: discretisation, connectivity and the loads a scene needs.
+
+Primary and secondary division (Fig. 8.2): a line of length L with ``elements`` = n SDEs
+is cut into n equal segments of length Delta = L/n; an SDE sits at the middle of each
+segment; the n + 1 RFEs between them are RFE 0 (length Delta/2, at end A), RFEs 1..n-1
+(length Delta) and RFE n (Delta/2, at end B). SDE stiffness by eq. 8.88 (kruszewski) or
+eq. 8.89 (fem).
+"""
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import ScenarioError
+from ..kinematics import frame_from_tangent, minimal_rotation
+from ..vessel import VesselMotion, make_vessel_motion
+from .arrays import (KIND_CLAMPED, KIND_FREE, KIND_PINNED, AttachmentState, KernelModel, Reference,
+                     new_attachment_state)
+from .sections import Section, section_from_type
+
+log = logging.getLogger("rfesim")
+
+NEARLY_FLEXIBLE = 1e-6     # 12 EI / Delta^3 below this fraction of GA / Delta: default to kruszewski
+
+
+@dataclass
+class LineInfo:
+    """Where a line sits in the model arrays, and what it is."""
+
+    name: str
+    rfe_start: int
+    rfe_stop: int
+    sde_start: int
+    sde_stop: int
+    length: float
+    elements: int
+    dx: float
+    section: Section
+    shear_model: str
+    end_a: object      # the scenario LineEnd
+    end_b: object
+
+    @property
+    def nrfe(self) -> int:
+        return self.rfe_stop - self.rfe_start
+
+    @property
+    def sde_arc_length(self) -> np.ndarray:
+        """Arc length of each SDE from end A (m)."""
+        return (np.arange(self.elements) + 0.5) * self.dx
+
+    @property
+    def point_arc_length(self) -> np.ndarray:
+        """Arc length of the output points: end A, every SDE, end B (m)."""
+        return np.concatenate([[0.0], self.sde_arc_length, [self.length]])
+
+
+@dataclass
+class State:
+    """Mutable state of a run: time, coordinates, rates, accelerations and the reference
+    pose the coordinates are measured from."""
+
+    t: float
+    q: np.ndarray          # (n, 6) [displacement from ref.X (m), ZYX angles from ref.R (rad)]
+    qd: np.ndarray         # (n, 6)
+    qdd: np.ndarray        # (n, 6)
+    ref: Reference         # per-RFE reference rotation and position
+    aux: np.ndarray        # (n, 6) generalised-alpha algorithmic acceleration
+
+    def copy(self) -> "State":
+        return State(self.t, self.q.copy(), self.qd.copy(), self.qdd.copy(),
+                     Reference(self.ref.R.copy(), self.ref.X.copy()), self.aux.copy())
+
+    def positions(self) -> np.ndarray:
+        """Centres of the free RFEs (m); others are computed from their attachments."""
+        return self.ref.X + self.q[:, :3]
+
+
+@dataclass
+class Model:
+    scenario: object
+    km: KernelModel
+    lines: list[LineInfo]
+    attachment_names: list[str]
+    motions: list[VesselMotion | None]
+    dof_mask: np.ndarray                    # (n, 6) bool, True for coordinates that move
+    initial: State
+    line_index: dict[str, int] = field(default_factory=dict)
+
+    @property
+    def n(self) -> int:
+        return self.km.rfe_mass.shape[0]
+
+    @property
+    def nsde(self) -> int:
+        return self.km.sde_left.shape[0]
+
+    def line(self, name: str) -> LineInfo:
+        return self.lines[self.line_index[name]]
+
+    def attachment_state(self, t: float, out: AttachmentState | None = None) -> AttachmentState:
+        """Kinematics of every attachment at time t."""
+        natt = len(self.attachment_names)
+        if out is None:
+            out = new_attachment_state(natt)
+        for j, motion in enumerate(self.motions):
+            if motion is None:
+                continue
+            k = motion.kinematics(t)
+            out.p[j] = k.p
+            out.R[j] = k.R
+            out.v[j] = k.v
+            out.w[j] = k.w
+            out.a[j] = k.a
+            out.alpha[j] = k.alpha
+        return out
+
+    @property
+    def has_moving_attachments(self) -> bool:
+        return any(m is not None and not type(m).__name__.startswith("Fixed") for m in self.motions)
+
+    def describe_rfe(self, i: int) -> str:
+        """'line pipe, RFE 12 (arc length 30.5 m)' for error messages."""
+        for li in self.lines:
+            if li.rfe_start <= i < li.rfe_stop:
+                j = i - li.rfe_start
+                s = 0.0 if j == 0 else min(li.length, j * li.dx)
+                return f"line '{li.name}', RFE {j} (arc length {s:.4g} m)"
+        return f"RFE {i}"
+
+
+# ----------------------------------------------------------------------------- helpers
+
+def _sde_coefficients(sec: Section, dx: float, shear_model: str) -> np.ndarray:
+    """eq. 8.88 / 8.89: [c_x, c_y, c_z, c_torsion, c_bend_y, c_bend_z]."""
+    cx = sec.EA / dx
+    if shear_model == "fem":                      # eq. 8.89: shear in y pairs with bending about z
+        cy = 12.0 * sec.EIz / dx ** 3
+        cz = 12.0 * sec.EIy / dx ** 3
+    else:                                         # eq. 8.88
+        cy = cz = sec.GA / dx
+    return np.array([cx, cy, cz, sec.GJ / dx, sec.EIy / dx, sec.EIz / dx])
+
+
+def _choose_shear_model(line, sec: Section, dx: float) -> str:
+    if line.shear_stiffness is not None:
+        return line.shear_stiffness
+    if 12.0 * sec.EI_min / dx ** 3 < NEARLY_FLEXIBLE * sec.GA / dx:
+        log.info("line is nearly flexible (EI = %.3g N*m^2): using kruszewski shear stiffness (eq. 8.88)", sec.EI_min)
+        return "kruszewski"
+    return "fem"
+
+
+def _submerged_weight(sec: Section, sc) -> float:
+    g = sc.environment.gravity
+    w = sec.mass_per_length * g
+    if sc.environment.water is not None:
+        w -= sc.environment.water.density * g * sec.displaced_area
+    return w
+
+
+class _Curve:
+    """Initial shape of a line: a polyline through points at given arc lengths."""
+
+    def __init__(self, s: np.ndarray, X: np.ndarray):
+        self.s = s
+        self.X = X
+
+    def __call__(self, s):
+        return np.column_stack([np.interp(s, self.s, self.X[:, k]) for k in range(3)])
+
+    def _march(self, start: np.ndarray, lengths: np.ndarray) -> np.ndarray:
+        """Joint points from ``start`` along the polyline, each at the given straight
+        distance from the previous one (sphere-polyline intersections, moving forward)."""
+        X = self.X
+        pts = np.empty((lengths.size + 1, 3))
+        pts[0] = start
+        seg = 0
+        for i, ell in enumerate(lengths):
+            c = pts[i]
+            found = None
+            while seg < X.shape[0] - 1:
+                p0, p1 = X[seg], X[seg + 1]
+                d = p1 - p0
+                if np.linalg.norm(p1 - c) >= ell:
+                    # solve |p0 + u d - c| = ell for the largest u in [0, 1]
+                    f = p0 - c
+                    a = d @ d
+                    b = 2.0 * f @ d
+                    cc = f @ f - ell * ell
+                    disc = max(b * b - 4 * a * cc, 0.0)
+                    u = (-b + np.sqrt(disc)) / (2 * a)
+                    found = p0 + min(max(u, 0.0), 1.0) * d
+                    break
+                seg += 1
+            if found is None:          # past the end of the curve: continue straight
+                d = X[-1] - X[-2]
+                found = c + ell * d / np.linalg.norm(d)
+            pts[i + 1] = found
+        return pts
+
+    def joints(self, lengths: np.ndarray, end_b: np.ndarray | None) -> np.ndarray:
+        """Points A = J0, J1, ..., J_{n+1} with |J_{i+1} - J_i| = lengths_i (1 + strain),
+        the common strain chosen (secant) so the chain closes at end_b when given: the
+        RFEs then meet exactly at every SDE, without spurious initial forces."""
+        start = self.X[0]
+        if end_b is None:
+            return self._march(start, lengths)
+        strain = 0.0
+        def miss(e):
+            pts = self._march(start, lengths * (1.0 + e))
+            return float(np.linalg.norm(pts[-1] - end_b)) * (1.0 if self._short(pts, end_b) else -1.0), pts
+        m0, pts = miss(0.0)
+        if abs(m0) < 1e-12 * lengths.sum():
+            return pts
+        e1 = 1e-6
+        m1, pts = miss(e1)
+        e0 = 0.0
+        for _ in range(40):
+            if m1 == m0:
+                break
+            e2 = e1 - m1 * (e1 - e0) / (m1 - m0)
+            e0, m0 = e1, m1
+            e1 = e2
+            m1, pts = miss(e1)
+            if abs(m1) < 1e-13 * lengths.sum():
+                break
+        pts[-1] = end_b
+        return pts
+
+    @staticmethod
+    def _short(pts: np.ndarray, end_b: np.ndarray) -> bool:
+        """True when the marched chain stops before end_b (needs stretching)."""
+        last = pts[-1] - pts[-2]
+        return float((end_b - pts[-1]) @ last) > 0.0
+
+
+def _straight(start: np.ndarray, direction: np.ndarray, length: float, stretch: float = 1.0) -> _Curve:
+    d = direction / np.linalg.norm(direction)
+    s = np.array([0.0, length])
+    return _Curve(s, np.vstack([start, start + stretch * length * d]))
+
+
+def _catenary_curve(A: np.ndarray, B: np.ndarray, length: float, weight: float, EA: float,
+                    seabed_z: float | None, contact_radius: float) -> _Curve | None:
+    """Elastic catenary in the vertical plane through A and B (None if not applicable)."""
+    from ..catenary import solve_catenary
+    swap = B[2] < A[2]
+    lo, hi = (B, A) if swap else (A, B)
+    dh = hi[:2] - lo[:2]
+    span = float(np.hypot(dh[0], dh[1]))
+    height = float(hi[2] - lo[2])
+    if weight <= 0.0 or span < 1e-6 * length:
+        return None
+    on_seabed = seabed_z is not None and (lo[2] - contact_radius - seabed_z) < 1e-3 * length
+    try:
+        sol = solve_catenary(span, height, length, weight, EA, seabed=bool(on_seabed))
+    except Exception as exc:  # noqa: BLE001 - fall back to another start shape
+        log.info("catenary start failed (%s); using a straight start", exc)
+        return None
+    s = np.linspace(0.0, length, 401)
+    x, z = sol.profile(s)
+    eh = np.array([dh[0], dh[1], 0.0]) / span
+    X = lo[None, :] + x[:, None] * eh[None, :] + z[:, None] * np.array([0.0, 0.0, 1.0])[None, :]
+    if seabed_z is not None:
+        X[:, 2] = np.maximum(X[:, 2], seabed_z + contact_radius)
+    if swap:
+        X = X[::-1].copy()
+    return _Curve(s, X)
+
+
+# ----------------------------------------------------------------------------- compile
+
+def compile_scenario(sc, start: str | None = None) -> Model:
+    """Build the frozen model arrays and the initial state of a validated scenario."""
+    env = sc.environment
+    attachment_names = ["fixed"] + list(sc.vessels)
+    motions: list[VesselMotion | None] = [None] + [make_vessel_motion(v) for v in sc.vessels.values()]
+    att0 = new_attachment_state(len(attachment_names))
+    for j, motion in enumerate(motions):
+        if motion is not None:
+            k = motion.kinematics(0.0)
+            att0.p[j], att0.R[j] = k.p, k.R
+
+    water = env.water
+    seabed_z = env.seabed_z()
+    seabed = env.seabed
+    start = start or sc.analysis.statics.start
+
+    rfe = {k: [] for k in ("mass", "inertia", "length", "kind", "attach", "attach_offset", "pin_arm", "clamp_R",
+                           "diameter", "disp_area", "cdn", "cdt", "can", "cat", "contact_radius", "seabed_c")}
+    sde = {k: [] for k in ("left", "right", "arm_left", "arm_right", "stiffness", "damping", "length")}
+    loads = {k: [] for k in ("rfe", "arm", "force", "moment", "local")}
+    q0_blocks, R0_blocks, X0_blocks = [], [], []
+    lines: list[LineInfo] = []
+    n_total = 0
+    nsde_total = 0
+    problems: list[tuple[str, str]] = []
+
+    for lname, line in sc.lines.items():
+        base = f"lines.{lname}"
+        lt = sc.line_types[line.type]
+        sec = section_from_type(lt)
+        nseg = line.elements
+        L = line.length
+        dx = L / nseg
+        shear_model = _choose_shear_model(line, sec, dx)
+        lengths = np.full(nseg + 1, dx)
+        lengths[0] = lengths[-1] = 0.5 * dx
+        s_lo = np.concatenate([[0.0], (np.arange(1, nseg + 1) - 0.5) * dx])
+        s_hi = np.concatenate([(np.arange(1, nseg + 1) - 0.5) * dx, [L]])
+        masses = sec.mass_per_length * lengths
+        polar = sec.polar_inertia
+        if polar <= 0.0:
+            # a flexible cable with no section inertia: keep the torsion inertia positive
+            radius = 0.5 * sec.outer_diameter if sec.outer_diameter > 0 else 1e-3 * dx
+            polar = sec.mass_per_length * radius * radius
+        inertia = np.column_stack([polar * lengths,
+                                   masses * lengths ** 2 / 12.0 + sec.rotary_inertia * lengths,
+                                   masses * lengths ** 2 / 12.0 + sec.rotary_inertia * lengths])
+        # --- ends
+        ends = {}
+        for end_name, end, j in (("end_a", line.end_a, 0), ("end_b", line.end_b, nseg)):
+            if end.attach == "free":
+                ends[end_name] = dict(kind=KIND_FREE, att=-1, offset=np.zeros(3))
+            else:
+                att = attachment_names.index(end.attach)
+                kind = KIND_CLAMPED if end.connection == "clamped" else KIND_PINNED
+                ends[end_name] = dict(kind=kind, att=att, offset=np.asarray(end.position, float))
+        # global end positions and directions at t = 0
+        def _glob_point(end_name, end):
+            if end.position is None:
+                return None
+            e = ends[end_name]
+            p = np.asarray(end.position, float)
+            if e["att"] <= 0:
+                return p
+            return att0.p[e["att"]] + att0.R[e["att"]] @ p
+
+        def _glob_dir(end_name, end):
+            if end.direction is None:
+                return None
+            d = np.asarray(end.direction, float)
+            d = d / np.linalg.norm(d)
+            e = ends[end_name]
+            if e["att"] <= 0:
+                return d
+            return att0.R[e["att"]] @ d
+
+        A = _glob_point("end_a", line.end_a)
+        B = _glob_point("end_b", line.end_b)
+        dA = _glob_dir("end_a", line.end_a)
+        dB = _glob_dir("end_b", line.end_b)
+        down = np.array([0.0, 0.0, -1.0]) if env.gravity > 0 else np.array([1.0, 0.0, 0.0])
+        curve = None
+        if A is not None and B is not None:
+            chord = B - A
+            d = float(np.linalg.norm(chord))
+            if d < 1e-9 * L:
+                problems.append((f"{base}.end_b.position", "end B coincides with end A"))
+                continue
+            if d >= L * (1.0 - 1e-9) or start == "straight" or env.gravity == 0.0:
+                curve = _straight(A, chord, L, stretch=d / L)
+            else:
+                curve = _catenary_curve(A, B, L, _submerged_weight(sec, sc), sec.EA, seabed_z,
+                                        0.5 * sec.outer_diameter)
+                if curve is None:
+                    curve = _sagged_curve(A, B, L)
+        elif A is not None:
+            curve = _straight(A, dA if dA is not None else down, L)
+        elif B is not None:
+            dirB = dB if dB is not None else -down
+            curve = _straight(B - L * dirB / np.linalg.norm(dirB), dirB, L)
+        else:
+            problems.append((f"{base}.end_a.position", "give the position of at least one end"))
+            continue
+        joints = curve.joints(lengths, B if (A is not None and B is not None) else None)
+        if A is None:
+            # only end B is placed: the curve was built ending at B; march from its start
+            joints = curve.joints(lengths, None)
+        e0, e1 = joints[:-1], joints[1:]
+        tang = e1 - e0
+        tang /= np.linalg.norm(tang, axis=1)[:, None]
+        centres = 0.5 * (e0 + e1)
+        # frames: clamped end A sets the first frame, then parallel transport along the line
+        frames = np.empty((nseg + 1, 3, 3))
+        if line.end_a.connection == "clamped" and dA is not None:
+            frames[0] = frame_from_tangent(dA)
+        else:
+            frames[0] = frame_from_tangent(tang[0])
+        for i in range(1, nseg + 1):
+            frames[i] = minimal_rotation(tang[i - 1], tang[i]) @ frames[i - 1]
+        if line.end_b.connection == "clamped" and dB is not None:
+            frames[-1] = minimal_rotation(frames[-1][:, 0], dB) @ frames[-1]
+        # --- RFE arrays
+        for i in range(nseg + 1):
+            rfe["mass"].append(masses[i])
+            rfe["inertia"].append(inertia[i])
+            rfe["length"].append(lengths[i])
+            kind, att, offset, arm = KIND_FREE, -1, np.zeros(3), np.zeros(3)
+            clamp = np.eye(3)
+            if i == 0 and ends["end_a"]["kind"] != KIND_FREE:
+                e = ends["end_a"]
+                kind, att, offset = e["kind"], e["att"], e["offset"]
+                arm = np.array([-0.5 * lengths[i], 0.0, 0.0])
+            elif i == nseg and ends["end_b"]["kind"] != KIND_FREE:
+                e = ends["end_b"]
+                kind, att, offset = e["kind"], e["att"], e["offset"]
+                arm = np.array([0.5 * lengths[i], 0.0, 0.0])
+            if kind == KIND_CLAMPED:
+                clamp = att0.R[att].T @ frames[i]
+            rfe["kind"].append(kind)
+            rfe["attach"].append(att)
+            rfe["attach_offset"].append(offset)
+            rfe["pin_arm"].append(arm)
+            rfe["clamp_R"].append(clamp)
+            in_water = water is not None and sec.outer_diameter > 0
+            rfe["diameter"].append(sec.outer_diameter if in_water else 0.0)
+            rfe["disp_area"].append(sec.displaced_area if in_water else 0.0)
+            rfe["cdn"].append(sec.drag_normal)
+            rfe["cdt"].append(sec.drag_axial)
+            rfe["can"].append(sec.added_mass_normal)
+            rfe["cat"].append(sec.added_mass_axial)
+            rfe["contact_radius"].append(0.5 * sec.outer_diameter)
+            if seabed is not None:
+                c_len = 2.0 * seabed.damping_ratio * math.sqrt(seabed.normal_stiffness * sec.mass_per_length)
+            else:
+                c_len = 0.0
+            rfe["seabed_c"].append(c_len)
+        # --- SDEs
+        coef = _sde_coefficients(sec, dx, shear_model)
+        damp = _sde_damping(lt.damping, sec, dx, coef, masses, inertia, ends)
+        for j in range(nseg):
+            sde["left"].append(n_total + j)
+            sde["right"].append(n_total + j + 1)
+            sde["arm_left"].append([0.5 * lengths[j], 0.0, 0.0])
+            sde["arm_right"].append([-0.5 * lengths[j + 1], 0.0, 0.0])
+            sde["stiffness"].append(coef)
+            sde["damping"].append(damp[j])
+            sde["length"].append(dx)
+        # --- point loads
+        for k, ld in enumerate(line.loads):
+            if ld.at == "end_a":
+                i, arm = 0, [-0.5 * lengths[0], 0.0, 0.0]
+            elif ld.at == "end_b":
+                i, arm = nseg, [0.5 * lengths[-1], 0.0, 0.0]
+            else:
+                s = float(ld.at)
+                i = int(np.clip(np.searchsorted(s_hi, s, side="left"), 0, nseg))
+                arm = [s - 0.5 * (s_lo[i] + s_hi[i]), 0.0, 0.0]
+            loads["rfe"].append(n_total + i)
+            loads["arm"].append(arm)
+            loads["force"].append(ld.force)
+            loads["moment"].append(ld.moment)
+            loads["local"].append(1 if ld.frame == "local" else 0)
+        # --- initial coordinates
+        q0_blocks.append(np.zeros((nseg + 1, 6)))
+        X0_blocks.append(centres)
+        R0_blocks.append(frames)
+        lines.append(LineInfo(name=lname, rfe_start=n_total, rfe_stop=n_total + nseg + 1, sde_start=nsde_total,
+                              sde_stop=nsde_total + nseg, length=L, elements=nseg, dx=dx, section=sec,
+                              shear_model=shear_model, end_a=line.end_a, end_b=line.end_b))
+        n_total += nseg + 1
+        nsde_total += nseg
+
+    if problems:
+        raise ScenarioError(problems)
+    if n_total == 0:
+        raise ScenarioError([("lines", "the scenario has no lines to simulate")])
+
+    f = lambda key, shape, dt=float: (np.asarray(rfe[key], dtype=dt).reshape(shape))  # noqa: E731
+    n = n_total
+    has_water = water is not None and any(li.section.outer_diameter > 0 for li in lines)
+    has_morison = has_water and any(li.section.drag_normal > 0 or li.section.drag_axial > 0
+                                    or li.section.added_mass_normal > 0 or li.section.added_mass_axial > 0
+                                    for li in lines)
+    km = KernelModel(
+        rfe_mass=f("mass", (n,)), rfe_inertia=f("inertia", (n, 3)), rfe_length=f("length", (n,)),
+        rfe_kind=f("kind", (n,), np.int64), rfe_attach=f("attach", (n,), np.int64),
+        rfe_attach_offset=f("attach_offset", (n, 3)), rfe_pin_arm=f("pin_arm", (n, 3)),
+        rfe_clamp_R=f("clamp_R", (n, 3, 3)), rfe_diameter=f("diameter", (n,)), rfe_disp_area=f("disp_area", (n,)),
+        rfe_cdn=f("cdn", (n,)), rfe_cdt=f("cdt", (n,)), rfe_can=f("can", (n,)), rfe_cat=f("cat", (n,)),
+        rfe_contact_radius=f("contact_radius", (n,)), rfe_seabed_c=f("seabed_c", (n,)),
+        sde_left=np.asarray(sde["left"], np.int64), sde_right=np.asarray(sde["right"], np.int64),
+        sde_arm_left=np.asarray(sde["arm_left"], float).reshape(-1, 3),
+        sde_arm_right=np.asarray(sde["arm_right"], float).reshape(-1, 3),
+        sde_stiffness=np.asarray(sde["stiffness"], float).reshape(-1, 6),
+        sde_damping=np.asarray(sde["damping"], float).reshape(-1, 6),
+        sde_length=np.asarray(sde["length"], float),
+        load_rfe=np.asarray(loads["rfe"], np.int64), load_arm=np.asarray(loads["arm"], float).reshape(-1, 3),
+        load_force=np.asarray(loads["force"], float).reshape(-1, 3),
+        load_moment=np.asarray(loads["moment"], float).reshape(-1, 3),
+        load_local=np.asarray(loads["local"], np.int64),
+        gravity=float(env.gravity),
+        water_density=float(water.density) if water is not None else 0.0,
+        water_level=float(water.surface_level) if water is not None else 0.0,
+        seabed_z=float(seabed_z) if seabed_z is not None else -1e30,
+        seabed_k=float(seabed.normal_stiffness) if seabed is not None else 0.0,
+        has_water=bool(has_water), has_morison=bool(has_morison), has_seabed=seabed is not None,
+        has_loads=len(loads["rfe"]) > 0,
+    )
+    dof_mask = np.ones((n, 6), dtype=bool)
+    dof_mask[km.rfe_kind == KIND_PINNED, :3] = False
+    dof_mask[km.rfe_kind == KIND_CLAMPED, :] = False
+    q0 = np.vstack(q0_blocks)
+    ref = Reference(R=np.concatenate(R0_blocks, axis=0), X=np.concatenate(X0_blocks, axis=0))
+    initial = State(t=0.0, q=q0, qd=np.zeros((n, 6)), qdd=np.zeros((n, 6)), ref=ref, aux=np.zeros((n, 6)))
+    model = Model(scenario=sc, km=km, lines=lines, attachment_names=attachment_names, motions=motions,
+                  dof_mask=dof_mask, initial=initial, line_index={li.name: k for k, li in enumerate(lines)})
+    return model
+
+
+def _sagged_curve(A: np.ndarray, B: np.ndarray, L: float) -> _Curve:
+    """A parabola-like sag below the chord with the right arc length (fallback start)."""
+    chord = B - A
+    d = np.linalg.norm(chord)
+    u = np.linspace(0.0, 1.0, 201)
+    sag_dir = np.array([0.0, 0.0, -1.0])
+    sag_dir = sag_dir - chord * (sag_dir @ chord) / (d * d)
+    if np.linalg.norm(sag_dir) < 1e-9:
+        sag_dir = np.cross(chord, [0.0, 1.0, 0.0])
+    sag_dir /= np.linalg.norm(sag_dir)
+    lo, hi = 0.0, L
+    for _ in range(80):     # bisection on the sag depth for the arc length
+        h = 0.5 * (lo + hi)
+        X = A[None, :] + u[:, None] * chord[None, :] + (4 * h * u * (1 - u))[:, None] * sag_dir[None, :]
+        arc = np.linalg.norm(np.diff(X, axis=0), axis=1).sum()
+        if arc > L:
+            hi = h
+        else:
+            lo = h
+    seg = np.linalg.norm(np.diff(X, axis=0), axis=1)
+    s = np.concatenate([[0.0], np.cumsum(seg)])
+    s *= L / s[-1]
+    return _Curve(s, X)
+
+
+def _sde_damping(spec, sec: Section, dx: float, coef: np.ndarray, masses: np.ndarray, inertia: np.ndarray,
+                 ends: dict) -> np.ndarray:
+    """Kelvin-Voigt damping of each SDE (nseg, 6)."""
+    nseg = masses.shape[0] - 1
+    out = np.zeros((nseg, 6))
+    if spec is None:
+        return out
+    if spec.axial_ratio is not None or spec.bending_ratio is not None:
+        za = spec.axial_ratio or 0.0
+        zb = spec.bending_ratio or 0.0
+        for j in range(nseg):
+            ml, mr = masses[j], masses[j + 1]
+            if j == 0 and ends["end_a"]["kind"] == KIND_CLAMPED:
+                ml = np.inf
+            if j == nseg - 1 and ends["end_b"]["kind"] == KIND_CLAMPED:
+                mr = np.inf
+            mred = _reduced(ml, mr)
+            for k in range(3):
+                out[j, k] = 2.0 * za * math.sqrt(coef[k] * mred)
+            for k, ax in ((3, 0), (4, 1), (5, 2)):
+                jl, jr = inertia[j, ax], inertia[j + 1, ax]
+                if np.isinf(ml):
+                    jl = np.inf
+                if np.isinf(mr):
+                    jr = np.inf
+                out[j, k] = 2.0 * zb * math.sqrt(coef[k] * _reduced(jl, jr))
+        return out
+    vals = [spec.axial or 0.0, spec.shear or 0.0, spec.shear or 0.0, spec.torsion or 0.0, spec.bending or 0.0,
+            spec.bending or 0.0]
+    out[:] = np.asarray(vals) / dx
+    return out
+
+
+def _reduced(a: float, b: float) -> float:
+    if np.isinf(a):
+        return b
+    if np.isinf(b):
+        return a
+    return a * b / (a + b)

@@ -1,0 +1,172 @@
+"""Block-tridiagonal matrices of RFE lines, factored and solved in O(n).
+
+An SDE couples only its two RFEs, so the Jacobian of a scene of lines (RFEs numbered
+back to back) is block tridiagonal with 6x6 blocks: ``J[i, 0]`` couples RFE i to i-1,
+``J[i, 1]`` is the diagonal block, ``J[i, 2]`` couples i to i+1 (zero across the
+boundary between two lines). Block LU (block Thomas) with explicitly inverted pivot
+blocks (Gauss-Jordan with partial pivoting inside each 6x6 block).
+
+The Jacobian itself is formed by finite differences of the residual with the RFEs
+coloured by ``index mod 3`` (18 residual evaluations for any number of RFEs).
+"""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+
+@njit(cache=True)
+def invert6_into(A, out, work):
+    """out = A^-1 for a 6x6 block (Gauss-Jordan, partial pivoting). Returns False if singular."""
+    for i in range(6):
+        for j in range(6):
+            work[i, j] = A[i, j]
+            out[i, j] = 1.0 if i == j else 0.0
+    scale = 0.0
+    for i in range(6):
+        for j in range(6):
+            if abs(A[i, j]) > scale:
+                scale = abs(A[i, j])
+    if scale == 0.0:
+        return False
+    for c in range(6):
+        p = c
+        best = abs(work[c, c])
+        for r in range(c + 1, 6):
+            if abs(work[r, c]) > best:
+                best = abs(work[r, c])
+                p = r
+        if best <= 1e-300 or best < 1e-15 * scale:
+            return False
+        if p != c:
+            for j in range(6):
+                tmp = work[c, j]
+                work[c, j] = work[p, j]
+                work[p, j] = tmp
+                tmp = out[c, j]
+                out[c, j] = out[p, j]
+                out[p, j] = tmp
+        inv = 1.0 / work[c, c]
+        for j in range(6):
+            work[c, j] *= inv
+            out[c, j] *= inv
+        for r in range(6):
+            if r == c:
+                continue
+            f = work[r, c]
+            if f != 0.0:
+                for j in range(6):
+                    work[r, j] -= f * work[c, j]
+                    out[r, j] -= f * out[c, j]
+    return True
+
+
+@njit(cache=True)
+def bt_factor(J, F):
+    """Factor the block-tridiagonal J (n, 3, 6, 6) into F (n, 3, 6, 6):
+    F[i, 0] = L_i D'_{i-1}^-1, F[i, 1] = D'_i^-1, F[i, 2] = U_i. Returns the first block
+    whose pivot is singular, or -1."""
+    n = J.shape[0]
+    work = np.empty((6, 6))
+    Dp = np.empty((6, 6))
+    for i in range(n):
+        for a in range(6):
+            for b in range(6):
+                Dp[a, b] = J[i, 1, a, b]
+                F[i, 2, a, b] = J[i, 2, a, b]
+        if i > 0:
+            # X = L_i Dinv_{i-1}; D'_i = D_i - X U_{i-1}
+            for a in range(6):
+                for b in range(6):
+                    s = 0.0
+                    for k in range(6):
+                        s += J[i, 0, a, k] * F[i - 1, 1, k, b]
+                    F[i, 0, a, b] = s
+            for a in range(6):
+                for b in range(6):
+                    s = 0.0
+                    for k in range(6):
+                        s += F[i, 0, a, k] * F[i - 1, 2, k, b]
+                    Dp[a, b] -= s
+        else:
+            for a in range(6):
+                for b in range(6):
+                    F[i, 0, a, b] = 0.0
+        if not invert6_into(Dp, F[i, 1], work):
+            return i
+    return -1
+
+
+@njit(cache=True)
+def bt_solve(F, rhs, out):
+    """Solve J x = rhs with the factors of bt_factor; rhs, out (n, 6) (may alias)."""
+    n = F.shape[0]
+    y = np.empty((n, 6))
+    for i in range(n):
+        for a in range(6):
+            s = rhs[i, a]
+            if i > 0:
+                for k in range(6):
+                    s -= F[i, 0, a, k] * y[i - 1, k]
+            y[i, a] = s
+    tmp = np.empty(6)
+    for i in range(n - 1, -1, -1):
+        for a in range(6):
+            s = y[i, a]
+            if i < n - 1:
+                for k in range(6):
+                    s -= F[i, 2, a, k] * out[i + 1, k]
+            tmp[a] = s
+        for a in range(6):
+            s = 0.0
+            for k in range(6):
+                s += F[i, 1, a, k] * tmp[k]
+            out[i, a] = s
+
+
+@njit(cache=True)
+def bt_matvec(J, x, out):
+    """out = J x for a block-tridiagonal J (used by tests and iterative refinement)."""
+    n = J.shape[0]
+    for i in range(n):
+        for a in range(6):
+            s = 0.0
+            for k in range(6):
+                s += J[i, 1, a, k] * x[i, k]
+                if i > 0:
+                    s += J[i, 0, a, k] * x[i - 1, k]
+                if i < n - 1:
+                    s += J[i, 2, a, k] * x[i + 1, k]
+            out[i, a] = s
+
+
+def bt_to_dense(J: np.ndarray) -> np.ndarray:
+    """Dense form of a block-tridiagonal matrix (tests and small modal problems only)."""
+    n = J.shape[0]
+    A = np.zeros((6 * n, 6 * n))
+    for i in range(n):
+        A[6 * i:6 * i + 6, 6 * i:6 * i + 6] = J[i, 1]
+        if i > 0:
+            A[6 * i:6 * i + 6, 6 * (i - 1):6 * i] = J[i, 0]
+        if i < n - 1:
+            A[6 * i:6 * i + 6, 6 * (i + 1):6 * (i + 2)] = J[i, 2]
+    return A
+
+
+def bt_to_sparse(J: np.ndarray):
+    """scipy CSR form of a block-tridiagonal matrix (modal analysis of long lines)."""
+    import scipy.sparse as sp
+    n = J.shape[0]
+    rows, cols, vals = [], [], []
+    ii, jj = np.meshgrid(np.arange(6), np.arange(6), indexing="ij")
+    for slot, off in ((0, -1), (1, 0), (2, 1)):
+        idx = np.arange(n)
+        valid = (idx + off >= 0) & (idx + off < n)
+        idx = idx[valid]
+        blocks = J[idx, slot]                          # (m, 6, 6)
+        rows.append((6 * idx[:, None, None] + ii[None]).ravel())
+        cols.append((6 * (idx + off)[:, None, None] + jj[None]).ravel())
+        vals.append(blocks.ravel())
+    A = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(6 * n, 6 * n))
+    A.eliminate_zeros()
+    return A

@@ -1,0 +1,321 @@
+"""Time integration driver: runs the compiled step loops between output times, records
+outputs, reports progress, and turns failures into SolverError with the results so far.
+
+Integrators: ``rk4`` (fixed step, default step from the stiffest mode), ``adaptive``
+(Dormand-Prince 5(4)), ``generalized-alpha`` (Chung-Hulbert, implicit, Newton on the
+block-tridiagonal Jacobian; a step whose Newton iteration fails is retried in halves).
+"""
+from __future__ import annotations
+
+import logging
+import math
+import time as _time
+
+import numpy as np
+
+from ..errors import CancelledError, SolverError
+from ..model.assemble import solve_accelerations
+from ..model.compile import State
+from .banded import bt_matvec
+from .kernels import Q_JACOBIAN, Q_NEWTON, Q_POSITION, Q_VELOCITY, dp_advance, ga_advance, genalpha_parameters, \
+    rk4_advance, _DP_A, _DP_B, _DP_C, _DP_E
+from .system import System
+
+log = logging.getLogger("rfesim")
+
+QUANTITY = {Q_POSITION: "position not finite or runaway", Q_VELOCITY: "velocity not finite or runaway",
+            Q_NEWTON: "Newton iteration did not converge", Q_JACOBIAN: "singular Jacobian"}
+
+
+def highest_frequency(system: System, state: State, iterations: int = 60) -> float:
+    """Largest natural circular frequency (rad/s) of the linearised model at the state,
+    by power iteration on M^-1 K (K: stiffness from the block-tridiagonal Jacobian)."""
+    st = state.copy()
+    st.qd[:] = 0.0
+    r0 = np.zeros((system.n, 6))
+    system.static_residual(st.q, st.ref, 1.0, r0)
+    K = system.static_jacobian(st.q, st.ref, 1.0, r0).copy()
+    system.evaluate(st)
+    Mgen = system.ws.Mgen.copy()
+    mask = system.mask
+    rng = np.random.default_rng(1)
+    x = rng.standard_normal((system.n, 6))
+    x[~mask] = 0.0
+    y = np.zeros_like(x)
+    lam = 0.0
+    for _ in range(iterations):
+        bt_matvec(K, x, y)
+        y[~mask] = 0.0
+        z = np.linalg.solve(Mgen, y[:, :, None])[:, :, 0]
+        z[~mask] = 0.0
+        nz = np.linalg.norm(z)
+        nx = np.linalg.norm(x)
+        if nx == 0 or nz == 0:
+            break
+        lam = nz / nx
+        x = z / nz
+    return math.sqrt(max(lam, 0.0)) * 1.1
+
+
+def stable_rk4_step(system: System, state: State, safety: float) -> float:
+    """Default RK4 step: safety * 2.8 / omega_max (RK4 reaches 2*sqrt(2) on the imaginary axis)."""
+    w = highest_frequency(system, state)
+    if w <= 0.0:
+        return 0.01
+    # SDE damping moves eigenvalues off the imaginary axis; keep inside the region
+    zeta = _max_damping_ratio(system)
+    return safety * 2.8 / (w * math.sqrt(1.0 + 4.0 * zeta * zeta))
+
+
+def _max_damping_ratio(system: System) -> float:
+    km = system.km
+    if not system.model.nsde:
+        return 0.0
+    c = km.sde_stiffness
+    d = km.sde_damping
+    m = km.rfe_mass.min()
+    with np.errstate(divide="ignore", invalid="ignore"):
+        z = d[:, :3] / (2.0 * np.sqrt(c[:, :3] * m))
+    z = z[np.isfinite(z)]
+    return float(z.max()) if z.size else 0.0
+
+
+class Recorder:
+    """Preallocated output arrays, filled at output times."""
+
+    def __init__(self, system: System, nt: int):
+        from ..model.outputs import reactions
+        self._reactions = reactions
+        self.system = system
+        model = system.model
+        self.nt = nt
+        self.k = 0
+        self.time = np.zeros(nt)
+        self.line_data = {}
+        for li in model.lines:
+            npts = li.elements + 2
+            self.line_data[li.name] = {
+                "position": np.zeros((nt, npts, 3)),
+                **{ch: np.zeros((nt, li.elements)) for ch in ("tension", "shear_force", "bend_moment", "torque",
+                                                               "curvature")},
+                **{ch: np.zeros((nt, 3)) for ch in ("end_a_force", "end_b_force", "end_a_moment", "end_b_moment")},
+                "seabed_force": np.zeros((nt, li.nrfe)),
+            }
+        self.vessel_names = list(model.scenario.vessels)
+        self.vessel_pos = np.zeros((nt, len(self.vessel_names), 3))
+        self.vessel_rot = np.zeros((nt, len(self.vessel_names), 3))
+        nsde = model.nsde
+        self._ch = {ch: np.zeros(nsde) for ch in ("tension", "shear_force", "bend_moment", "torque", "curvature")}
+        self._react = np.zeros((model.n, 6))
+        self._pts = {li.name: np.zeros((li.elements + 2, 3)) for li in model.lines}
+
+    def record(self, state: State, qdd: np.ndarray) -> None:
+        from ..kinematics import rotation_to_zyx
+        from ..model.outputs import line_points, sde_channels
+        if self.k >= self.nt:
+            return
+        sysm = self.system
+        km = sysm.km
+        sysm.evaluate(state)
+        ws = sysm.ws
+        self._reactions(km, sysm.att, ws, qdd, self._react)
+        ch = self._ch
+        sde_channels(ws, km.sde_length, ch["tension"], ch["shear_force"], ch["bend_moment"], ch["torque"],
+                     ch["curvature"])
+        k = self.k
+        self.time[k] = state.t
+        for li in sysm.model.lines:
+            d = self.line_data[li.name]
+            line_points(ws, li.rfe_start, li.rfe_stop, li.sde_start, li.sde_stop, km.rfe_length, self._pts[li.name])
+            d["position"][k] = self._pts[li.name]
+            for name in ("tension", "shear_force", "bend_moment", "torque", "curvature"):
+                d[name][k] = ch[name][li.sde_start:li.sde_stop]
+            # force of the line on its attachment = - constraint force on the end RFE
+            ia, ib = li.rfe_start, li.rfe_stop - 1
+            d["end_a_force"][k] = -self._react[ia, :3]
+            d["end_b_force"][k] = -self._react[ib, :3]
+            d["end_a_moment"][k] = -self._react[ia, 3:]
+            d["end_b_moment"][k] = -self._react[ib, 3:]
+            d["seabed_force"][k] = ws.contact_force[li.rfe_start:li.rfe_stop]
+        for j, name in enumerate(self.vessel_names):
+            a = 1 + j
+            self.vessel_pos[k, j] = sysm.att.p[a]
+            R_rel = sysm.vs.R_heading[a].T @ sysm.att.R[a]
+            psi, theta, phi = rotation_to_zyx(R_rel)
+            self.vessel_rot[k, j] = np.degrees([phi, theta, psi])
+        self.k += 1
+
+    def results(self, **kw):
+        from ..results import LineResults, Results, VesselResults
+        nt = self.k
+        lines = {}
+        for li in self.system.model.lines:
+            d = self.line_data[li.name]
+            lines[li.name] = LineResults(name=li.name, arc_length=li.point_arc_length,
+                                         sde_arc_length=li.sde_arc_length,
+                                         **{name: arr[:nt] for name, arr in d.items()})
+        vessels = {name: VesselResults(name=name, position=self.vessel_pos[:nt, j], rotation=self.vessel_rot[:nt, j])
+                   for j, name in enumerate(self.vessel_names)}
+        return Results(time=self.time[:nt].copy(), lines=lines, vessels=vessels, **kw)
+
+
+class Counters(dict):
+    def add(self, stats: np.ndarray, names=("steps", "newton_iterations", "jacobians", "rebases")):
+        for k, name in enumerate(names):
+            self[name] = self.get(name, 0) + int(stats[k])
+
+
+def _raise(system: System, fail: np.ndarray, status: int, make_results, what: str = ""):
+    t = float(fail[0])
+    elem = int(fail[1])
+    where = system.model.describe_rfe(elem) if elem >= 0 else None
+    quantity = QUANTITY.get(int(fail[2]), "failure")
+    res = make_results(status=1, message=f"{what}{quantity} at t = {t:.6g} s" + (f" in {where}" if where else ""))
+    raise SolverError(f"the run diverged: {quantity}", time=t, element=where, quantity=quantity, results=res)
+
+
+def run_dynamics(system: System, state: State, settings, progress=None, recorder: Recorder | None = None,
+                 counters: Counters | None = None) -> tuple[State, Recorder, Counters]:
+    """Integrate from state.t over settings.duration, recording at output times."""
+    integ = settings.integrator
+    T = float(settings.duration)
+    t_start = state.t
+    st = state.copy()
+    counters = counters if counters is not None else Counters()
+    wall0 = _time.perf_counter()
+    km, vs, att, ws = system.km, system.vs, system.att, system.ws
+    mask = system.mask
+    n = system.n
+    # initial true acceleration
+    st.qdd[:] = system.accelerations(st)
+    if integ.kind == "generalized-alpha":
+        h = float(integ.time_step)
+    elif integ.kind == "rk4":
+        h = float(integ.time_step) if integ.time_step else stable_rk4_step(system, st, integ.safety)
+    else:
+        h = float(integ.first_step) if integ.first_step else min(stable_rk4_step(system, st, 0.5), T / 10 or 1.0)
+    counters["time_step"] = h
+    # output times
+    if settings.output_interval is not None:
+        out_dt = float(settings.output_interval)
+    elif integ.kind == "adaptive":
+        out_dt = T / 1000.0
+    else:
+        out_dt = h * max(1, math.ceil(T / h / 10000.0))
+    if integ.kind != "adaptive":
+        per_out = max(1, int(round(out_dt / h)))
+        out_dt = per_out * h
+    n_out = int(math.floor(T / out_dt + 1e-9))
+    if recorder is None:
+        recorder = Recorder(system, n_out + 2)
+    if recorder.k == 0 or recorder.time[recorder.k - 1] < st.t:
+        recorder.record(st, st.qdd)
+    stats = np.zeros(4, np.int64)
+    fail = np.zeros(3)
+
+    def make_results(**kw):
+        counters["wall_time"] = _time.perf_counter() - wall0
+        return recorder.results(counters=dict(counters), **kw)
+
+    def report(t):
+        if progress is not None:
+            try:
+                progress(min(1.0, (t - t_start) / T) if T > 0 else 1.0, t)
+            except CancelledError:
+                raise
+            except Exception as exc:  # a callback that raises stops the run as cancelled
+                raise CancelledError(str(exc)) from exc
+
+    z = lambda *s: np.zeros(s)  # noqa: E731
+    if integ.kind == "generalized-alpha":
+        am, af, beta, gamma = genalpha_parameters(integ.rho_inf)
+        force_ref = system.force_scale(st)
+        floor = 100.0 * system.roundoff_force(st) / force_ref
+        tol = max(float(integ.tolerance), floor)
+        flags = np.zeros(1, np.int64)
+        for k_out in range(1, n_out + 1):
+            t_target = t_start + k_out * out_dt
+            nsteps = int(round((t_target - st.t) / h))
+            saved = st.copy()
+            status = ga_advance(km, vs, att, ws, st.q, st.qd, st.qdd, st.aux, st.ref, st.t, h, nsteps, am, af, beta,
+                                gamma, tol, integ.max_iterations, integ.jacobian_reuse, mask, system.length_scale,
+                                force_ref, system.J, system.Fac, system.Q0, system.V0, system.r, system.dq,
+                                system.qd_buf, system.A_buf, system.qp, system.rp, system.hs, flags, stats, fail)
+            if status != 0:
+                # redo this output interval step by step, halving a failing step down to h/64
+                st = saved
+                stats[:] = 0
+                flags[0] = 0
+                status = 0
+                for j in range(nsteps):
+                    t_step0 = saved.t + j * h
+                    ok = False
+                    for level in range(7):
+                        sub = 2 ** level
+                        trial = st.copy()
+                        trial.t = t_step0
+                        flags[0] = 0
+                        s2 = 0
+                        for m in range(sub):
+                            s2 = ga_advance(km, vs, att, ws, trial.q, trial.qd, trial.qdd, trial.aux, trial.ref,
+                                            t_step0 + m * h / sub, h / sub, 1, am, af, beta, gamma, tol,
+                                            integ.max_iterations, integ.jacobian_reuse, mask, system.length_scale,
+                                            force_ref, system.J, system.Fac, system.Q0, system.V0, system.r,
+                                            system.dq, system.qd_buf, system.A_buf, system.qp, system.rp, system.hs,
+                                            flags, stats, fail)
+                            if s2 != 0:
+                                break
+                        if s2 == 0:
+                            st = trial
+                            ok = True
+                            if level > 0:
+                                counters["step_halvings"] = counters.get("step_halvings", 0) + 1
+                            break
+                        status = s2
+                    flags[0] = 0
+                    if not ok:
+                        st.t = t_step0
+                        counters.add(stats)
+                        _raise(system, fail, status, make_results)
+                    st.t = t_step0 + h
+            st.t = t_target
+            counters.add(stats)
+            stats[:] = 0
+            recorder.record(st, st.qdd)
+            report(st.t)
+    elif integ.kind == "rk4":
+        k_q, k_v = z(4, n, 6), z(4, n, 6)
+        qs, vbuf, acc = z(n, 6), z(n, 6), z(n, 6)
+        for k_out in range(1, n_out + 1):
+            t_target = t_start + k_out * out_dt
+            nsteps = int(round((t_target - st.t) / h))
+            status = rk4_advance(km, vs, att, ws, st.q, st.qd, st.qdd, st.ref, st.t, h, nsteps, mask, k_q, k_v, qs,
+                                 vbuf, acc, stats, fail)
+            counters.add(stats, ("steps", "evaluations", "unused", "rebases"))
+            stats[:] = 0
+            if status != 0:
+                st.t = float(fail[0])
+                _raise(system, fail, status, make_results, "RK4: ")
+            st.t = t_target
+            recorder.record(st, st.qdd)
+            report(st.t)
+    else:
+        k_q, k_v = z(7, n, 6), z(7, n, 6)
+        qs, vbuf, acc = z(n, 6), z(n, 6), z(n, 6)
+        hout = np.array([h])
+        h_max = float(integ.max_step) if integ.max_step else np.inf
+        for k_out in range(1, n_out + 1):
+            t_target = t_start + k_out * out_dt
+            status = dp_advance(km, vs, att, ws, st.q, st.qd, st.qdd, st.ref, st.t, t_target, hout[0], h_max,
+                                float(integ.rtol), float(integ.atol), mask, k_q, k_v, qs, vbuf, acc, _DP_A, _DP_B,
+                                _DP_C, _DP_E, stats, fail, hout)
+            counters.add(stats, ("steps", "evaluations", "rejected_steps", "rebases"))
+            stats[:] = 0
+            if status != 0:
+                st.t = float(fail[0])
+                _raise(system, fail, status, make_results, "adaptive RK: ")
+            st.t = t_target
+            recorder.record(st, st.qdd)
+            report(st.t)
+    counters["wall_time"] = _time.perf_counter() - wall0
+    return st, recorder, counters

@@ -1,0 +1,92 @@
+"""A compiled model with every work buffer allocated once (the ``data`` of model/data)."""
+from __future__ import annotations
+
+import numpy as np
+
+from ..model.arrays import new_attachment_state, new_workspace
+from ..model.assemble import evaluate, solve_accelerations
+from ..model.compile import Model, State
+from ..vessel_kernel import attachment_kinematics, vessel_spec
+from .kernels import jacobian_fd, jacobian_fd_general, residual_q
+
+
+class System:
+    def __init__(self, model: Model):
+        self.model = model
+        km = model.km
+        n, nsde = model.n, model.nsde
+        self.km = km
+        self.n = n
+        self.ws = new_workspace(n, nsde)
+        self.vs = vessel_spec(model.motions)
+        self.att = new_attachment_state(len(model.attachment_names))
+        self.mask = model.dof_mask
+        self.length_scale = km.rfe_length.copy()
+        z = lambda *s: np.zeros(s)  # noqa: E731
+        self.J = z(n, 3, 6, 6)
+        self.Fac = z(n, 3, 6, 6)
+        self.Q0, self.V0, self.r, self.dq = z(n, 6), z(n, 6), z(n, 6), z(n, 6)
+        self.qd_buf, self.A_buf, self.qp, self.rp = z(n, 6), z(n, 6), z(n, 6), z(n, 6)
+        self.hs = z(n)
+
+    # ------------------------------------------------------------------ evaluations
+    def set_time(self, t: float) -> None:
+        attachment_kinematics(self.vs, float(t), self.att)
+
+    def evaluate(self, state: State, scale: float = 1.0) -> None:
+        self.set_time(state.t)
+        evaluate(self.km, self.att, state.q, state.qd, state.ref, self.ws, float(scale))
+
+    def accelerations(self, state: State) -> np.ndarray:
+        """True accelerations of the state (also leaves the workspace evaluated)."""
+        self.evaluate(state)
+        qdd = np.zeros((self.n, 6))
+        solve_accelerations(self.ws, qdd)
+        return qdd
+
+    def static_residual(self, q: np.ndarray, ref, scale: float, out: np.ndarray) -> None:
+        residual_q(self.km, self.att, q, ref, self.ws, float(scale), 0, self.Q0, self.V0, 1.0, 0.0, self.mask,
+                   self.qd_buf, self.A_buf, out)
+
+    def static_jacobian(self, q: np.ndarray, ref, scale: float, r0: np.ndarray) -> np.ndarray:
+        jacobian_fd(self.km, self.att, q, ref, self.ws, float(scale), 0, self.Q0, self.V0, 1.0, 0.0, self.mask,
+                    self.qd_buf, self.A_buf, r0, self.qp, self.rp, self.hs, self.length_scale, self.J)
+        return self.J
+
+    def static_jacobian_accurate(self, q: np.ndarray, ref, scale: float = 1.0) -> np.ndarray:
+        """Central-difference static Jacobian (statics and modal analysis). Central
+        differences cancel the second-order change of stiff (axial) springs under lateral
+        perturbations, which in forward differences swamps the geometric stiffness of
+        nearly inextensible lines."""
+        work = np.zeros((self.n, 6))
+        jacobian_fd_general(self.km, self.att, q, ref, self.ws, float(scale), 0, self.Q0, self.V0, 1.0, 0.0, self.mask,
+                            self.qd_buf, self.A_buf, work, self.qp, self.rp, self.hs, self.length_scale, self.J,
+                            True, 1e-5)
+        return self.J
+
+    # ------------------------------------------------------------------ scales
+    def roundoff_force(self, state: State) -> float:
+        """The force resolution of the model (N): the stiffest SDE times the round-off of
+        the positions it differences. No residual can be driven below this."""
+        km = self.km
+        if not self.model.nsde:
+            return 0.0
+        # SDE gaps difference reference positions and displacements apart (rfesim.loads.sde)
+        size = float(np.abs(state.q[:, :3]).max()) + 2.0 * float(km.rfe_length.max())
+        return 8.0 * np.finfo(float).eps * size * float(km.sde_stiffness[:, :3].max())
+
+    def force_scale(self, state: State) -> float:
+        """A typical force of the scene (N) to judge convergence against: the largest
+        element weight or point load; the largest internal force if there are none."""
+        km = self.km
+        cand = [0.0]
+        if km.gravity > 0:
+            cand.append(float(km.rfe_mass.max() * km.gravity))
+        if km.load_force.size:
+            cand.append(float(np.abs(km.load_force).max()))
+            cand.append(float(np.abs(km.load_moment).max() / max(km.rfe_length.min(), 1e-12)))
+        ref = max(cand)
+        if ref == 0.0 and self.model.nsde:
+            self.evaluate(state)
+            ref = float(np.abs(self.ws.sigma[:, :3]).max())
+        return max(ref, 1e-9)
