@@ -215,6 +215,124 @@ def log_so3_into(R, out):
 
 
 @njit(cache=True)
+def quaternion_from_matrix(R):
+    """Unit quaternion (w, x, y, z) of R with w >= 0 (Shepperd's method), as a tuple."""
+    tr = R[0, 0] + R[1, 1] + R[2, 2]
+    if tr >= R[0, 0] and tr >= R[1, 1] and tr >= R[2, 2]:
+        s = math.sqrt(1.0 + tr) * 2.0
+        w = 0.25 * s
+        x = (R[2, 1] - R[1, 2]) / s
+        y = (R[0, 2] - R[2, 0]) / s
+        z = (R[1, 0] - R[0, 1]) / s
+    elif R[0, 0] >= R[1, 1] and R[0, 0] >= R[2, 2]:
+        s = math.sqrt(1.0 + R[0, 0] - R[1, 1] - R[2, 2]) * 2.0
+        w = (R[2, 1] - R[1, 2]) / s
+        x = 0.25 * s
+        y = (R[0, 1] + R[1, 0]) / s
+        z = (R[0, 2] + R[2, 0]) / s
+    elif R[1, 1] >= R[2, 2]:
+        s = math.sqrt(1.0 + R[1, 1] - R[0, 0] - R[2, 2]) * 2.0
+        w = (R[0, 2] - R[2, 0]) / s
+        x = (R[0, 1] + R[1, 0]) / s
+        y = 0.25 * s
+        z = (R[1, 2] + R[2, 1]) / s
+    else:
+        s = math.sqrt(1.0 + R[2, 2] - R[0, 0] - R[1, 1]) * 2.0
+        w = (R[1, 0] - R[0, 1]) / s
+        x = (R[0, 2] + R[2, 0]) / s
+        y = (R[1, 2] + R[2, 1]) / s
+        z = 0.25 * s
+    if w < 0.0:
+        w = -w
+        x = -x
+        y = -y
+        z = -z
+    n = math.sqrt(w * w + x * x + y * y + z * z)
+    return w / n, x / n, y / n, z / n
+
+
+@njit(cache=True)
+def relative_rotation_terms(R, theta, Rhalf, Jri, Jrh):
+    """For a relative rotation R (angle < pi): its rotation vector theta = log(R), the half
+    rotation Rhalf = exp(theta/2), J_r(theta)^-1 and J_r(theta/2) -- all from the quaternion
+    of R with one atan2 (used by every SDE, so it is written for speed; the plain
+    log/exp/Jacobian functions above are its readable reference in the tests)."""
+    w, x, y, z = quaternion_from_matrix(R)
+    s2 = x * x + y * y + z * z
+    s = math.sqrt(s2)                      # sin(angle/2)
+    angle = 2.0 * math.atan2(s, w)
+    if s > 1e-300:
+        f = angle / s
+    else:
+        f = 2.0
+    theta[0] = f * x
+    theta[1] = f * y
+    theta[2] = f * z
+    th2 = angle * angle
+    # half rotation quaternion: ((1 + w), v) / sqrt(2 (1 + w))
+    nh = math.sqrt(2.0 * (1.0 + w))
+    hw = (1.0 + w) / nh
+    hx = x / nh
+    hy = y / nh
+    hz = z / nh
+    Rhalf[0, 0] = 1.0 - 2.0 * (hy * hy + hz * hz)
+    Rhalf[1, 1] = 1.0 - 2.0 * (hx * hx + hz * hz)
+    Rhalf[2, 2] = 1.0 - 2.0 * (hx * hx + hy * hy)
+    Rhalf[0, 1] = 2.0 * (hx * hy - hz * hw)
+    Rhalf[1, 0] = 2.0 * (hx * hy + hz * hw)
+    Rhalf[0, 2] = 2.0 * (hx * hz + hy * hw)
+    Rhalf[2, 0] = 2.0 * (hx * hz - hy * hw)
+    Rhalf[1, 2] = 2.0 * (hy * hz - hx * hw)
+    Rhalf[2, 1] = 2.0 * (hy * hz + hx * hw)
+    # J_r^-1(theta) = I + 1/2 [th]x + c [th]x^2, c = 1/th^2 - w / (2 th s)
+    if angle < 2e-2:
+        c = 1.0 / 12.0 + th2 / 720.0 + th2 * th2 / 30240.0
+    else:
+        c = 1.0 / th2 - w / (2.0 * angle * s)
+    # J_r(phi) with phi = theta/2: a = (1 - cos phi)/phi^2 = s^2 / ((1 + w) phi^2),
+    # b = (phi - sin phi)/phi^3; cos phi = w, sin phi = s
+    ph = 0.5 * angle
+    ph2 = ph * ph
+    if ph < 1e-2:
+        a = 0.5 - ph2 / 24.0 + ph2 * ph2 / 720.0
+        b = 1.0 / 6.0 - ph2 / 120.0 + ph2 * ph2 / 5040.0
+    else:
+        a = s2 / ((1.0 + w) * ph2)
+        b = (ph - s) / (ph2 * ph)
+    t0 = theta[0]
+    t1 = theta[1]
+    t2 = theta[2]
+    h0 = 0.5 * t0
+    h1 = 0.5 * t1
+    h2 = 0.5 * t2
+    for i in range(3):
+        for j in range(3):
+            Jri[i, j] = c * theta[i] * theta[j]
+    Jri[0, 0] += 1.0 - c * th2
+    Jri[1, 1] += 1.0 - c * th2
+    Jri[2, 2] += 1.0 - c * th2
+    Jri[0, 1] -= 0.5 * t2
+    Jri[1, 0] += 0.5 * t2
+    Jri[0, 2] += 0.5 * t1
+    Jri[2, 0] -= 0.5 * t1
+    Jri[1, 2] -= 0.5 * t0
+    Jri[2, 1] += 0.5 * t0
+    hv = (h0, h1, h2)
+    for i in range(3):
+        for j in range(3):
+            Jrh[i, j] = b * hv[i] * hv[j]
+    Jrh[0, 0] += 1.0 - b * ph2
+    Jrh[1, 1] += 1.0 - b * ph2
+    Jrh[2, 2] += 1.0 - b * ph2
+    Jrh[0, 1] += a * h2
+    Jrh[1, 0] -= a * h2
+    Jrh[0, 2] -= a * h1
+    Jrh[2, 0] += a * h1
+    Jrh[1, 2] += a * h0
+    Jrh[2, 1] -= a * h0
+
+
+@njit(cache=True)
 def right_jacobian_into(w, out):
     """J_r(w): exp(w + dw) = exp(w) exp(J_r(w) dw) to first order."""
     th2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2]

@@ -23,8 +23,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ..kinematics import (cross_into, exp_so3_into, log_so3_into, matmul_into, matTmul_into, matTvec_into,
-                          matvec_into, right_jacobian_into, right_jacobian_inverse_into)
+from ..kinematics import (cross_into, matmul_into, matTmul_into, matTvec_into, matvec_into,
+                          relative_rotation_terms)
 
 
 @njit(cache=True)
@@ -46,7 +46,6 @@ def sde_forces(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiffness, 
     Rh = np.empty((3, 3))
     Rp = np.empty((3, 3))
     th = np.empty(3)
-    half = np.empty(3)
     Jri = np.empty((3, 3))
     Jrh = np.empty((3, 3))
     tmp = np.empty(3)
@@ -73,10 +72,8 @@ def sde_forces(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiffness, 
             # eq. 8.78-8.79: r_R - r_L, differencing reference positions and displacements apart
             g[k] = (rbase[b, k] - rbase[a, k]) + (roff[b, k] - roff[a, k]) + (pb[k] - pa[k])
         matTmul_into(Ra, Rb, Rrel)
-        log_so3_into(Rrel, th)                                      # eq. 8.75 (rotation-vector form)
-        for k in range(3):
-            half[k] = 0.5 * th[k]
-        exp_so3_into(half[0], half[1], half[2], Rh)
+        # eq. 8.75 in rotation-vector form, the half rotation and the right Jacobians
+        relative_rotation_terms(Rrel, th, Rh, Jri, Jrh)
         matmul_into(Ra, Rh, Rp)                                     # eq. 8.77: mean orientation {i'}
         matTvec_into(Rp, g, dlt)                                    # eq. 8.85: R'^T (r_R - r_L)
         # rates
@@ -85,8 +82,6 @@ def sde_forces(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiffness, 
         for k in range(3):
             gdot[k] = v[b, k] + tmp[k] - v[a, k] - tmp2[k]
             dw[k] = w[b, k] - w[a, k]
-        right_jacobian_inverse_into(th, Jri)
-        right_jacobian_into(half, Jrh)
         matTvec_into(Rb, dw, tmp)
         matvec_into(Jri, tmp, thdot)                                # d(theta)/dt
         matvec_into(Jrh, thdot, tmp)
