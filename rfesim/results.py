@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import json
 import os
-import tempfile
+import secrets
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -28,6 +28,7 @@ CHANNELS: dict[str, tuple[str, str]] = {
     "vessel_position": ("m", "Position of the vessel origin (global)"),
     "vessel_rotation": ("deg", "Vessel roll, pitch, yaw (ZYX angles)"),
     "frequency": ("Hz", "Natural frequency"),
+    "xyz": ("1", "Global axis (0: x, 1: y, 2: z)"),
 }
 
 LINE_CHANNELS = ("position", "tension", "shear_force", "bend_moment", "torque", "curvature", "end_a_force",
@@ -112,9 +113,15 @@ class Results:
     def to_netcdf(self, path: str | os.PathLike) -> None:
         """Write netCDF-4 (HDF5) atomically: a temporary file in the same folder, then rename."""
         path = os.fspath(path)
-        folder = os.path.dirname(os.path.abspath(path))
-        fd, tmp = tempfile.mkstemp(suffix=".nc.tmp", dir=folder)
-        os.close(fd)
+        folder, base = os.path.split(os.path.abspath(path))
+        # created like an ordinary file (mode 0o666 less the umask; mkstemp would give 0o600)
+        while True:
+            tmp = os.path.join(folder, f".{base}.{secrets.token_hex(6)}.tmp")
+            try:
+                os.close(os.open(tmp, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o666))
+                break
+            except FileExistsError:
+                continue
         try:
             _write_netcdf(self, tmp)
             os.replace(tmp, path)
@@ -124,12 +131,27 @@ class Results:
             raise
 
 
-def _var(group, name, dims, data, channel=None):
+def _var(group, name, dims, data, channel=None, dtype=float):
     units, long_name = CHANNELS[channel or name]
-    v = group.create_variable(name, dims, data=np.asarray(data, dtype=float))
+    v = group.create_variable(name, dims, data=np.asarray(data, dtype=dtype))
     v.attrs["units"] = units
     v.attrs["long_name"] = long_name
     return v
+
+
+def _json_scalar(x):
+    """numpy scalars and arrays in the counters -> plain JSON values."""
+    if isinstance(x, (np.generic, np.ndarray)):
+        return x.tolist()
+    raise TypeError(f"{type(x).__name__} is not JSON serialisable")
+
+
+def _scalar(x):
+    """An attribute as a Python scalar (h5netcdf stores numbers as 1-element arrays)."""
+    if isinstance(x, bytes):
+        return x.decode()
+    arr = np.asarray(x)
+    return arr.reshape(-1)[0].item() if arr.size == 1 and arr.dtype.kind in "iufb" else x
 
 
 def _write_netcdf(res: Results, path: str) -> None:
@@ -142,7 +164,7 @@ def _write_netcdf(res: Results, path: str) -> None:
         f.attrs["status"] = int(res.status)
         f.attrs["message"] = res.message
         f.attrs["kind"] = res.kind
-        f.attrs["counters"] = json.dumps(res.counters)
+        f.attrs["counters"] = json.dumps(res.counters, default=_json_scalar)
         nt = len(res.time)
         lines = f.create_group("lines")
         for name, lr in res.lines.items():
@@ -152,8 +174,7 @@ def _write_netcdf(res: Results, path: str) -> None:
             _var(g, "time", ("time",), res.time)
             _var(g, "arc_length", ("point",), lr.arc_length)
             _var(g, "sde_arc_length", ("sde",), lr.sde_arc_length)
-            g.create_variable("xyz", ("xyz",), data=np.array([0, 1, 2], dtype=np.int32)).attrs["long_name"] = \
-                "Global axis (0: x, 1: y, 2: z)"
+            _var(g, "xyz", ("xyz",), [0, 1, 2], dtype=np.int32)
             _var(g, "position", ("time", "point", "xyz"), lr.position)
             for ch in ("tension", "shear_force", "bend_moment", "torque", "curvature"):
                 _var(g, ch, ("time", "sde"), getattr(lr, ch))
@@ -166,6 +187,7 @@ def _write_netcdf(res: Results, path: str) -> None:
                 g = vg.create_group(name)
                 g.dimensions = {"time": nt, "xyz": 3}
                 _var(g, "time", ("time",), res.time)
+                _var(g, "xyz", ("xyz",), [0, 1, 2], dtype=np.int32)
                 _var(g, "position", ("time", "xyz"), vr.position, "vessel_position")
                 _var(g, "rotation", ("time", "xyz"), vr.rotation, "vessel_rotation")
 
@@ -189,8 +211,10 @@ def open_results(path: str | os.PathLike) -> Results:
                 **{ch: g[ch][()] for ch in LINE_CHANNELS})
         vessels = {}
         for name, g in f.get("vessels", {}).items():
+            if not lines:
+                time = g["time"][()]
             vessels[name] = VesselResults(name=name, position=g["position"][()], rotation=g["rotation"][()])
-        return Results(time=time, lines=lines, vessels=vessels, status=int(attrs.get("status", 0)),
+        return Results(time=time, lines=lines, vessels=vessels, status=int(_scalar(attrs.get("status", 0))),
                        message=_s(attrs.get("message", "")), counters=json.loads(_s(attrs.get("counters", "{}"))),
                        scenario_json=_s(attrs.get("scenario", "")), version=_s(attrs.get("rfesim_version", "")),
                        kind=_s(attrs.get("kind", "dynamics")))

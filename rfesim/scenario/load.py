@@ -6,14 +6,17 @@ Every problem becomes a :class:`rfesim.ScenarioError` whose ``errors`` list hold
 from __future__ import annotations
 
 import copy
+import difflib
 import json
 import math
 import os
+import types
+import typing
 from pathlib import Path
-from typing import Any, Callable
+from typing import Annotated, Any, Callable, Literal, Union
 
 import yaml
-from pydantic import ValidationError
+from pydantic import BaseModel, ValidationError
 
 from ..errors import ScenarioError
 from .schema import FieldError, Scenario
@@ -21,25 +24,134 @@ from .schema import FieldError, Scenario
 RESERVED_ATTACH = ("fixed", "free")
 
 
-def _loc_to_path(loc) -> str:
-    parts = []
-    for p in loc:
-        if isinstance(p, int):
-            parts.append(str(p))
-        elif p in ("function-after", "function-before", "function-wrap", "function-plain"):
+def _unwrap(tp):
+    """Strip Annotated[...] and Optional[...] from a type annotation."""
+    while True:
+        origin = typing.get_origin(tp)
+        if origin is Annotated:
+            tp = typing.get_args(tp)[0]
             continue
-        elif isinstance(p, str) and p.startswith(("function-after[", "function-before[", "function-wrap[")):
+        if origin in (Union, types.UnionType):
+            args = [a for a in typing.get_args(tp) if a is not type(None)]
+            if len(args) == 1:
+                tp = args[0]
+                continue
+        return tp
+
+
+def _union_member(tp, tag):
+    """The member of a union that pydantic's location tag ``tag`` names, or None."""
+    for member in typing.get_args(tp):
+        m = _unwrap(member)
+        if isinstance(m, type) and issubclass(m, BaseModel):
+            kind = m.model_fields.get("kind")
+            if kind is not None and tag in typing.get_args(_unwrap(kind.annotation)):
+                return m
+            if tag == m.__name__:
+                return m
+        elif typing.get_origin(m) is Literal:
+            if isinstance(tag, str) and tag.startswith("literal["):
+                return m
+        elif isinstance(m, type) and tag == m.__name__:
+            return m
+    return None
+
+
+def _resolve(loc) -> tuple[list[str], type | None, Any]:
+    """Walk a pydantic error location through the Scenario schema.
+
+    Returns the user's path (union tags that pydantic inserts are dropped, but only
+    where the schema has a union, so a vessel called "harmonic" keeps its name) and
+    the model class that owns the last path element (for "did you mean" hints), and
+    the type expected at the path (None where unknown).
+    """
+    tp: Any = Scenario
+    owner = None
+    out: list[str] = []
+    items = list(loc)
+    i = 0
+    while i < len(items):
+        p = items[i]
+        if isinstance(p, str) and p.startswith("function-"):
+            i += 1
             continue
+        if p == "[key]":                      # a dict key that is not a string
+            i += 1
+            continue
+        t = _unwrap(tp) if tp is not None else None
+        if t is not None and typing.get_origin(t) in (Union, types.UnionType):
+            member = _union_member(t, p)
+            if member is not None:
+                tp = member
+                i += 1
+                continue
+            tp = None
+            continue
+        out.append(str(p))
+        i += 1
+        if t is None:
+            continue
+        if isinstance(t, type) and issubclass(t, BaseModel):
+            owner = t
+            field = t.model_fields.get(p) if isinstance(p, str) else None
+            tp = field.annotation if field is not None else None
+        elif typing.get_origin(t) is dict:
+            tp = typing.get_args(t)[1]
+            owner = None
+        elif typing.get_origin(t) is list:
+            tp = typing.get_args(t)[0]
+            owner = None
         else:
-            parts.append(str(p))
-    return ".".join(parts)
+            tp = None
+            owner = None
+    return out, owner, tp
 
 
-_KIND_TAGS = {"fixed", "harmonic", "table", "elastic", "rk4", "adaptive", "generalized-alpha", "str", "float",
-              "literal['end_a','end_b']", "literal['end_a', 'end_b']"}
+def _loc_to_path(loc) -> str:
+    return ".".join(_resolve(loc)[0])
 
 
-def _reason(err: dict) -> tuple[str, str]:
+def _show(value: Any) -> str:
+    """A short description of a user value for error messages."""
+    if isinstance(value, dict):
+        return "a mapping"
+    if isinstance(value, (list, tuple)):
+        return f"a list of {len(value)}"
+    if value is None:
+        return "null"
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+_TYPE_REASONS = {
+    "float_type": "must be a number",
+    "float_parsing": "must be a number",
+    "int_type": "must be a whole number",
+    "int_parsing": "must be a whole number",
+    "int_from_float": "must be a whole number",
+    "string_type": "must be text (a string)",
+    "bool_type": "must be true or false",
+    "bool_parsing": "must be true or false",
+    "dict_type": "must be a mapping of names to entries",
+    "model_type": "must be a mapping (keys and values)",
+    "model_attributes_type": "must be a mapping (keys and values)",
+    "list_type": "must be a list",
+}
+
+
+def _kinds(tp) -> list[str]:
+    """The ``kind`` values of the models in a discriminated union type."""
+    out = []
+    for member in typing.get_args(_unwrap(tp)) if tp is not None else ():
+        m = _unwrap(member)
+        if isinstance(m, type) and issubclass(m, BaseModel) and "kind" in m.model_fields:
+            out += [str(v) for v in typing.get_args(_unwrap(m.model_fields["kind"].annotation))]
+    return out
+
+
+def _reason(err: dict, owner: type | None = None, key: Any = None, tp: Any = None) -> tuple[str, str]:
     """(extra path, reason) for one pydantic error dict."""
     ctx = err.get("ctx") or {}
     exc = ctx.get("error")
@@ -47,55 +159,93 @@ def _reason(err: dict) -> tuple[str, str]:
         return exc.field, exc.reason
     typ = err.get("type", "")
     msg = err.get("msg", "invalid value")
+    got = err.get("input")
     if msg.startswith("Value error, "):
-        msg = msg[len("Value error, "):]
+        return "", msg[len("Value error, "):]
     if typ == "extra_forbidden":
-        return "", "unknown key (not part of the schema; check the spelling)"
+        reason = "unknown key (not part of the schema; check the spelling)"
+        if owner is not None:
+            known = list(owner.model_fields)
+            close = difflib.get_close_matches(str(key), known, n=1, cutoff=0.6)
+            if close:
+                reason = f"unknown key (did you mean '{close[0]}'?)"
+            else:
+                reason = f"unknown key (allowed here: {', '.join(known)})"
+        return "", reason
     if typ == "missing":
         return "", "required field is missing"
     if typ == "finite_number":
-        return "", f"must be a finite number, got {err.get('input')!r}"
+        return "", f"must be a finite number, got {_show(got)}"
     if typ in ("greater_than", "greater_than_equal", "less_than", "less_than_equal"):
-        return "", f"{msg.lower()} (got {err.get('input')!r})"
+        bound = msg.lower().replace("input should be", "must be")
+        return "", f"{bound} (got {_show(got)})"
+    if typ in ("union_tag_invalid", "union_tag_not_found"):
+        field = str(ctx.get("discriminator", "'kind'")).strip("'\"")
+        expected = ctx.get("expected_tags") or ", ".join(f"'{k}'" for k in _kinds(tp))
+        if typ == "union_tag_not_found":
+            return field, f"required field is missing (one of: {expected})"
+        return field, f"unknown {field} '{ctx.get('tag')}' (use one of: {expected})"
+    if typ == "literal_error":
+        return "", f"must be {ctx.get('expected', 'one of the allowed values')} (got {_show(got)})"
+    if typ in ("too_short", "too_long"):
+        n = ctx.get("actual_length")
+        lo, hi = ctx.get("min_length"), ctx.get("max_length")
+        if typ == "too_short":
+            return "", f"needs at least {lo} entries, got {n}"
+        return "", f"allows at most {hi} entries, got {n}"
+    if typ == "string_too_long":
+        return "", f"is too long (at most {ctx.get('max_length')} characters)"
+    if typ in _TYPE_REASONS:
+        if typ == "string_type" and "[key]" in err.get("loc", ()):
+            return "", f"names must be text (strings), got {_show(got)}"
+        return "", f"{_TYPE_REASONS[typ]}, got {_show(got)}"
     return "", msg
-
-
-def _clean_loc(loc) -> tuple:
-    """Drop union-tag entries pydantic puts in locations of discriminated unions."""
-    out = []
-    for p in loc:
-        if isinstance(p, str) and (p in _KIND_TAGS or p.startswith("literal[") or p.startswith("function-")):
-            continue
-        out.append(p)
-    return tuple(out)
 
 
 def validation_errors(exc: ValidationError) -> list[tuple[str, str]]:
     """Convert a pydantic ValidationError into ``(field path, reason)`` pairs."""
-    out: list[tuple[str, str]] = []
-    seen = set()
+    by_path: dict[str, list[str]] = {}
     for err in exc.errors():
-        loc = _clean_loc(err.get("loc", ()))
-        extra, reason = _reason(err)
-        path = _loc_to_path(loc)
+        loc = err.get("loc", ())
+        parts, owner, tp = _resolve(loc)
+        extra, reason = _reason(err, owner, parts[-1] if parts else None, tp)
         if extra:
-            path = f"{path}.{extra}" if path else extra
-        key = (path, reason)
-        if key not in seen:
-            seen.add(key)
-            out.append(key)
-    # A union of "number or literal" reports one error per alternative; keep them, they
-    # are short, but collapse exact duplicates (done above).
-    return out
+            parts = parts + [extra]
+        path = ".".join(parts)
+        reasons = by_path.setdefault(path, [])
+        if reason not in reasons:
+            reasons.append(reason)
+    # a value tried against several alternatives (a union) gives one error per
+    # alternative: report them as one entry for the field
+    return [(path, "; or ".join(reasons)) for path, reasons in by_path.items()]
+
+
+def _rest_position(sc: Scenario, end) -> list[float] | None:
+    """Global position of a line end with its vessel at rest (None if not placed)."""
+    if end.position is None:
+        return None
+    if end.attach in ("fixed", "free"):
+        return list(end.position)
+    vessel = sc.vessels.get(end.attach)
+    if vessel is None:
+        return None
+    h = math.radians(vessel.heading_deg)
+    x, y, z = end.position
+    c, s = math.cos(h), math.sin(h)
+    return [vessel.position[0] + c * x - s * y, vessel.position[1] + s * x + c * y, vessel.position[2] + z]
 
 
 def check_references(sc: Scenario) -> list[tuple[str, str]]:
     """Cross-field checks: names a scenario uses must exist and be consistent."""
     errors: list[tuple[str, str]] = []
     vessel_names = set(sc.vessels)
-    for name in list(sc.vessels) + list(sc.lines) + list(sc.line_types):
-        if not name or any(c in name for c in "/:\\") or name.strip() != name:
-            errors.append((name, "names must be non-empty and must not contain '/', ':' or '\\' or outer spaces"))
+    for group in ("vessels", "line_types", "lines"):
+        for name in getattr(sc, group):
+            if not name:
+                errors.append((group, "a name is empty: give every entry a non-empty name"))
+            elif any(c in name for c in "/:\\") or name.strip() != name:
+                errors.append((f"{group}.{name}", f"bad name {name!r}: names must be non-empty and must not "
+                                                  f"contain '/', ':' or '\\' or outer spaces"))
     for name in vessel_names:
         if name in RESERVED_ATTACH:
             errors.append((f"vessels.{name}", f"'{name}' is a reserved attachment word; rename the vessel"))
@@ -119,10 +269,13 @@ def check_references(sc: Scenario) -> list[tuple[str, str]]:
                 lt.drag_normal > 0 or lt.drag_axial > 0 or lt.added_mass_normal > 0 or lt.added_mass_axial > 0):
             errors.append((f"line_types.{line.type}.outer_diameter",
                            "hydrodynamic coefficients need an outer diameter"))
-        if line.end_a.position is not None and line.end_b.position is not None \
-                and line.end_a.attach == line.end_b.attach:
-            d = math.dist(line.end_a.position, line.end_b.position)
-            if d > 1.02 * line.length:
+        pa, pb = _rest_position(sc, line.end_a), _rest_position(sc, line.end_b)
+        if pa is not None and pb is not None:
+            # vessels at rest; a taut line may be pre-stretched a little, not more than 2 %
+            d = math.dist(pa, pb)
+            if d < 1e-9 * line.length:
+                errors.append((f"{base}.end_b.position", "end B coincides with end A"))
+            elif d > 1.02 * line.length:
                 errors.append((f"{base}.length", f"{line.length} m is shorter than the distance between its ends "
                                                  f"({d:.6g} m): the line would be stretched by "
                                                  f"{100 * (d / line.length - 1):.3g} %"))
@@ -133,13 +286,16 @@ def check_references(sc: Scenario) -> list[tuple[str, str]]:
         if an.dynamics.output_interval > an.dynamics.duration:
             errors.append(("analysis.dynamics.output_interval",
                            f"{an.dynamics.output_interval} s is longer than the duration {an.dynamics.duration} s"))
-    return errors
+    return list(dict.fromkeys(errors))
 
 
 def validate_dict(obj: Any, _raw: Callable | None = None) -> Scenario:
     """Validate a plain dict into a Scenario, raising ScenarioError on any problem."""
     if not isinstance(obj, dict):
-        raise ScenarioError([("", f"a scenario must be a JSON/YAML object (mapping), got {type(obj).__name__}")])
+        what = {type(None): "nothing (an empty document)", list: "a list", tuple: "a list", str: "a string",
+                int: "a number", float: "a number", bool: "a boolean"}.get(type(obj), type(obj).__name__)
+        raise ScenarioError([("", f"a scenario must be a JSON/YAML object (a mapping of keys to values), "
+                                  f"got {what}")])
     raw = _raw or (lambda o: super(Scenario, Scenario).model_validate(o))
     try:
         sc = raw(obj)
@@ -151,21 +307,86 @@ def validate_dict(obj: Any, _raw: Callable | None = None) -> Scenario:
     return sc
 
 
-def parse_text(text: str | bytes, fmt: str = "auto") -> Any:
-    """Parse JSON or YAML text into plain Python data (ScenarioError if it is not)."""
-    if isinstance(text, bytes):
-        text = text.decode("utf-8")
-    if fmt == "json" or (fmt == "auto" and text.lstrip().startswith(("{", "["))):
+class _UniqueKeyLoader(yaml.SafeLoader):
+    """A safe YAML loader that refuses a key given twice in one mapping."""
+
+
+def _construct_unique_mapping(loader, node, deep=False):
+    seen = {}
+    for key_node, _ in node.value:
+        key = loader.construct_object(key_node, deep=deep)
         try:
-            return json.loads(text, parse_constant=lambda c: float("nan"))
-        except json.JSONDecodeError as exc:
-            raise ScenarioError([("", f"invalid JSON at line {exc.lineno} column {exc.colno}: {exc.msg}")]) from None
+            hash(key)
+        except TypeError:
+            continue              # the default constructor reports unhashable keys
+        if key in seen:
+            mark = key_node.start_mark
+            raise ScenarioError([("", f"invalid YAML at line {mark.line + 1} column {mark.column + 1}: "
+                                      f"key '{key}' appears twice in the same mapping (first at line "
+                                      f"{seen[key].line + 1})")])
+        seen[key] = key_node.start_mark
+    return loader.construct_mapping(node, deep=deep)
+
+
+_UniqueKeyLoader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, _construct_unique_mapping)
+
+
+def _unique_json_object(pairs):
+    out = {}
+    for key, value in pairs:
+        if key in out:
+            raise ScenarioError([("", f"invalid JSON: key '{key}' appears twice in the same object")])
+        out[key] = value
+    return out
+
+
+def _parse_json(text: str) -> Any:
     try:
-        return yaml.safe_load(text)
+        return json.loads(text, parse_constant=float, object_pairs_hook=_unique_json_object)
+    except json.JSONDecodeError as exc:
+        raise ScenarioError([("", f"invalid JSON at line {exc.lineno} column {exc.colno}: {exc.msg}")]) from None
+    except RecursionError:
+        raise ScenarioError([("", "invalid JSON: nested too deeply")]) from None
+
+
+def _parse_yaml(text: str) -> Any:
+    try:
+        return yaml.load(text, Loader=_UniqueKeyLoader)  # noqa: S506 - a SafeLoader subclass
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         where = f" at line {mark.line + 1} column {mark.column + 1}" if mark is not None else ""
-        raise ScenarioError([("", f"invalid YAML{where}: {getattr(exc, 'problem', exc)}")]) from None
+        raise ScenarioError([("", f"invalid YAML{where}: {getattr(exc, 'problem', None) or exc}")]) from None
+    except RecursionError:
+        raise ScenarioError([("", "invalid YAML: nested too deeply")]) from None
+
+
+def parse_text(text: str | bytes, fmt: str = "auto") -> Any:
+    """Parse JSON or YAML text into plain Python data (ScenarioError if it is not).
+
+    ``fmt`` is "json", "yaml" or "auto" (JSON when the text starts with ``{`` or ``[``
+    and parses as JSON, YAML otherwise). Keys given twice are refused.
+    """
+    if isinstance(text, bytes):
+        try:
+            text = text.decode("utf-8-sig")
+        except UnicodeDecodeError as exc:
+            raise ScenarioError([("", f"the scenario is not UTF-8 text (byte {exc.start})")]) from None
+    text = text.lstrip("\ufeff")
+    if not text.strip():
+        raise ScenarioError([("", "the scenario is empty")])
+    if fmt == "json":
+        return _parse_json(text)
+    if fmt == "yaml":
+        return _parse_yaml(text)
+    if text.lstrip().startswith(("{", "[")):
+        try:
+            return _parse_json(text)
+        except ScenarioError as json_error:
+            try:                   # YAML flow style, e.g. {a: 1}
+                return _parse_yaml(text)
+            except ScenarioError:
+                raise json_error from None
+    return _parse_yaml(text)
 
 
 def set_path(data: dict, path: str, value: Any) -> None:
@@ -204,6 +425,27 @@ def apply_overrides(data: dict, overrides: dict[str, Any] | None) -> dict:
     return out
 
 
+def _read_file(path: Path) -> tuple[str, str]:
+    """The text of a scenario file and its format ("json" for .json, else "auto")."""
+    if not str(path).strip():
+        raise ScenarioError([("", "no scenario file given (empty path)")])
+    try:
+        if not path.exists():
+            raise ScenarioError([("", f"scenario file not found: {path}")])
+        if path.is_dir():
+            raise ScenarioError([("", f"{path} is a directory, not a scenario file")])
+        raw = path.read_bytes()
+    except OSError as exc:
+        raise ScenarioError([("", f"cannot read the scenario file {path}: {exc.strerror or exc}")]) from None
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise ScenarioError([("", f"{path} is not UTF-8 text (byte {exc.start})")]) from None
+    if not text.strip():
+        raise ScenarioError([("", f"the scenario file {path} is empty")])
+    return text, "json" if path.suffix.lower() == ".json" else "auto"
+
+
 def load_scenario(source: str | os.PathLike | dict | Scenario, overrides: dict[str, Any] | None = None) -> Scenario:
     """Load a scenario from a JSON/YAML file path, JSON/YAML text, a dict or a Scenario.
 
@@ -216,16 +458,19 @@ def load_scenario(source: str | os.PathLike | dict | Scenario, overrides: dict[s
         source = source.model_dump(mode="json")
     if isinstance(source, dict):
         data = source
-    else:
-        text_like = isinstance(source, str) and ("\n" in source or source.lstrip().startswith("{"))
+    elif isinstance(source, bytes):
+        data = parse_text(source)
+    elif isinstance(source, str) and not source.strip():
+        raise ScenarioError([("", "the scenario is empty (no file path or text given)")])
+    elif isinstance(source, (str, os.PathLike)):
+        text_like = isinstance(source, str) and ("\n" in source or source.lstrip().startswith(("{", "[")))
         if text_like:
             data = parse_text(source)
         else:
-            path = Path(source)
-            if not path.exists():
-                raise ScenarioError([("", f"scenario file not found: {path}")])
-            fmt = "json" if path.suffix.lower() == ".json" else "auto"
-            data = parse_text(path.read_text(encoding="utf-8"), fmt)
+            data = parse_text(*_read_file(Path(source)))
+    else:
+        raise ScenarioError([("", f"a scenario must be a file path, JSON/YAML text or a mapping, "
+                                  f"got {type(source).__name__}")])
     if overrides:
         if not isinstance(data, dict):
             raise ScenarioError([("", "a scenario must be a mapping")])

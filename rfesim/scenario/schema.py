@@ -11,9 +11,11 @@ field-level validation by :func:`rfesim.scenario.check_references`.
 from __future__ import annotations
 
 import math
-from typing import Annotated, Literal, Union
+import types
+import typing
+from typing import Annotated, Any, Literal, Union
 
-from pydantic import BaseModel, ConfigDict, Field, model_validator
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, field_validator, model_validator
 
 
 class FieldError(ValueError):
@@ -34,12 +36,78 @@ def _units(u: str, description: str, **kw):
     return Field(description=f"{description} [{u}]", json_schema_extra={"units": u}, **kw)
 
 
+def _allows_bool(annotation) -> bool:
+    """True when a field's type accepts a boolean (bool itself, or a union with bool)."""
+    if annotation is bool:
+        return True
+    origin = typing.get_origin(annotation)
+    if origin is Annotated:
+        return _allows_bool(typing.get_args(annotation)[0])
+    if origin in (Union, types.UnionType):
+        return any(_allows_bool(a) for a in typing.get_args(annotation))
+    return annotation is Any
+
+
+def _show(value: Any) -> str:
+    """A short repr of a user value for error messages."""
+    if isinstance(value, dict):
+        return "a mapping"
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
 class _Strict(BaseModel):
     model_config = ConfigDict(extra="forbid", allow_inf_nan=False, validate_default=True,
                               populate_by_name=True)
 
+    @model_validator(mode="before")
+    @classmethod
+    def _no_bool_for_numbers(cls, data):
+        # pydantic's lax mode reads true/false as 1/0 for numbers: that is silent garbage
+        # in a scenario (``elements: true``), so a boolean is accepted only where the
+        # field is a boolean.
+        if isinstance(data, dict):
+            for name, value in data.items():
+                field = cls.model_fields.get(name) if isinstance(name, str) else None
+                if field is None or not isinstance(value, bool) or _allows_bool(field.annotation):
+                    continue
+                word = "true" if value else "false"
+                if _is_numeric(field.annotation):
+                    raise FieldError(name, f"must be a number, not the boolean {word}")
+                raise FieldError(name, f"the boolean {word} is not allowed here")
+        return data
 
-Vector3 = Annotated[list[float], Field(min_length=3, max_length=3)]
+
+def _is_numeric(annotation) -> bool:
+    """True when a field's type is (optionally) int or float."""
+    if annotation in (int, float):
+        return True
+    origin = typing.get_origin(annotation)
+    if origin is Annotated:
+        return _is_numeric(typing.get_args(annotation)[0])
+    if origin in (Union, types.UnionType):
+        return any(_is_numeric(a) for a in typing.get_args(annotation))
+    return False
+
+
+def _fixed_length_numbers(n: int, what: str):
+    """A before-validator for a list of exactly ``n`` numbers (clear message, no booleans)."""
+
+    def check(value):
+        if isinstance(value, (list, tuple)):
+            if len(value) != n:
+                raise ValueError(f"must have exactly {n} numbers {what}, got {len(value)}")
+            for i, v in enumerate(value):
+                if isinstance(v, bool):
+                    raise FieldError(str(i), f"must be a number, not the boolean {'true' if v else 'false'}")
+        return value
+
+    return BeforeValidator(check)
+
+
+Vector3 = Annotated[list[float], _fixed_length_numbers(3, "[x, y, z]"), Field(min_length=3, max_length=3)]
+TableRow = Annotated[list[float], _fixed_length_numbers(7, "[t, surge, sway, heave, roll, pitch, yaw]"),
+                     Field(min_length=7, max_length=7)]
 
 PositiveFloat = Annotated[float, Field(gt=0.0)]
 NonNegativeFloat = Annotated[float, Field(ge=0.0)]
@@ -133,7 +201,7 @@ class TableMotion(_Strict):
     """A table of time vs the six displacements [t, surge, sway, heave, roll, pitch, yaw]."""
 
     kind: Literal["table"]
-    rows: list[Annotated[list[float], Field(min_length=7, max_length=7)]] = Field(
+    rows: list[TableRow] = Field(
         ..., min_length=2,
         description="Rows [t (s), surge (m), sway (m), heave (m), roll (deg), pitch (deg), yaw (deg)]")
     interpolation: Literal["cubic", "linear"] = "cubic"
@@ -226,6 +294,10 @@ class LineType(_Strict):
     @model_validator(mode="after")
     def _section(self):
         pipe = self.wall_thickness is not None
+        if not pipe and self.EA is None and (self.youngs_modulus is not None or self.density is not None):
+            raise FieldError("wall_thickness", "a pipe geometry needs wall_thickness (with outer_diameter, "
+                                               "youngs_modulus and density); or give direct section properties "
+                                               "EA, EIy and mass_per_length")
         if pipe:
             for name in ("outer_diameter", "youngs_modulus", "density"):
                 if getattr(self, name) is None:
@@ -233,10 +305,23 @@ class LineType(_Strict):
                                            "wall_thickness, youngs_modulus and density")
             if self.wall_thickness >= 0.5 * self.outer_diameter:
                 raise FieldError("wall_thickness", f"{self.wall_thickness} m is not less than the outer radius "
-                                                   f"{0.5 * self.outer_diameter} m: impossible pipe section")
+                                                   f"{0.5 * self.outer_diameter} m (outer_diameter/2): impossible "
+                                                   f"pipe section (for a solid rod give direct section properties)")
             for name in ("EA", "EIy", "EIz", "GJ", "mass_per_length"):
                 if getattr(self, name) is not None:
                     raise FieldError(name, "give either a pipe geometry or direct section properties, not both")
+            D = self.outer_diameter
+            d = D - 2.0 * self.wall_thickness
+            area = math.pi / 4.0 * (D * D - d * d)
+            inertia = math.pi / 64.0 * (D ** 4 - d ** 4)
+            for name, value in (("EA", self.youngs_modulus * area), ("EI", self.youngs_modulus * inertia)):
+                if not (math.isfinite(value) and value > 0.0):
+                    raise FieldError("youngs_modulus", f"{self.youngs_modulus} Pa with this pipe geometry gives "
+                                                       f"{name} = {value:.6g}: not a usable section stiffness")
+            mass = self.density * area + self.contents_density * math.pi / 4.0 * d * d
+            if not (math.isfinite(mass) and mass > 0.0):
+                raise FieldError("density", f"{self.density} kg/m^3 with this pipe geometry gives a mass per "
+                                            f"length of {mass:.6g} kg/m: not a usable section")
         else:
             missing = [n for n in ("EA", "mass_per_length") if getattr(self, n) is None]
             if missing:
@@ -246,6 +331,9 @@ class LineType(_Strict):
             if self.EIy is None and self.EIz is None:
                 raise FieldError("EIy", "direct section properties need a bending stiffness EIy (and EIz, "
                                         "which defaults to EIy); use 0 for a flexible cable")
+            if self.contents_density > 0.0:
+                raise FieldError("contents_density", "only used with a pipe geometry; with direct section "
+                                                     "properties include the contents in mass_per_length")
         if self.damping is not None and (self.damping.axial_ratio or self.damping.bending_ratio) is not None:
             pass
         return self
@@ -279,10 +367,27 @@ class PointLoad(_Strict):
     frame: Literal["global", "local"] = Field("global", description="global: dead load; local: follows the "
                                               "element (x along the line)")
 
+    @field_validator("at", mode="before")
+    @classmethod
+    def _at(cls, value):
+        if isinstance(value, str):
+            if value in ("end_a", "end_b"):
+                return value
+            try:
+                return float(value)
+            except ValueError:
+                pass
+        elif isinstance(value, (int, float)) and not isinstance(value, bool):
+            return value
+        raise ValueError(f"must be 'end_a', 'end_b' or an arc length from end A in m, got {_show(value)}")
+
+
+MIN_SEGMENT = 1.0e-6      # m, shortest SDE spacing length/elements (the SDE stiffness goes as 1/dx^3)
+
 
 class Line(_Strict):
     type: str = Field(..., description="Name of a line type")
-    length: float = _units("m", "Unstretched length", gt=0.0)
+    length: float = _units("m", "Unstretched length", gt=0.0, le=1.0e7)
     elements: int = Field(..., ge=1, le=100000, description="Number of SDEs (primary division into equal segments)")
     formulation: Literal["absolute"] = Field("absolute", description="RFE formulation (section 8.4 absolute "
                                              "coordinates)")
@@ -295,6 +400,12 @@ class Line(_Strict):
 
     @model_validator(mode="after")
     def _ends(self):
+        dx = self.length / self.elements
+        if dx < MIN_SEGMENT:
+            if self.length < MIN_SEGMENT:
+                raise FieldError("length", f"{self.length} m is too short (at least {MIN_SEGMENT} m)")
+            raise FieldError("elements", f"{self.elements} elements on {self.length} m make segments of "
+                                         f"{dx:.3g} m, shorter than {MIN_SEGMENT} m: use fewer elements")
         if self.end_a.attach == "free" and self.end_b.attach == "free":
             pass  # a free-floating line is allowed in dynamics (statics will be singular and says so)
         if self.end_a.position is None and self.end_a.attach != "free":

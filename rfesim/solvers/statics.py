@@ -42,32 +42,120 @@ def _norm(r: np.ndarray, mask: np.ndarray, length_scale: np.ndarray, force_ref: 
     return float(s.max()) / force_ref
 
 
+ITERATIONS_PER_INCREMENT = 100  # Newton iterations before a load increment is halved
+MAX_RISES = 6                  # consecutive residual rises that end an increment
 INCREMENT_TOLERANCE = 1e-12  # Newton increment relative to the element length (rad for angles)
 MU_MIN = 1e-10         # smallest Levenberg damping (relative to the diagonal)
 
 
-ROTATION_FLOOR = 1e-9  # constant damping of rotations, relative to the largest rotational diagonal
+ROTATION_FLOOR = 1e-9  # constant damping of torsion, relative to the largest rotational diagonal
 
 
 def _regularise(J: np.ndarray, mu: float, mask: np.ndarray) -> np.ndarray:
     """J + mu * diag(max(|J_ii|, 1e-6 * max |J_ii| of the same coordinate kind)): a
     Levenberg damping that only matters for coordinates with (nearly) no stiffness.
 
-    Rotations also get a constant 1e-9 of the largest rotational stiffness: coordinates
-    softer than that (the torsion of a cable with GJ ~ 0 sits at 1e-16 of the stiffest
-    shear springs) are below the resolution of the Jacobian, their Newton steps would be
-    noise, and their equilibrium is physically arbitrary; they stay where they are."""
+    Torsion also gets a constant 1e-9 of the largest rotational stiffness (statics re-bases
+    every RFE to zero angles, where coordinate 5 is the rotation about the element axis):
+    the torsion of a cable with GJ ~ 0 sits at 1e-16 of the stiffest shear springs, below
+    the resolution of the Jacobian; its Newton steps would be noise and its equilibrium is
+    physically arbitrary, so it stays where it is."""
     Jr = J.copy()
     diag = np.abs(np.einsum("nkk->nk", J[:, 1]))
     floor_t = 1e-6 * (diag[:, :3][mask[:, :3]].max() if mask[:, :3].any() else 1.0)
     floor_r = 1e-6 * (diag[:, 3:][mask[:, 3:]].max() if mask[:, 3:].any() else 1.0)
     floor = np.concatenate([np.full(3, floor_t), np.full(3, floor_r)])
     add = mu * np.maximum(diag, floor[None, :])
-    add[:, 3:] += ROTATION_FLOOR * 1e6 * floor_r
+    add[:, 5] += ROTATION_FLOOR * 1e6 * floor_r      # coordinate 5 is torsion at re-based (zero) angles
     add[~mask] = 0.0
     idx = np.arange(6)
     Jr[:, 1, idx, idx] += add
     return Jr
+
+
+def _rechain(system: System, st: State, dq: np.ndarray, alpha: float, trial: np.ndarray, trial_ref: Reference,
+             lam: float, eps_old: np.ndarray, eps_dir: np.ndarray) -> None:
+    """Geometrically consistent Newton update (fills trial, trial_ref).
+
+    Rotations take the Newton step; the RFE centres are then re-chained along each line so
+    that every SDE's deformation changes by exactly the linearised amount
+    ``alpha * d(eps)/dq . dq``. A linear update of the centres would leave second-order
+    gaps (l * dphi^2 / 2) in the axial springs, which are 1e7 times stiffer than bending
+    in a long pipe and would swamp the next iteration with spurious tension. Near the
+    solution the correction vanishes and Newton keeps its quadratic convergence."""
+    km = system.km
+    ws = system.ws
+    dummy = np.zeros_like(trial)
+    trial[:] = st.q + alpha * dq
+    trial_ref.R[:] = st.ref.R
+    trial_ref.X[:] = st.ref.X
+    # poses with the new rotations and linearly updated centres
+    st2 = State(st.t, trial, dummy, dummy, trial_ref, dummy)
+    system.evaluate(st2, lam)
+    R = ws.R.copy()
+    r = ws.r.copy()
+    eps_target = eps_old + alpha * eps_dir
+    for li in system.model.lines:
+        i0, i1 = li.rfe_start, li.rfe_stop - 1
+        s0 = li.sde_start
+        nsde = li.elements
+        chain = np.empty((li.nrfe, 3))
+        chain[0] = r[i0]
+        for j in range(nsde):
+            a, b, sidx = i0 + j, i0 + j + 1, s0 + j
+            # mean frame R' = R_a exp(theta/2) of the new rotations
+            Rrel = R[a].T @ R[b]
+            theta = _log(Rrel)
+            Rp = R[a] @ _exp(0.5 * theta)
+            g = Rp @ eps_target[sidx, :3]
+            chain[j + 1] = chain[j] + R[a] @ km.sde_arm_left[sidx] + g - R[b] @ km.sde_arm_right[sidx]
+        if km.rfe_kind[i1] != 0 and nsde > 0:
+            # end B placed by its attachment: spread the closure error along the line
+            miss = chain[-1] - r[i1]
+            chain -= miss[None, :] * (np.arange(li.nrfe) / nsde)[:, None]
+        for k in range(li.nrfe):
+            i = i0 + k
+            if km.rfe_kind[i] == 0:
+                trial[i, :3] = chain[k] - trial_ref.X[i]
+    rebase(trial, dummy, trial_ref, km.rfe_kind, 0.0, dummy, dummy, False)
+
+
+def _linear_update(system: System, st: State, dq: np.ndarray, alpha: float, trial: np.ndarray,
+                   trial_ref: Reference) -> None:
+    """Plain Newton update q + alpha dq, re-based."""
+    dummy = np.zeros_like(trial)
+    trial[:] = st.q + alpha * dq
+    trial_ref.R[:] = st.ref.R
+    trial_ref.X[:] = st.ref.X
+    rebase(trial, dummy, trial_ref, system.km.rfe_kind, 0.0, dummy, dummy, False)
+
+
+def _log(R: np.ndarray) -> np.ndarray:
+    from ..kinematics import log_so3_into
+    out = np.zeros(3)
+    log_so3_into(np.ascontiguousarray(R), out)
+    return out
+
+
+def _exp(w: np.ndarray) -> np.ndarray:
+    from ..kinematics import exp_so3_into
+    out = np.zeros((3, 3))
+    exp_so3_into(float(w[0]), float(w[1]), float(w[2]), out)
+    return out
+
+
+def _deformation_direction(system: System, st: State, dq: np.ndarray, lam: float) -> tuple[np.ndarray, np.ndarray]:
+    """SDE deformations at the state and their directional derivative along dq."""
+    dummy = np.zeros_like(st.q)
+    system.evaluate(State(st.t, st.q, dummy, dummy, st.ref, dummy), lam)
+    eps0 = system.ws.eps.copy()
+    size = max(float((np.abs(dq[:, :3]) / system.length_scale[:, None]).max()), float(np.abs(dq[:, 3:]).max()))
+    h = 1e-6 / max(size, 1e-300)        # the perturbation h*dq is 1e-6 of an element length
+    system.evaluate(State(st.t, st.q + h * dq, dummy, dummy, st.ref, dummy), lam)
+    eps1 = system.ws.eps.copy()
+    system.evaluate(State(st.t, st.q - h * dq, dummy, dummy, st.ref, dummy), lam)
+    eps2 = system.ws.eps.copy()
+    return eps0, (eps1 - eps2) / (2.0 * h)
 
 
 def solve_statics(system: System, state: State | None = None, *, tolerance: float = 1e-8, max_iterations: int = 400,
@@ -91,11 +179,11 @@ def solve_statics(system: System, state: State | None = None, *, tolerance: floa
     fac = np.zeros_like(system.Fac)
     dummy = np.zeros((n, 6))
 
-    lam = 1.0 / max(1, load_steps)
     lam_done = 0.0
-    dlam = lam
+    dlam = 1.0 / max(1, load_steps)
     q_good = st.q.copy()
-    R0_good = Reference(st.ref.R.copy(), st.ref.X.copy())
+    ref_good = Reference(st.ref.R.copy(), st.ref.X.copy())
+    trial_ref = Reference(st.ref.R.copy(), st.ref.X.copy())
     total_its = 0
     nsteps = 0
     rn = np.inf
@@ -106,14 +194,14 @@ def solve_statics(system: System, state: State | None = None, *, tolerance: floa
         system.static_residual(st.q, st.ref, lam, r)
         rn = _norm(r, mask, ls, force_ref)
         rn_prev = np.inf
-        for it in range(max_iterations):
+        rises = 0
+        for it in range(ITERATIONS_PER_INCREMENT):
             if rn <= tolerance or (rn <= floor and rn > 0.9 * rn_prev):
                 ok = True
                 break
-            rn_prev = rn
-            total_its += 1
-            if total_its > max_iterations:
+            if total_its >= max_iterations:
                 break
+            total_its += 1
             J = system.static_jacobian_accurate(st.q, st.ref, lam)
             # Solve; raise the Levenberg damping while the direction is not a descent
             # direction (a part in compression has negative geometric stiffness).
@@ -137,71 +225,82 @@ def solve_statics(system: System, state: State | None = None, *, tolerance: floa
             if inc < INCREMENT_TOLERANCE and rn < 1e3 * max(tolerance, floor):
                 ok = True
                 break
-            # limit rotation updates to 0.5 rad and translations to a few element lengths
-            rot = np.abs(dq[:, 3:]).max()
-            tr = (np.abs(dq[:, :3]) / ls[:, None]).max()
+            # Step limited to 0.5 rad of rotation and 5 element lengths, with the
+            # geometrically consistent update (_rechain) and Crisfield's line search on the
+            # directional derivative of the energy, s(alpha) = dq . r(q + alpha dq).
+            rot = float(np.abs(dq[:, 3:]).max())
+            tr = float((np.abs(dq[:, :3]) / ls[:, None]).max())
             limit = min(1.0, 0.5 / max(rot, 1e-300), 5.0 / max(tr, 1e-300))
-            # Crisfield's line search on the directional derivative of the energy:
-            # s(alpha) = dq . r(q + alpha dq) should vanish; r may grow in stiff directions
-            # (axial) after a full step without the step being bad.
+            eps_old, eps_dir = _deformation_direction(system, st, dq, lam)
             s0 = float(np.sum(dq * r))
+            # choose between the re-chained update (large rotations of lines with a free end)
+            # and the plain linear one (lines closed at both ends, where re-chaining has to
+            # spread a closure error, e.g. into a stiff seabed): whichever leaves less residual
+            use_rechain = True
+            _rechain(system, st, dq, limit, trial, trial_ref, lam, eps_old, eps_dir)
+            system.static_residual(trial, trial_ref, lam, r)
+            rn_chain = _norm(r, mask, ls, force_ref)
+            _linear_update(system, st, dq, limit, trial, trial_ref)
+            system.static_residual(trial, trial_ref, lam, r)
+            rn_lin = _norm(r, mask, ls, force_ref)
+            if not (rn_lin < rn_chain):
+                use_rechain = True
+            else:
+                use_rechain = False
             alpha = limit
-            accepted = False
-            R0_trial = Reference(st.ref.R.copy(), st.ref.X.copy())
             a_lo, s_lo = 0.0, s0
             rn_new = np.inf
             for _ in range(8):
-                trial[:] = st.q + alpha * dq
-                R0_trial.R[:] = st.ref.R
-                R0_trial.X[:] = st.ref.X
-                rebase(trial, dummy, R0_trial, system.km.rfe_kind, 0.0, dummy, dummy, False)
-                system.static_residual(trial, R0_trial, lam, r)
+                if use_rechain:
+                    _rechain(system, st, dq, alpha, trial, trial_ref, lam, eps_old, eps_dir)
+                else:
+                    _linear_update(system, st, dq, alpha, trial, trial_ref)
+                system.static_residual(trial, trial_ref, lam, r)
                 rn_new = _norm(r, mask, ls, force_ref)
                 if not np.isfinite(rn_new):
                     alpha *= 0.25
                     continue
                 s1 = float(np.sum(dq * r))
-                if s0 == 0.0 or abs(s1) <= 0.8 * abs(s0) or rn_new < 0.5 * rn:
-                    accepted = True
+                if abs(s1) <= 0.8 * abs(s0) or rn_new < 0.5 * rn:
                     break
-                # secant on s(alpha) between the last bracket point and alpha
                 denom = s_lo - s1
                 a_new = alpha if denom == 0.0 else a_lo + (alpha - a_lo) * s_lo / denom
-                if s1 * s0 < 0:            # overshoot: root between a_lo and alpha
+                if s1 * s0 < 0:            # overshoot: the root lies between a_lo and alpha
                     a_new = min(max(a_new, a_lo + 0.1 * (alpha - a_lo)), a_lo + 0.9 * (alpha - a_lo))
-                else:                      # still descending: the root is beyond alpha
+                else:                      # still descending: the root lies beyond alpha
                     a_lo, s_lo = alpha, s1
-                    a_new = min(max(a_new, 1.1 * alpha), 4.0 * alpha, limit * 4.0)
+                    a_new = min(max(a_new, 1.1 * alpha), 4.0 * alpha, 4.0 * limit)
                 alpha = a_new
-            if not accepted:
-                if not np.isfinite(rn_new):
-                    mu = max(mu * 10.0, 1e-6)
-                    system.static_residual(st.q, st.ref, lam, r)
-                    continue
+            if not np.isfinite(rn_new):
+                break
             st.q[:] = trial
-            st.ref.R[:] = R0_trial.R
-            st.ref.X[:] = R0_trial.X
+            st.ref.R[:] = trial_ref.R
+            st.ref.X[:] = trial_ref.X
+            rises = rises + 1 if rn_new > rn else 0
+            rn_prev = rn
             rn = rn_new
-            mu = max(mu * 0.1, MU_MIN) if accepted else min(mu * 10.0, 1.0)
+            mu = max(mu * 0.1, MU_MIN)
+            if rises >= MAX_RISES:
+                break
             if progress is not None:
                 progress(min(0.999, lam_done + dlam * 0.5), st.t)
         nsteps += 1
         if ok:
             lam_done = lam
             q_good[:] = st.q
-            R0_good.R[:] = st.ref.R
-            R0_good.X[:] = st.ref.X
+            ref_good.R[:] = st.ref.R
+            ref_good.X[:] = st.ref.X
             if lam_done >= 1.0:
                 break
             dlam = min(2.0 * dlam, 1.0 - lam_done)
             continue
-        # failed increment: halve it
+        # failed increment: go back and halve it
         st.q[:] = q_good
-        st.ref.R[:] = R0_good.R
-        st.ref.X[:] = R0_good.X
+        st.ref.R[:] = ref_good.R
+        st.ref.X[:] = ref_good.X
         dlam *= 0.5
-        if dlam < 1e-4 or total_its > max_iterations:
-            system.static_residual(st.q, st.ref, lam_done if lam_done > 0 else lam, r)
+        if dlam < 1e-4 or total_its >= max_iterations:
+            system.static_residual(st.q, st.ref, max(lam_done, dlam), r)
             rn = _norm(r, mask, ls, force_ref)
             elem = int(np.argmax(np.abs(r).max(axis=1)))
             raise SolverError("static equilibrium not found: Newton did not converge "

@@ -1,0 +1,442 @@
+"""The ``rfesim`` command line (see CONTRACT.md): parse, call the library, format.
+
+    rfesim run SCENARIO [-o OUT.nc] [--plot OUT.png]   # statics + dynamics, progress bar
+    rfesim statics SCENARIO [-o OUT.nc]
+    rfesim modes SCENARIO [-n 10]
+    rfesim check SCENARIO                              # validate only, clear errors
+    rfesim bench [--quick]                             # work-precision report
+    rfesim serve [--host 127.0.0.1 --port 8000]        # the HTTP service
+    rfesim sweep SCENARIO --vary path=v1,v2,... [--scheduler ADDRESS]
+
+Exit codes: 0 success; 1 bad input (scenario error, missing file); 2 usage error or a
+missing optional component; 3 the solver failed (partial results are still written);
+130 interrupted.
+"""
+from __future__ import annotations
+
+import argparse
+import importlib
+import importlib.util
+import logging
+import os
+import sys
+import time
+from pathlib import Path
+
+EXIT_OK = 0
+EXIT_INPUT = 1
+EXIT_USAGE = 2
+EXIT_SOLVER = 3
+EXIT_INTERRUPTED = 130
+
+log = logging.getLogger("rfesim.cli")
+
+
+class CliError(Exception):
+    """A failure the CLI reports as one message and an exit code, without a traceback."""
+
+    def __init__(self, message: str, code: int = EXIT_INPUT):
+        super().__init__(message)
+        self.code = code
+
+
+# --------------------------------------------------------------------------- helpers
+
+def _err(*lines: str) -> None:
+    for line in lines:
+        print(line, file=sys.stderr)
+
+
+def _scenario_path(path: str) -> Path:
+    p = Path(path)
+    if not p.exists():
+        raise CliError(f"error: scenario file not found: {path}")
+    if not p.is_file():
+        raise CliError(f"error: not a file: {path}")
+    return p
+
+
+def _load(path: str):
+    import rfesim
+
+    return rfesim.load_scenario(_scenario_path(path))
+
+
+def _output_path(out: str | None, scenario: Path, default_suffix: str | None) -> Path | None:
+    """The output file: ``out``, or ``<scenario stem><suffix>`` in the current directory."""
+    if out is None:
+        if default_suffix is None:
+            return None
+        out = scenario.stem + default_suffix
+    p = Path(out)
+    folder = p.parent if str(p.parent) else Path(".")
+    if not folder.is_dir():
+        raise CliError(f"error: the output folder does not exist: {folder}")
+    if p.exists() and p.resolve() == scenario.resolve():
+        raise CliError(f"error: the output file would overwrite the scenario: {p}")
+    return p
+
+
+def _write(res, path: Path) -> None:
+    try:
+        res.to_netcdf(path)
+    except OSError as exc:
+        raise CliError(f"error: could not write {path}: {exc}") from None
+
+
+def _kn(x: float) -> str:
+    return f"{x / 1e3:.6g}"
+
+
+def _vector_kn(force) -> str:
+    """``[fx, fy, fz]`` in kN, round-off (below 1e-9 of the largest component) shown as 0."""
+    import numpy as np
+
+    f = np.asarray(force, dtype=float)
+    f = np.where(np.abs(f) <= 1e-9 * np.max(np.abs(f), initial=0.0), 0.0, f) + 0.0  # + 0.0: no "-0"
+    return "[" + ", ".join(f"{x / 1e3:.5g}" for x in f) + "]"
+
+
+def _table(header: list[str], rows: list[list[str]], indent: str = "  ") -> list[str]:
+    """Right-aligned columns (the first left-aligned)."""
+    widths = [max(len(str(r[i])) for r in [header] + rows) for i in range(len(header))]
+    out = []
+    for r in [header] + rows:
+        cells = [str(c).ljust(w) if i == 0 else str(c).rjust(w) for i, (c, w) in enumerate(zip(r, widths))]
+        out.append(indent + "  ".join(cells).rstrip())
+    return out
+
+
+def _line_extremes(res) -> list[str]:
+    """Per line: max top tension, max/min tension, max bend moment over the run."""
+    import numpy as np
+
+    rows = []
+    for name, lr in res.lines.items():
+        if len(res.time) == 0:
+            rows.append([name, "-", "-", "-", "-"])
+            continue
+        rows.append([name, _kn(float(np.max(lr.top_tension))), _kn(float(np.max(lr.tension))),
+                     _kn(float(np.min(lr.tension))), _kn(float(np.max(lr.bend_moment)))])
+    return _table(["line", "max top tension [kN]", "max tension [kN]", "min tension [kN]",
+                   "max bend moment [kN*m]"], rows)
+
+
+def _run_summary(res, wall: float) -> list[str]:
+    c = res.counters
+    nt = len(res.time)
+    lines = []
+    if res.kind == "statics":
+        lines.append(f"statics only ({c.get('statics_iterations', c.get('newton_iterations', '?'))} Newton "
+                     f"iterations), wall time {wall:.3g} s")
+    else:
+        simulated = float(res.time[-1] - res.time[0]) if nt else 0.0
+        step = c.get("time_step")
+        step_txt = f" of {step:.4g} s" if isinstance(step, (int, float)) else ""
+        lines.append(f"simulated {simulated:.6g} s: {c.get('steps', 0)} steps{step_txt}, {nt} output times, "
+                     f"wall time {wall:.3g} s")
+    return lines + _line_extremes(res)
+
+
+# --------------------------------------------------------------------------- commands
+
+def cmd_check(args) -> int:
+    sc = _load(args.scenario)
+    an = sc.analysis
+    parts = [f"{len(sc.lines)} lines", f"{len(sc.vessels)} vessels", f"{len(sc.line_types)} line types",
+             f"{sum(li.elements for li in sc.lines.values())} elements"]
+    analyses = []
+    if an.statics.enabled:
+        analyses.append("statics")
+    if an.dynamics.enabled and an.dynamics.duration > 0:
+        integ = an.dynamics.integrator
+        step = getattr(integ, "time_step", None)
+        analyses.append(f"dynamics {an.dynamics.duration:g} s ({integ.kind}"
+                        + (f", step {step:g} s" if step else "") + ")")
+    if an.modal is not None:
+        analyses.append(f"{an.modal.modes} modes")
+    print(f"OK: {sc.name}: {', '.join(parts)}; " + (", ".join(analyses) or "no analysis enabled"))
+    return EXIT_OK
+
+
+def _progress_bar(args):
+    from .progress import ProgressBar
+
+    if args.progress is False:
+        return None
+    if args.progress:
+        return ProgressBar(sys.stderr, delay=0.0)
+    if sys.stderr.isatty():
+        return ProgressBar(sys.stderr, delay=1.0)
+    return None
+
+
+def cmd_run(args) -> int:
+    import rfesim
+
+    scenario = _scenario_path(args.scenario)
+    out = _output_path(args.output, scenario, ".nc")
+    if args.plot:
+        _output_path(args.plot, scenario, None)
+    sc = rfesim.load_scenario(scenario)
+    bar = _progress_bar(args)
+    wall0 = time.perf_counter()
+    try:
+        res = rfesim.simulate(sc, progress=bar)
+    except rfesim.SolverError as exc:
+        failure = exc
+    else:
+        failure = None
+    finally:
+        if bar is not None:
+            bar.close()
+    if failure is not None:
+        return _solver_failure(failure, out)
+    wall = time.perf_counter() - wall0
+    _write(res, out)
+    print(f"{sc.name}: {res.message}")
+    for line in _run_summary(res, wall):
+        print(line)
+    print(f"results written to {out}")
+    if args.plot:
+        from .plot import plot_results
+
+        plot_results(res, args.plot)
+        print(f"plot written to {args.plot}")
+    return EXIT_OK
+
+
+def _solver_failure(exc, out: Path | None) -> int:
+    _err(f"solver error: {exc}")
+    res = getattr(exc, "results", None)
+    if res is not None and out is not None and len(res.time):
+        _write(res, out)
+        _err(f"partial results ({len(res.time)} output times, t = {res.time[0]:.6g} .. {res.time[-1]:.6g} s) "
+             f"written to {out}")
+    return EXIT_SOLVER
+
+
+def cmd_statics(args) -> int:
+    import numpy as np
+
+    import rfesim
+
+    scenario = _scenario_path(args.scenario)
+    out = _output_path(args.output, scenario, None)
+    sc = rfesim.load_scenario(scenario)
+    wall0 = time.perf_counter()
+    try:
+        res = rfesim.statics(sc)
+    except rfesim.SolverError as exc:
+        return _solver_failure(exc, out)
+    wall = time.perf_counter() - wall0
+    print(f"{sc.name}: statics {res.message} (wall time {wall:.3g} s)")
+    rows = []
+    for name, lr in res.lines.items():
+        fa, fb = lr.end_a_force[-1], lr.end_b_force[-1]
+        rows.append([name, _vector_kn(fa), _kn(float(np.linalg.norm(fa))), _vector_kn(fb), _kn(float(np.linalg.norm(fb))),
+                     _kn(float(lr.tension[-1].min())), _kn(float(lr.tension[-1].max()))])
+    for line in _table(["line", "end A force [kN]", "|A| [kN]", "end B force [kN]", "|B| [kN]",
+                        "min tension [kN]", "max tension [kN]"], rows):
+        print(line)
+    if out is not None:
+        _write(res, out)
+        print(f"results written to {out}")
+    return EXIT_OK
+
+
+def cmd_modes(args) -> int:
+    import numpy as np
+
+    import rfesim
+
+    sc = _load(args.scenario)
+    if args.n is not None and args.n < 1:
+        raise CliError("error: -n must be at least 1", EXIT_USAGE)
+    try:
+        md = rfesim.modes(sc, n=args.n)
+    except rfesim.SolverError as exc:
+        return _solver_failure(exc, None)
+    freqs = np.asarray(md.frequencies_hz, dtype=float)
+    rows = []
+    for k, f in enumerate(freqs, start=1):
+        period = f"{1.0 / f:.6g}" if f > 0 else "inf"
+        rows.append([str(k), f"{f:.6g}", period])
+    print(f"{sc.name}: {len(freqs)} modes")
+    for line in _table(["mode", "frequency [Hz]", "period [s]"], rows):
+        print(line)
+    return EXIT_OK
+
+
+def _missing(component: str, hint: str) -> int:
+    _err(f"error: {component} is not available in this installation ({hint})")
+    return EXIT_USAGE
+
+
+def _module_exists(name: str) -> bool:
+    try:
+        return importlib.util.find_spec(name) is not None
+    except (ImportError, ValueError):
+        return False
+
+
+def _exit_code(value) -> int:
+    return EXIT_OK if value is None else int(value)
+
+
+def cmd_bench(args) -> int:
+    if not _module_exists("rfesim.bench.run"):
+        return _missing("the benchmark runner (rfesim.bench.run)", "it has not been built yet")
+    from rfesim.bench.run import main as bench_main
+
+    argv = (["--quick"] if args.quick else []) + list(args.extra)
+    return _exit_code(bench_main(argv))
+
+
+def cmd_sweep(args) -> int:
+    if not _module_exists("rfesim.sweep"):
+        return _missing("parameter sweeps (rfesim.sweep)", "it has not been built yet")
+    from rfesim.sweep import main as sweep_main
+
+    argv = [args.scenario]
+    for v in args.vary:
+        argv += ["--vary", v]
+    if args.scheduler:
+        argv += ["--scheduler", args.scheduler]
+    return _exit_code(sweep_main(argv + list(args.extra)))
+
+
+def cmd_serve(args) -> int:
+    if not _module_exists("service.app"):
+        return _missing("the HTTP service (service.app)", "it has not been built yet")
+    try:
+        module = importlib.import_module("service.app")
+        import uvicorn
+    except ImportError as exc:
+        return _missing("the HTTP service", f"{exc}; install the extra: pip install 'rfesim[service]'")
+    app = getattr(module, "app", None)
+    if app is None and callable(getattr(module, "create_app", None)):
+        app = module.create_app()
+    if app is None:
+        return _missing("the HTTP service", "service.app defines neither 'app' nor 'create_app'")
+    print(f"serving rfesim on http://{args.host}:{args.port} (OpenAPI at /docs); Ctrl-C to stop", file=sys.stderr)
+    uvicorn.run(app, host=args.host, port=args.port, log_level="info" if args.verbose else "warning")
+    return EXIT_OK
+
+
+# --------------------------------------------------------------------------- parser
+
+FORWARDS_EXTRA = ("bench", "sweep")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    from . import __version__
+
+    common = argparse.ArgumentParser(add_help=False)
+    common.add_argument("-v", "--verbose", action="count", default=argparse.SUPPRESS,
+                        help="log library messages (-v: info, -vv: debug)")
+
+    parser = argparse.ArgumentParser(
+        prog="rfesim", description="Rigid Finite Element dynamics of offshore pipes, cables and risers.",
+        epilog="exit codes: 0 ok, 1 bad input, 2 usage or missing component, 3 solver failure, 130 interrupted")
+    parser.add_argument("--version", action="version", version=f"rfesim {__version__}")
+    parser.add_argument("-v", "--verbose", action="count", default=0,
+                        help="log library messages (-v: info, -vv: debug)")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    sub.required = True
+
+    p = sub.add_parser("run", parents=[common], help="statics + dynamics, write a netCDF results file")
+    p.add_argument("scenario", metavar="SCENARIO", help="scenario file (JSON or YAML)")
+    p.add_argument("-o", "--output", metavar="OUT.nc",
+                   help="results file (default: <scenario stem>.nc in the current directory)")
+    p.add_argument("--plot", metavar="OUT.png", help="also draw line shapes and top tension to this image")
+    g = p.add_mutually_exclusive_group()
+    g.add_argument("--progress", dest="progress", action="store_true", default=None,
+                   help="always draw the progress bar (default: on a terminal, for runs longer than ~1 s)")
+    g.add_argument("--no-progress", dest="progress", action="store_false", help="never draw the progress bar")
+    p.set_defaults(func=cmd_run)
+
+    p = sub.add_parser("statics", parents=[common], help="static equilibrium: end forces and tension range")
+    p.add_argument("scenario", metavar="SCENARIO")
+    p.add_argument("-o", "--output", metavar="OUT.nc", help="write the static results to this file")
+    p.set_defaults(func=cmd_statics)
+
+    p = sub.add_parser("modes", parents=[common], help="natural frequencies about the static equilibrium")
+    p.add_argument("scenario", metavar="SCENARIO")
+    p.add_argument("-n", type=int, default=None, metavar="N",
+                   help="number of modes (default: analysis.modal.modes, or 10)")
+    p.set_defaults(func=cmd_modes)
+
+    p = sub.add_parser("check", parents=[common], help="validate a scenario only")
+    p.add_argument("scenario", metavar="SCENARIO")
+    p.set_defaults(func=cmd_check)
+
+    p = sub.add_parser("bench", parents=[common], help="work-precision report (extra options go to the runner)")
+    p.add_argument("--quick", action="store_true", help="a short subset")
+    p.set_defaults(func=cmd_bench)
+
+    p = sub.add_parser("serve", parents=[common], help="the HTTP service")
+    p.add_argument("--host", default="127.0.0.1")
+    p.add_argument("--port", type=int, default=8000)
+    p.set_defaults(func=cmd_serve)
+
+    p = sub.add_parser("sweep", parents=[common], help="run a scenario over parameter values")
+    p.add_argument("scenario", metavar="SCENARIO")
+    p.add_argument("--vary", action="append", required=True, metavar="PATH=V1,V2,...",
+                   help="dotted scenario path and its values (repeat for a grid)")
+    p.add_argument("--scheduler", metavar="ADDRESS", help="address of a distributed scheduler")
+    p.set_defaults(func=cmd_sweep)
+    return parser
+
+
+def _configure_logging(verbosity: int) -> None:
+    level = logging.WARNING if verbosity <= 0 else logging.INFO if verbosity == 1 else logging.DEBUG
+    logger = logging.getLogger("rfesim")
+    logger.setLevel(level)
+    if not any(getattr(h, "_rfesim_cli", False) for h in logger.handlers):
+        handler = logging.StreamHandler(sys.stderr)
+        handler.setFormatter(logging.Formatter("%(levelname)s %(name)s: %(message)s"))
+        handler._rfesim_cli = True
+        logger.addHandler(handler)
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the command line; returns the exit code (the console script exits with it)."""
+    parser = build_parser()
+    args, extra = parser.parse_known_args(argv)
+    if extra and args.command not in FORWARDS_EXTRA:
+        parser.error(f"unrecognized arguments: {' '.join(extra)}")
+    args.extra = extra
+    _configure_logging(getattr(args, "verbose", 0) or 0)
+
+    from .errors import CancelledError, RfesimError, ScenarioError, SolverError
+
+    try:
+        return _exit_code(args.func(args))
+    except CliError as exc:
+        _err(str(exc))
+        return exc.code
+    except ScenarioError as exc:
+        _err("scenario error:", *(f"  {f}: {r}" if f else f"  {r}" for f, r in exc.errors))
+        return EXIT_INPUT
+    except SolverError as exc:
+        return _solver_failure(exc, None)
+    except CancelledError as exc:
+        _err(f"cancelled: {exc}")
+        return EXIT_INTERRUPTED
+    except RfesimError as exc:
+        _err(f"error: {exc}")
+        return EXIT_INPUT
+    except KeyboardInterrupt:
+        _err("", "interrupted")
+        return EXIT_INTERRUPTED
+    except BrokenPipeError:  # `rfesim modes x.json | head`
+        try:
+            sys.stdout = open(os.devnull, "w")
+        except OSError:
+            pass
+        return EXIT_OK
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

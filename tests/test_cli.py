@@ -1,0 +1,296 @@
+"""The command line: `rfesim check | statics | run | modes` on small scenarios (seconds)."""
+from __future__ import annotations
+
+import copy
+import io
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from rfesim.cli import main
+from rfesim.progress import ProgressBar, format_duration
+
+# a 10 m cantilever of 10 elements, clamped at end A, tip load at end B, no gravity
+CANTILEVER = {
+    "schema_version": 1,
+    "name": "cli cantilever",
+    "environment": {"gravity": 0.0},
+    "line_types": {"beam": {"EA": 1.0e8, "EIy": 1.0e5, "mass_per_length": 50.0}},
+    "lines": {"pipe": {"type": "beam", "length": 10.0, "elements": 10,
+                       "end_a": {"attach": "fixed", "position": [0.0, 0.0, 0.0], "direction": [1.0, 0.0, 0.0],
+                                 "connection": "clamped"},
+                       "end_b": {"attach": "free"},
+                       "loads": [{"at": "end_b", "force": [0.0, 0.0, -100.0]}]}},
+    "analysis": {"statics": {"enabled": True},
+                 "dynamics": {"duration": 2.0, "output_interval": 0.05,
+                              "integrator": {"kind": "generalized-alpha", "time_step": 0.01, "rho_inf": 0.8}}},
+}
+
+
+def write_scenario(folder: Path, data: dict, name: str = "cantilever.json") -> Path:
+    path = folder / name
+    path.write_text(json.dumps(data), encoding="utf-8")
+    return path
+
+
+@pytest.fixture
+def good(tmp_path) -> Path:
+    return write_scenario(tmp_path, CANTILEVER)
+
+
+@pytest.fixture
+def bad(tmp_path) -> Path:
+    data = copy.deepcopy(CANTILEVER)
+    data["lines"]["pipe"]["elements"] = 0
+    return write_scenario(tmp_path, data, "bad.json")
+
+
+def test_check_good(good, capsys):
+    assert main(["check", str(good)]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("OK: cli cantilever: 1 lines, 0 vessels")
+
+
+def test_check_bad_names_the_field(bad, capsys):
+    assert main(["check", str(bad)]) == 1
+    captured = capsys.readouterr()
+    assert "scenario error:" in captured.err
+    assert "lines.pipe.elements:" in captured.err
+    assert "Traceback" not in captured.err
+
+
+def test_check_several_errors_one_per_line(tmp_path, capsys):
+    data = copy.deepcopy(CANTILEVER)
+    data["lines"]["pipe"]["elements"] = 0
+    data["lines"]["pipe"]["lenght"] = 3.0
+    path = write_scenario(tmp_path, data, "two.json")
+    assert main(["check", str(path)]) == 1
+    err = capsys.readouterr().err.splitlines()
+    assert err[0] == "scenario error:"
+    assert any(line.strip().startswith("lines.pipe.elements:") for line in err)
+    assert any(line.strip().startswith("lines.pipe.lenght:") for line in err)
+
+
+def test_missing_file(tmp_path, capsys):
+    assert main(["check", str(tmp_path / "nope.json")]) == 1
+    err = capsys.readouterr().err
+    assert "not found" in err and "nope.json" in err
+
+
+def test_invalid_json(tmp_path, capsys):
+    path = tmp_path / "broken.json"
+    path.write_text('{"name": "x",', encoding="utf-8")
+    assert main(["check", str(path)]) == 1
+    assert "invalid JSON" in capsys.readouterr().err
+
+
+def test_statics_writes_file(good, tmp_path, capsys):
+    import rfesim
+
+    out = tmp_path / "st.nc"
+    assert main(["statics", str(good), "-o", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "pipe" in text and "end A force" in text and "max tension" in text
+    assert out.is_file() and out.stat().st_size > 0
+    res = rfesim.open_results(out)
+    assert res.kind == "statics" and len(res.time) == 1
+    # the clamp carries the tip load: 100 N downwards on the line -> the line pulls the clamp down
+    assert res.line("pipe").end_a_force[0, 2] == pytest.approx(-100.0, rel=1e-6)
+
+
+def test_statics_missing_output_folder(good, tmp_path, capsys):
+    assert main(["statics", str(good), "-o", str(tmp_path / "no" / "st.nc")]) == 1
+    assert "output folder does not exist" in capsys.readouterr().err
+
+
+def test_run_writes_results_and_plot(good, tmp_path, capsys):
+    import rfesim
+
+    out, png = tmp_path / "run.nc", tmp_path / "run.png"
+    assert main(["run", str(good), "-o", str(out), "--plot", str(png), "--no-progress"]) == 0
+    text = capsys.readouterr().out
+    assert "simulated 2 s" in text and "steps" in text and "max top tension" in text
+    assert out.is_file() and out.stat().st_size > 0
+    assert png.is_file() and png.stat().st_size > 0
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    res = rfesim.open_results(out)
+    assert res.time[-1] == pytest.approx(2.0)
+
+
+def test_run_default_output_in_cwd(good, tmp_path, monkeypatch, capsys):
+    work = tmp_path / "cwd"
+    work.mkdir()
+    monkeypatch.chdir(work)
+    assert main(["run", str(good), "--no-progress"]) == 0
+    assert (work / "cantilever.nc").is_file()
+
+
+def test_run_progress_bar(good, tmp_path, capsys):
+    assert main(["run", str(good), "-o", str(tmp_path / "p.nc"), "--progress"]) == 0
+    err = capsys.readouterr().err
+    assert "100.0%" in err and "ETA" in err
+
+
+def test_run_solver_error_writes_partial_results(tmp_path, capsys):
+    import rfesim
+
+    path = write_scenario(tmp_path, diverging_scenario(), "diverge.json")
+    out = tmp_path / "diverge.nc"
+    assert main(["run", str(path), "-o", str(out), "--no-progress"]) == 3
+    err = capsys.readouterr().err
+    assert "solver error:" in err and "partial results" in err and str(out) in err
+    res = rfesim.open_results(out)
+    assert res.status == 1 and 0 < len(res.time) and res.time[-1] < 5.0
+
+
+def diverging_scenario() -> dict:
+    """A soft cable under gravity integrated by RK4 with a step far above its stability limit."""
+    return {
+        "name": "diverging cable",
+        "environment": {"gravity": 9.81},
+        "line_types": {"cable": {"EA": 1.0e7, "EIy": 1.0e3, "mass_per_length": 1.0}},
+        "lines": {"pipe": {"type": "cable", "length": 10.0, "elements": 10,
+                           "end_a": {"attach": "fixed", "position": [0.0, 0.0, 0.0], "direction": [1.0, 0.0, 0.0],
+                                     "connection": "clamped"},
+                           "end_b": {"attach": "free"}}},
+        "analysis": {"statics": {"enabled": False},
+                     "dynamics": {"duration": 5.0, "output_interval": 0.05,
+                                  "integrator": {"kind": "rk4", "time_step": 0.05}}},
+    }
+
+
+def test_modes_table(good, capsys):
+    assert main(["modes", str(good), "-n", "3"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    header = next(i for i, line in enumerate(lines) if "frequency [Hz]" in line)
+    rows = [line.split() for line in lines[header + 1:] if line.strip()]
+    assert len(rows) == 3
+    assert [int(r[0]) for r in rows] == [1, 2, 3]
+    freqs = [float(r[1]) for r in rows]
+    periods = [float(r[2]) for r in rows]
+    assert all(f > 0 for f in freqs)
+    assert freqs == sorted(freqs)
+    assert periods == pytest.approx([1.0 / f for f in freqs], rel=1e-4)
+
+
+def test_usage_errors(capsys):
+    with pytest.raises(SystemExit) as exc:
+        main([])
+    assert exc.value.code == 2
+    with pytest.raises(SystemExit) as exc:
+        main(["check", "x.json", "--bogus"])
+    assert exc.value.code == 2
+
+
+def test_optional_components_missing_say_so(capsys, monkeypatch):
+    import rfesim.cli as cli
+
+    monkeypatch.setattr(cli, "_module_exists", lambda name: False)
+    assert main(["bench", "--quick"]) == 2
+    assert "rfesim.bench.run" in capsys.readouterr().err
+    assert main(["serve"]) == 2
+    assert "service.app" in capsys.readouterr().err
+    assert main(["sweep", "x.json", "--vary", "lines.pipe.elements=10,20"]) == 2
+    assert "rfesim.sweep" in capsys.readouterr().err
+
+
+def test_bench_and_sweep_dispatch(monkeypatch):
+    import types
+
+    import rfesim.cli as cli
+
+    calls = {}
+    bench = types.ModuleType("rfesim.bench.run")
+    bench.main = lambda argv: calls.setdefault("bench", argv) and 0
+    sweep = types.ModuleType("rfesim.sweep")
+    sweep.main = lambda argv: calls.setdefault("sweep", argv) and 0
+    monkeypatch.setitem(sys.modules, "rfesim.bench.run", bench)
+    monkeypatch.setitem(sys.modules, "rfesim.sweep", sweep)
+    monkeypatch.setattr(cli, "_module_exists", lambda name: True)
+    assert main(["bench", "--quick", "--extra-flag"]) == 0
+    assert calls["bench"] == ["--quick", "--extra-flag"]
+    assert main(["sweep", "s.json", "--vary", "a.b=1,2", "--vary", "c=3", "--scheduler", "tcp://h:8786"]) == 0
+    assert calls["sweep"] == ["s.json", "--vary", "a.b=1,2", "--vary", "c=3", "--scheduler", "tcp://h:8786"]
+
+
+def test_keyboard_interrupt_exits_130(good, tmp_path, monkeypatch, capsys):
+    import rfesim
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(rfesim, "simulate", interrupted)
+    out = tmp_path / "interrupted.nc"
+    assert main(["run", str(good), "--no-progress", "-o", str(out)]) == 130
+    assert "interrupted" in capsys.readouterr().err
+    assert not out.exists()
+
+
+def test_subprocess_check_and_statics(good, bad, tmp_path):
+    env = dict(os.environ, PYTHONIOENCODING="utf-8")
+    ok = subprocess.run([sys.executable, "-m", "rfesim.cli", "check", str(good)], capture_output=True, text=True,
+                        env=env, timeout=120)
+    assert ok.returncode == 0, ok.stderr
+    assert ok.stdout.startswith("OK: cli cantilever")
+    ko = subprocess.run([sys.executable, "-m", "rfesim.cli", "check", str(bad)], capture_output=True, text=True,
+                        env=env, timeout=120)
+    assert ko.returncode == 1
+    assert "lines.pipe.elements" in ko.stderr and "Traceback" not in ko.stderr
+    out = tmp_path / "sub.nc"
+    st = subprocess.run([sys.executable, "-m", "rfesim.cli", "statics", str(good), "-o", str(out)],
+                        capture_output=True, text=True, env=env, timeout=300)
+    assert st.returncode == 0, st.stderr
+    assert out.is_file() and out.stat().st_size > 0
+
+
+# --------------------------------------------------------------------------- progress bar
+
+class FakeClock:
+    def __init__(self):
+        self.now = 0.0
+
+    def __call__(self):
+        return self.now
+
+
+def test_progress_bar_throttles_and_estimates():
+    clock, stream = FakeClock(), io.StringIO()
+    bar = ProgressBar(stream, clock=clock, max_rate=10.0)
+    for k in range(1, 101):
+        clock.now = 0.01 * k          # 100 updates over 1 s
+        bar(k / 100.0, 0.6 * k)
+    assert bar.updates == 100
+    assert 5 <= bar.draws <= 12       # ~10 draws/s, the final 100 % always drawn
+    assert "100.0%" in stream.getvalue() and "t = 60 s" in stream.getvalue()
+    # the ETA uses the rate since the first update (start-up time before it does not count)
+    clock2 = FakeClock()
+    bar2 = ProgressBar(io.StringIO(), clock=clock2)
+    clock2.now = 5.0                  # statics and compilation took 5 s
+    bar2(0.0, 0.0)
+    assert bar2.eta() != bar2.eta()   # NaN: no rate yet
+    clock2.now = 6.0
+    bar2(0.25, 15.0)
+    assert bar2.eta() == pytest.approx(3.0)
+    bar.close()
+    assert stream.getvalue().endswith("\n")
+
+
+def test_progress_bar_delay_keeps_quick_runs_silent():
+    clock, stream = FakeClock(), io.StringIO()
+    bar = ProgressBar(stream, clock=clock, delay=1.0)
+    for k in range(1, 11):
+        clock.now = 0.05 * k
+        bar(k / 10.0, float(k))
+    bar.close()
+    assert stream.getvalue() == ""
+
+
+def test_format_duration():
+    assert format_duration(3.21) == "3.2 s"
+    assert format_duration(125.0) == "2 min 05 s"
+    assert format_duration(7380.0) == "2 h 03 min"
+    assert format_duration(float("nan")) == "?"
