@@ -29,8 +29,6 @@ EXIT_USAGE = 2
 EXIT_SOLVER = 3
 EXIT_INTERRUPTED = 130
 
-log = logging.getLogger("rfesim.cli")
-
 
 class CliError(Exception):
     """A failure the CLI reports as one message and an exit code, without a traceback."""
@@ -72,6 +70,8 @@ def _output_path(out: str | None, scenario: Path, default_suffix: str | None) ->
     folder = p.parent if str(p.parent) else Path(".")
     if not folder.is_dir():
         raise CliError(f"error: the output folder does not exist: {folder}")
+    if p.is_dir():
+        raise CliError(f"error: the output path is a folder: {p}")
     if p.exists() and p.resolve() == scenario.resolve():
         raise CliError(f"error: the output file would overwrite the scenario: {p}")
     return p
@@ -191,7 +191,7 @@ def cmd_run(args) -> int:
         if bar is not None:
             bar.close()
     if failure is not None:
-        return _solver_failure(failure, out)
+        return _solver_failure(failure, out, args.plot)
     wall = time.perf_counter() - wall0
     _write(res, out)
     print(f"{sc.name}: {res.message}")
@@ -206,13 +206,20 @@ def cmd_run(args) -> int:
     return EXIT_OK
 
 
-def _solver_failure(exc, out: Path | None) -> int:
+def _solver_failure(exc, out: Path | None, plot: str | None = None) -> int:
+    """Report a SolverError; write (and plot) the results computed before it, if any."""
     _err(f"solver error: {exc}")
     res = getattr(exc, "results", None)
-    if res is not None and out is not None and len(res.time):
-        _write(res, out)
-        _err(f"partial results ({len(res.time)} output times, t = {res.time[0]:.6g} .. {res.time[-1]:.6g} s) "
-             f"written to {out}")
+    if res is not None and len(res.time):
+        if out is not None:
+            _write(res, out)
+            _err(f"partial results ({len(res.time)} output times, t = {res.time[0]:.6g} .. {res.time[-1]:.6g} s) "
+                 f"written to {out}")
+        if plot:
+            from .plot import plot_results
+
+            plot_results(res, plot)
+            _err(f"plot of the partial results written to {plot}")
     return EXIT_SOLVER
 
 
@@ -389,15 +396,29 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+class _StderrHandler(logging.StreamHandler):
+    """Writes to whatever ``sys.stderr`` is when a record arrives (main() may be called
+    again, in-process, with another stderr)."""
+
+    @property
+    def stream(self):
+        return sys.stderr
+
+    @stream.setter
+    def stream(self, value):
+        pass
+
+
 def _configure_logging(verbosity: int) -> None:
     level = logging.WARNING if verbosity <= 0 else logging.INFO if verbosity == 1 else logging.DEBUG
     logger = logging.getLogger("rfesim")
     logger.setLevel(level)
-    if not any(getattr(h, "_rfesim_cli", False) for h in logger.handlers):
-        handler = logging.StreamHandler(sys.stderr)
+    handler = next((h for h in logger.handlers if isinstance(h, _StderrHandler)), None)
+    if handler is None:
+        handler = _StderrHandler()
         handler.setFormatter(logging.Formatter("%(levelname)s %(name)s: %(message)s"))
-        handler._rfesim_cli = True
         logger.addHandler(handler)
+    handler.setLevel(level)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -428,7 +449,7 @@ def main(argv: list[str] | None = None) -> int:
         _err(f"error: {exc}")
         return EXIT_INPUT
     except KeyboardInterrupt:
-        _err("", "interrupted")
+        _err("interrupted")
         return EXIT_INTERRUPTED
     except BrokenPipeError:  # `rfesim modes x.json | head`
         try:

@@ -55,6 +55,7 @@ class ProgressBar:
         self._start = clock()
         self._last_draw = -float("inf")
         self._drawn = False
+        self._drawn_complete = False  # 100 % drawn: nothing more to show
         self._last_len = 0
         self.fraction = 0.0
         self.time = 0.0
@@ -100,7 +101,7 @@ class ProgressBar:
         now = self._clock()
         if now - self._start < self.delay:
             return
-        if now - self._last_draw < self.min_interval and fraction < 1.0:
+        if self._drawn_complete or (now - self._last_draw < self.min_interval and fraction < 1.0):
             return
         self._draw()
         self._last_draw = now
@@ -116,6 +117,7 @@ class ProgressBar:
             return
         self._last_len = len(text)
         self._drawn = True
+        self._drawn_complete = self.fraction >= 1.0
         self.draws += 1
 
     def close(self) -> None:

@@ -75,6 +75,18 @@ def test_check_several_errors_one_per_line(tmp_path, capsys):
     assert any(line.strip().startswith("lines.pipe.lenght:") for line in err)
 
 
+def test_verbose_logs_library_messages(tmp_path, capsys):
+    data = copy.deepcopy(CANTILEVER)
+    data["line_types"]["beam"]["EIy"] = 0.0      # a flexible line: the model compiler says so at INFO
+    data["lines"]["pipe"]["loads"] = []
+    path = write_scenario(tmp_path, data, "flexible.json")
+    out = tmp_path / "flexible.nc"
+    assert main(["statics", str(path), "-o", str(out)]) == 0
+    assert "INFO" not in capsys.readouterr().err
+    assert main(["statics", str(path), "-v", "-o", str(out)]) == 0
+    assert "INFO rfesim" in capsys.readouterr().err
+
+
 def test_missing_file(tmp_path, capsys):
     assert main(["check", str(tmp_path / "nope.json")]) == 1
     err = capsys.readouterr().err
@@ -139,10 +151,11 @@ def test_run_solver_error_writes_partial_results(tmp_path, capsys):
     import rfesim
 
     path = write_scenario(tmp_path, diverging_scenario(), "diverge.json")
-    out = tmp_path / "diverge.nc"
-    assert main(["run", str(path), "-o", str(out), "--no-progress"]) == 3
+    out, png = tmp_path / "diverge.nc", tmp_path / "diverge.png"
+    assert main(["run", str(path), "-o", str(out), "--plot", str(png), "--no-progress"]) == 3
     err = capsys.readouterr().err
     assert "solver error:" in err and "partial results" in err and str(out) in err
+    assert png.is_file() and png.stat().st_size > 0
     res = rfesim.open_results(out)
     assert res.status == 1 and 0 < len(res.time) and res.time[-1] < 5.0
 

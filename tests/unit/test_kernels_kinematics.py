@@ -14,7 +14,7 @@ SEEDS = [0, 1, 2, 3, 4]
 ROUNDOFF = 1e-12
 
 
-def random_angles(rng, size=None):
+def random_angles(rng):
     """ZYX angles (psi, theta, phi), theta away from +-pi/2."""
     return np.array([rng.uniform(-np.pi, np.pi), rng.uniform(-1.4, 1.4), rng.uniform(-np.pi, np.pi)])
 
@@ -153,6 +153,19 @@ def test_log_so3_inverts_exp(seed, angle):
     # round-off of R (1e-16 absolute) moves the rotation vector by about as much
     np.testing.assert_allclose(recovered, w, rtol=0, atol=max(ROUNDOFF * angle, 1e-15))
     np.testing.assert_allclose(recovered, ref.log_so3(R), rtol=0, atol=max(ROUNDOFF * angle, 1e-15))
+
+
+@pytest.mark.parametrize("seed", SEEDS)
+@pytest.mark.parametrize("angle", ANGLES)
+def test_reference_exp_and_log(seed, angle):
+    """The reference itself: exp is scipy.linalg.expm of [w]x, log is scipy's rotation vector."""
+    from scipy.spatial.transform import Rotation
+    rng = np.random.default_rng(seed)
+    w = ref.random_rotation_vector(rng, angle)
+    R = scipy.linalg.expm(ref.skew(w))
+    np.testing.assert_allclose(ref.exp_so3(w), R, rtol=0, atol=ROUNDOFF)
+    np.testing.assert_allclose(ref.log_so3(R), Rotation.from_matrix(R).as_rotvec(), rtol=0,
+                               atol=max(ROUNDOFF * angle, 1e-15))
 
 
 @pytest.mark.parametrize("seed", SEEDS)
