@@ -23,6 +23,8 @@ CHANNELS: dict[str, tuple[str, str]] = {
     "end_a_moment": ("N*m", "Moment of the line on its end-A attachment (global)"),
     "end_b_moment": ("N*m", "Moment of the line on its end-B attachment (global)"),
     "seabed_force": ("N", "Seabed normal force on each RFE"),
+    "end_a_direction": ("1", "Unit tangent of the line at end A (axis of the end RFE, global)"),
+    "end_b_direction": ("1", "Unit tangent of the line at end B (axis of the end RFE, global)"),
     "arc_length": ("m", "Arc length from end A of the line points"),
     "sde_arc_length": ("m", "Arc length from end A of the SDEs"),
     "vessel_position": ("m", "Position of the vessel origin (global)"),
@@ -32,7 +34,8 @@ CHANNELS: dict[str, tuple[str, str]] = {
 }
 
 LINE_CHANNELS = ("position", "tension", "shear_force", "bend_moment", "torque", "curvature", "end_a_force",
-                 "end_b_force", "end_a_moment", "end_b_moment", "seabed_force")
+                 "end_b_force", "end_a_moment", "end_b_moment", "seabed_force", "end_a_direction",
+                 "end_b_direction")
 
 
 @dataclass
@@ -51,6 +54,8 @@ class LineResults:
     end_a_moment: np.ndarray          # (nt, 3) N*m
     end_b_moment: np.ndarray          # (nt, 3) N*m
     seabed_force: np.ndarray          # (nt, nrfe) N
+    end_a_direction: np.ndarray       # (nt, 3) unit tangent at end A
+    end_b_direction: np.ndarray       # (nt, 3) unit tangent at end B
 
     @property
     def top_tension(self) -> np.ndarray:
@@ -178,7 +183,8 @@ def _write_netcdf(res: Results, path: str) -> None:
             _var(g, "position", ("time", "point", "xyz"), lr.position)
             for ch in ("tension", "shear_force", "bend_moment", "torque", "curvature"):
                 _var(g, ch, ("time", "sde"), getattr(lr, ch))
-            for ch in ("end_a_force", "end_b_force", "end_a_moment", "end_b_moment"):
+            for ch in ("end_a_force", "end_b_force", "end_a_moment", "end_b_moment", "end_a_direction",
+                       "end_b_direction"):
                 _var(g, ch, ("time", "xyz"), getattr(lr, ch))
             _var(g, "seabed_force", ("time", "rfe"), lr.seabed_force)
         if res.vessels:

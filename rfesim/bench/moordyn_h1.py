@@ -38,17 +38,34 @@ Axial internal damping uses MoorDyn's negative-BA convention: ``BA = -0.8`` asks
 ``BA = 0.8 * (L/N) * sqrt(EA * m)`` in N*s). Its effect on the tension amplitude is
 small (see the convergence study in ``__main__``).
 
-Coupling and time steps
------------------------
-MoorDyn is driven with a coupling step (one ``moordyn.Step`` call) of at most 1 ms; with
-larger coupling steps its tension amplitude comes out 20-30 % low. At each coupling step
-the fairlead is given its exact position at the start of the step and the constant
-velocity that reaches the exact position at the end of the step (MoorDyn moves a
-coupled point linearly within a step). MoorDyn's internal step ``dtM`` must satisfy the
-explicit (RK2) stability limit of the axial segment mode: see
-``default_internal_step``. The initial condition comes from MoorDyn's dynamic
-relaxation (``ICgenDynamic 1``); its default stationary solver leaves this stiff line's
-tension 36-42 % off.
+Coupling, time integration and initial condition
+------------------------------------------------
+MoorDyn is driven with a coupling step (one ``moordyn.Step`` call) of at most 1 ms
+(earlier measurements on this machine found the tension amplitude 20-30 % low with
+larger coupling steps). At each coupling step the fairlead is given its exact position
+at the start of the step and the constant velocity that reaches the exact position at
+the end of the step (MoorDyn moves a coupled point linearly within a step).
+
+MoorDyn integrates explicitly with the internal step ``dtM``, which must stay below the
+stability limit of the highest axial mode of the lumped-mass line, proportional to the
+axial transit time of one segment ``(L / N) / sqrt(EA / m)`` = 0.05607 s / N (see
+``segment_transit_time``). Measured on this line with ``BA = -0.8``: MoorDyn's default
+RK2 is stable up to about 0.8 transit times, its RK4 up to about 1.0 (unstable at 1.2).
+RK4 is the default here because RK2 is also weakly unstable on the undamped bending
+modes (highest bending frequency about ``4 sqrt(EI / m) / (L / N)^2``, RK2 amplifies it
+by ``1 + (w dt)^4 / 8`` per step): at 400 segments RK2 diverged even at 0.3-0.48 transit
+times, and RK2's amplitude carries an error about proportional to dtM (about
++1e5 N/s * dtM, +0.16 % at 100 segments and 0.45 transit times), whereas RK4 at 0.9
+transit times is within about 0.13 % of its converged value at 50 segments and
+improves as about dtM^4. See ``default_internal_step``.
+
+The initial condition comes from MoorDyn's dynamic relaxation (``ICgenDynamic 1``, drag
+times 5, stopped when the fairlead tension changes by less than 1e-5 relative over 1 s
+checks); earlier measurements found MoorDyn's default stationary solver 36-42 % off
+on this stiff line. The relaxed static state agrees with an independent elastica
+(inextensible rod with EI on a rigid seabed, solved as a boundary-value problem):
+fairlead tension 184.2 kN, horizontal tension 78.0 kN, largest moment 393 kN*m, touch
+down 128 m from the anchor (the elastic catenary without EI gives 194.7 kN and 142.8 m).
 """
 from __future__ import annotations
 
@@ -56,6 +73,7 @@ import contextlib
 import ctypes
 import math
 import os
+import re
 import sys
 import tempfile
 import time as time_module
@@ -85,9 +103,13 @@ NORMAL_DRAG_COEFFICIENT = 1.2  # -, on the outer diameter
 AXIAL_DRAG_COEFFICIENT = 0.008  # -, on the outer circumference pi * D_outer
 NORMAL_ADDED_MASS_COEFFICIENT = 0.0  # -
 AXIAL_ADDED_MASS_COEFFICIENT = 0.0  # -
-SEABED_STIFFNESS = 3.0e6  # Pa/m, contact pressure per metre of penetration, on D_outer
-SEABED_DAMPING = 3.0e5  # Pa*s/m, contact pressure per m/s of penetration rate, on D_outer
-AXIAL_DAMPING_RATIO = 0.8  # fraction of critical damping of a segment's axial mode
+# MoorDyn's default seabed model: a vertical contact pressure kBot * penetration
+# + cBot * penetration rate, here taken to act over the outer diameter, i.e. per metre
+# of pipe 9e5 N/m per m of penetration and 9e4 N*s/m per m/s.
+SEABED_STIFFNESS = 3.0e6  # Pa/m
+SEABED_DAMPING = 3.0e5  # Pa*s/m
+SEABED_FRICTION_COEFFICIENT = 0.0  # - (MoorDyn's default: no seabed friction)
+AXIAL_DAMPING_RATIO = 0.8  # fraction of the critical damping of a segment's axial mode
 
 # Fairlead motion and measurement window
 HEAVE_AMPLITUDE = 1.0  # m
@@ -104,17 +126,14 @@ OUTER_TO_MOORDYN_DIAMETER = OUTER_DIAMETER / MOORDYN_DIAMETER  # -
 # Axial wave speed sqrt(EA / m) that sets the explicit stability limit
 AXIAL_WAVE_SPEED = math.sqrt(AXIAL_STIFFNESS / MASS_PER_LENGTH)  # m/s
 
-# Fraction of the axial wave transit time of one segment used as default dtM.
-# MoorDyn's RK2 integrator with BA = -0.8 was measured stable on this line up to about
-# 0.8 transit times for 50 to 200 segments (unstable at 0.9; noisy tension near the
-# limit with 200 segments); a larger damping ratio lowers the limit (BA = -1.6 failed
-# at 0.45). 0.5 keeps a margin of about 1.6.
-DEFAULT_TRANSIT_FRACTION = 0.5
-DEFAULT_TIME_SCHEME = "RK2"
+# MoorDyn time integrator (option tScheme) and default dtM in segment transit times.
+# Measured stability limits on this line with BA = -0.8: RK2 about 0.8, RK4 about 1.0.
+DEFAULT_TIME_SCHEME = "RK4"
+DEFAULT_TRANSIT_FRACTION = {"RK2": 0.5, "RK4": 0.75}
 
 # Dynamic-relaxation initial condition (MoorDyn options dtIC, TmaxIC, CdScaleIC, threshIC)
 IC_CONVERGENCE_INTERVAL = 1.0  # s
-IC_MAXIMUM_TIME = 300.0  # s
+IC_MAXIMUM_TIME = 200.0  # s
 IC_DRAG_SCALE = 5.0  # -
 IC_THRESHOLD = 1.0e-5  # - (relative fairlead tension change)
 
@@ -143,25 +162,28 @@ def fairlead_heave(time: float) -> float:
 def segment_transit_time(segments: int) -> float:
     """Time (s) an axial wave needs to cross one segment: ``(L / N) / sqrt(EA / m)``.
 
-    MoorDyn's "natural period" of a segment, used for its CFL factor, is
-    ``2 pi`` times this value.
+    Equal to 0.05607 s / N for H1. MoorDyn's "natural period" of a segment, used for its
+    CFL factor, is ``2 pi`` times this value.
     """
     return UNSTRETCHED_LENGTH / segments / AXIAL_WAVE_SPEED
 
 
-def default_internal_step(segments: int, coupling_step: float = 1e-3) -> float:
+def default_internal_step(segments: int, coupling_step: float = 1e-3,
+                          time_scheme: str = DEFAULT_TIME_SCHEME) -> float:
     """Default MoorDyn internal step dtM (s) for ``segments`` segments.
 
-    ``DEFAULT_TRANSIT_FRACTION`` times the axial transit time of one segment
-    (0.5 * (290 m / N) / 5172 m/s = 0.02804 s / N), lowered so that a whole number of
-    internal steps fits in one coupling step (MoorDyn otherwise ends each coupling step
-    with one short internal step).
+    ``DEFAULT_TRANSIT_FRACTION[time_scheme]`` times the axial transit time of one
+    segment (RK4: 0.75 * 0.05607 s / N = 0.04205 s / N; RK2: 0.02804 s / N), lowered
+    so that a whole number of internal steps fits in one coupling step. With a 1 ms
+    coupling step and RK4 this gives 1 ms for N <= 42, 0.5 ms for N = 50,
+    0.333 ms for N = 100, 0.2 ms for N = 200 and 0.1 ms for N = 400.
     """
-    return _fit_to_coupling_step(DEFAULT_TRANSIT_FRACTION * segment_transit_time(segments), coupling_step)
+    fraction = DEFAULT_TRANSIT_FRACTION[time_scheme.upper()]
+    return fit_to_coupling_step(fraction * segment_transit_time(segments), coupling_step)
 
 
-def _fit_to_coupling_step(dt_internal: float, coupling_step: float) -> float:
-    """Largest step <= ``dt_internal`` that divides ``coupling_step`` into equal parts."""
+def fit_to_coupling_step(dt_internal: float, coupling_step: float) -> float:
+    """Largest step (s) <= ``dt_internal`` that divides ``coupling_step`` into equal parts."""
     substeps = max(1, math.ceil(coupling_step / dt_internal - 1e-6))
     return coupling_step / substeps
 
@@ -170,9 +192,10 @@ def elastic_catenary_estimate() -> dict:
     """Static estimate of H1 as an inextensible catenary on a rigid seabed (no EI).
 
     Returns a dict with ``horizontal_tension`` (N), ``fairlead_tension`` (N),
-    ``suspended_length`` (m) and ``grounded_length`` (m). Bending stiffness is ignored,
-    and axial strain (below 1e-4 here) changes these numbers by less than 0.1 %.
-    The submerged weight per metre is ``SUBMERGED_WEIGHT_PER_LENGTH``.
+    ``suspended_length`` (m) and ``grounded_length`` (m). The submerged weight per metre
+    is ``SUBMERGED_WEIGHT_PER_LENGTH``; axial strain (below 1e-4 here) would change
+    these numbers by less than 0.1 %. Bending stiffness, ignored here, lowers the
+    fairlead tension to about 184 kN and the grounded length to about 128 m.
     """
     span = FAIRLEAD_POSITION[0] - ANCHOR_POSITION[0]
     height = FAIRLEAD_POSITION[2] - ANCHOR_POSITION[2]
@@ -227,8 +250,8 @@ def moordyn_input_text(segments: int, dt_internal: float,
     negative BA (fraction of critical damping of a segment's axial mode).
     """
     scale = OUTER_TO_MOORDYN_DIAMETER
-    ax, ay, az = ANCHOR_POSITION
-    fx, fy, fz = FAIRLEAD_POSITION
+    anchor_x, anchor_y, anchor_z = ANCHOR_POSITION
+    fairlead_x, fairlead_y, fairlead_z = FAIRLEAD_POSITION
     return f"""--------------------- MoorDyn Input File ------------------------------------
 Benchmark line H1 (rfesim.bench.moordyn_h1): steel pipe OD 0.3 m, wall 0.02 m, empty.
 Diam is volume-equivalent (buoyant area = steel area); Cd, CdAx, kBot and cBot are
@@ -240,8 +263,8 @@ pipe  {MOORDYN_DIAMETER:.12g}  {MASS_PER_LENGTH:.12g}  {AXIAL_STIFFNESS:.12g}  {
 ---------------------- POINTS --------------------------------------------------------
 ID  Attachment  X  Y  Z  Mass  Volume  CdA  Ca
 (#)  (word/ID)  (m)  (m)  (m)  (kg)  (m^3)  (m^2)  (-)
-1  Fixed  {ax:.12g}  {ay:.12g}  {az:.12g}  0  0  0  0
-2  Coupled  {fx:.12g}  {fy:.12g}  {fz:.12g}  0  0  0  0
+1  Fixed  {anchor_x:.12g}  {anchor_y:.12g}  {anchor_z:.12g}  0  0  0  0
+2  Coupled  {fairlead_x:.12g}  {fairlead_y:.12g}  {fairlead_z:.12g}  0  0  0  0
 ---------------------- LINES ---------------------------------------------------------
 ID  LineType  AttachA  AttachB  UnstrLen  NumSegs  LineOutputs
 (#)  (name)  (ID)  (ID)  (m)  (-)  (-)
@@ -255,6 +278,7 @@ ID  LineType  AttachA  AttachB  UnstrLen  NumSegs  LineOutputs
 {WATER_DEPTH:.12g}  WtrDpth  water depth (m)
 {SEABED_STIFFNESS * scale:.12g}  kBot  seabed stiffness on Diam (Pa/m)
 {SEABED_DAMPING * scale:.12g}  cBot  seabed damping on Diam (Pa-s/m)
+{SEABED_FRICTION_COEFFICIENT:g}  FrictionCoefficient  seabed friction (-)
 1  ICgenDynamic  dynamic-relaxation initial condition
 {IC_CONVERGENCE_INTERVAL:.12g}  dtIC  convergence check interval (s)
 {IC_MAXIMUM_TIME:.12g}  TmaxIC  longest relaxation (s)
@@ -267,23 +291,29 @@ ID  LineType  AttachA  AttachB  UnstrLen  NumSegs  LineOutputs
 
 
 @contextlib.contextmanager
-def _quiet_standard_output(enabled: bool = True):
-    """Send file descriptor 1 (MoorDyn's C++ console messages) to /dev/null."""
-    if not enabled:
-        yield
-        return
+def _standard_output_to(path: str):
+    """Send file descriptor 1 (MoorDyn's C++ console messages) to the file ``path``."""
     sys.stdout.flush()
     saved_descriptor = os.dup(1)
-    null_descriptor = os.open(os.devnull, os.O_WRONLY)
+    file_descriptor = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_APPEND, 0o644)
     try:
-        os.dup2(null_descriptor, 1)
+        os.dup2(file_descriptor, 1)
         yield
     finally:
         with contextlib.suppress(Exception):
             ctypes.CDLL(None).fflush(None)
         os.dup2(saved_descriptor, 1)
         os.close(saved_descriptor)
-        os.close(null_descriptor)
+        os.close(file_descriptor)
+
+
+def _initial_condition_report(console_text: str) -> tuple[bool, float, float]:
+    """(converged, relaxation time in s, remaining relative error) from MoorDyn's messages."""
+    converged = "Fairlead tensions converged" in console_text
+    match = re.search(r"Remaining error after\s+([-+0-9.eE]+)\s*s\s*=\s*([-+0-9.eE]+)\s*%", console_text)
+    if match is None:
+        return converged, float("nan"), float("nan")
+    return converged, float(match.group(1)), float(match.group(2)) / 100.0
 
 
 def run_moordyn_h1(segments: int, dt_internal: float | None = None, coupling_step: float = 1e-3,
@@ -300,19 +330,22 @@ def run_moordyn_h1(segments: int, dt_internal: float | None = None, coupling_ste
         MoorDyn's internal step dtM (s); ``None`` picks ``default_internal_step``. It is
         lowered, if needed, so that it divides ``coupling_step`` into equal parts.
     coupling_step:
-        Interval (s) between ``moordyn.Step`` calls, i.e. between fairlead updates.
-        Must not exceed 1 ms (larger coupling steps bias the tension amplitude low).
+        Interval (s) between ``moordyn.Step`` calls, i.e. between fairlead updates; at
+        most 1 ms.
     duration:
         Simulated time (s) after the initial condition; the analysis window is
         ``ANALYSIS_START`` (28 s) to ``duration``.
     workdir:
-        Directory for MoorDyn's input and output files (kept); ``None`` uses a temporary
-        directory that is removed afterwards.
+        Directory for MoorDyn's input file and console log (kept); ``None`` uses a
+        temporary directory that is removed afterwards.
     axial_damping_ratio:
         Axial internal damping as a fraction of a segment's critical damping (written as
         a negative BA).
+    time_scheme:
+        MoorDyn time integrator (option ``tScheme``), "RK4" (default) or e.g. "RK2".
     quiet:
-        Silence MoorDyn's console messages.
+        Keep MoorDyn's console messages out of the terminal (they are still captured to
+        find the initial-condition result).
 
     Returns
     -------
@@ -321,21 +354,26 @@ def run_moordyn_h1(segments: int, dt_internal: float | None = None, coupling_ste
         the fairlead tension, the magnitude of the force the line applies to the coupled
         fairlead point (what ``moordyn.Step`` returns);
         ``max_sagbend_moment`` (N*m): largest ``EI * curvature`` over the line nodes and
-        over the analysis window (curvatures sampled every ``MOMENT_SAMPLE_INTERVAL``);
+        over the analysis window (MoorDyn's node curvatures, sampled every
+        ``MOMENT_SAMPLE_INTERVAL``);
         ``wall_time`` (s): wall-clock time of the dynamic run only (the coupling loop,
-        without input writing and initial-condition generation);
+        with its output sampling, without file writing and initial condition);
         ``ic_wall_time`` (s): wall-clock time of ``moordyn.Init`` (dynamic relaxation);
         ``segments``; ``dt_internal`` (s, the dtM used); ``coupling_step`` (s);
+        ``time_scheme``; ``real_time_factor`` (simulated time / ``wall_time``);
         ``time`` (s) and ``fairlead_tension`` (N): arrays at every coupling step from 0;
         ``line_fairlead_tension_amplitude`` (N): the same fit on
         ``moordyn.GetLineFairTen`` (tension of the top segment, without the top node's
         half-segment weight and drag);
-        ``max_sagbend_moment_time`` (s) and ``max_sagbend_moment_node_position`` (m, xyz):
-        where and when the largest moment occurred;
+        ``max_sagbend_moment_time`` (s), ``max_sagbend_moment_node`` and
+        ``max_sagbend_moment_node_position`` (m, xyz): when and where the largest moment
+        occurred;
+        ``ic_converged`` (bool), ``ic_relaxation_time`` (s of simulated relaxation) and
+        ``ic_remaining_error`` (relative): the dynamic-relaxation result;
         ``static_fairlead_force`` (N, xyz), ``static_fairlead_tension`` (N),
-        ``static_grounded_length`` (m, unstretched length of segments whose both nodes
-        touch the seabed, within 1 cm) and ``static_max_moment`` (N*m): the
-        configuration after the initial condition.
+        ``static_grounded_length`` (m, unstretched length of segments whose two nodes are
+        within 1 cm of the seabed) and ``static_max_moment`` (N*m): the configuration
+        after the initial condition.
     """
     import moordyn
 
@@ -347,9 +385,9 @@ def run_moordyn_h1(segments: int, dt_internal: float | None = None, coupling_ste
     if duration <= ANALYSIS_START + HEAVE_PERIOD:
         raise ValueError(f"duration must exceed {ANALYSIS_START + HEAVE_PERIOD} s, got {duration}")
     if dt_internal is None:
-        dt_internal = default_internal_step(segments, coupling_step)
+        dt_internal = default_internal_step(segments, coupling_step, time_scheme)
     else:
-        dt_internal = _fit_to_coupling_step(float(dt_internal), coupling_step)
+        dt_internal = fit_to_coupling_step(float(dt_internal), coupling_step)
 
     with contextlib.ExitStack() as stack:
         if workdir is None:
@@ -358,34 +396,46 @@ def run_moordyn_h1(segments: int, dt_internal: float | None = None, coupling_ste
             directory = os.path.abspath(workdir)
             os.makedirs(directory, exist_ok=True)
         input_path = os.path.join(directory, f"h1_n{segments}.dat")
+        console_path = os.path.join(directory, f"h1_n{segments}_console.txt")
         # MoorDyn subtracts dtM from the coupling step until nothing is left; written as
         # coupling_step / k exactly, rounding often leaves a ~1e-19 s remainder and thus
         # a (k+1)-th internal step. A dtM larger by 1e-9 (relative) gives exactly k steps.
         with open(input_path, "w") as handle:
             handle.write(moordyn_input_text(segments, dt_internal * (1.0 + 1e-9), axial_damping_ratio,
-                                              time_scheme))
+                                            time_scheme))
+        with open(console_path, "w"):
+            pass
 
-        with _quiet_standard_output(quiet):
+        with _standard_output_to(console_path):
             system = moordyn.Create(input_path)
         if system is None:
             raise RuntimeError(f"MoorDyn could not load {input_path}")
         try:
-            return _simulate(moordyn, system, segments, dt_internal, coupling_step, duration, quiet)
+            result = _simulate(moordyn, system, segments, dt_internal, coupling_step, duration,
+                               console_path)
         finally:
-            with _quiet_standard_output(quiet):
+            with _standard_output_to(console_path):
                 moordyn.Close(system)
+            if not quiet:
+                with open(console_path) as handle:
+                    print(handle.read(), end="")
+    result["time_scheme"] = time_scheme
+    return result
 
 
 def _simulate(moordyn, system, segments: int, dt_internal: float, coupling_step: float,
-              duration: float, quiet: bool) -> dict:
+              duration: float, console_path: str) -> dict:
     """Initial condition and coupled time loop of ``run_moordyn_h1``."""
     fairlead_x, fairlead_y, fairlead_z = FAIRLEAD_POSITION
     start_clock = time_module.perf_counter()
-    with _quiet_standard_output(quiet):
+    with _standard_output_to(console_path):
         error_code = moordyn.Init(system, [fairlead_x, fairlead_y, fairlead_z], [0.0, 0.0, 0.0])
     ic_wall_time = time_module.perf_counter() - start_clock
+    with open(console_path) as handle:
+        ic_converged, ic_relaxation_time, ic_remaining_error = _initial_condition_report(handle.read())
     if error_code != 0:
-        raise RuntimeError(f"moordyn.Init failed with error code {error_code}")
+        raise RuntimeError(f"moordyn.Init failed with error code {error_code} "
+                           f"(segments={segments}, dtM={dt_internal:g} s)")
 
     line = moordyn.GetLine(system, 1)
     fairlead_point = moordyn.GetPoint(system, 2)
@@ -408,19 +458,23 @@ def _simulate(moordyn, system, segments: int, dt_internal: float, coupling_step:
     largest_curvature = -1.0
     largest_curvature_time = float("nan")
     largest_curvature_node = -1
+    largest_curvature_position = (float("nan"),) * 3
     nodes = range(node_count)
-    get_curvature = moordyn.GetLineNodeCurv
     step = moordyn.Step
+    get_curvature = moordyn.GetLineNodeCurv
     get_line_tension = moordyn.GetLineFairTen
 
     height_now = fairlead_heave(0.0)
     start_clock = time_module.perf_counter()
     for index in range(step_count):
-        time_now = times[index]
         height_next = fairlead_heave(times[index + 1])
         # exact position at the start of the step, secant velocity to the exact end position
-        force = step(system, [fairlead_x, fairlead_y, height_now],
-                     [0.0, 0.0, (height_next - height_now) / coupling_step], time_now, coupling_step)
+        try:
+            force = step(system, [fairlead_x, fairlead_y, height_now],
+                         [0.0, 0.0, (height_next - height_now) / coupling_step], times[index], coupling_step)
+        except Exception as error:
+            raise RuntimeError(f"MoorDyn failed at t = {times[index]:.3f} s (segments={segments}, "
+                               f"dtM={dt_internal:g} s)") from error
         height_now = height_next
         fairlead_tension[index + 1] = math.sqrt(force[0] ** 2 + force[1] ** 2 + force[2] ** 2)
         line_fairlead_tension[index + 1] = get_line_tension(line)
@@ -434,7 +488,7 @@ def _simulate(moordyn, system, segments: int, dt_internal: float, coupling_step:
                 largest_curvature_position = moordyn.GetLineNodePos(line, node)
     wall_time = time_module.perf_counter() - start_clock
 
-    if not np.all(np.isfinite(fairlead_tension)):
+    if not (np.all(np.isfinite(fairlead_tension)) and math.isfinite(largest_curvature)):
         raise RuntimeError(f"MoorDyn diverged (segments={segments}, dtM={dt_internal:g} s)")
 
     return {
@@ -445,12 +499,16 @@ def _simulate(moordyn, system, segments: int, dt_internal: float, coupling_step:
         "segments": segments,
         "dt_internal": dt_internal,
         "coupling_step": coupling_step,
+        "real_time_factor": duration / wall_time,
         "time": times,
         "fairlead_tension": fairlead_tension,
         "line_fairlead_tension_amplitude": first_harmonic_amplitude(times, line_fairlead_tension),
         "max_sagbend_moment_time": largest_curvature_time,
         "max_sagbend_moment_node": largest_curvature_node,
         "max_sagbend_moment_node_position": tuple(float(value) for value in largest_curvature_position),
+        "ic_converged": ic_converged,
+        "ic_relaxation_time": ic_relaxation_time,
+        "ic_remaining_error": ic_remaining_error,
         "static_fairlead_force": tuple(float(value) for value in static_force),
         "static_fairlead_tension": float(np.linalg.norm(static_force)),
         "static_grounded_length": static_grounded_length,
@@ -459,95 +517,102 @@ def _simulate(moordyn, system, segments: int, dt_internal: float, coupling_step:
 
 
 def convergence_study(segment_counts=(25, 50, 100, 200, 400), step_factors=(1.0, 0.5),
-                      time_budget: float = 600.0, damping_check_segments: int | None = 100,
-                      report=print) -> list[dict]:
-    """Run ``run_moordyn_h1`` over segment counts and internal steps and print a table.
+                      time_scheme: str = DEFAULT_TIME_SCHEME, time_budget: float = 600.0,
+                      damping_check_segments: int | None = 100, report=print) -> list[dict]:
+    """Run ``run_moordyn_h1`` over segment counts and internal steps, printing a table.
 
-    ``step_factors`` multiply ``default_internal_step(N)``. Segment counts above 200 are
-    run only while the predicted wall time of all their runs (scaled from the previous
-    segment count: twice the nodes, and the step ratio) stays below ``time_budget`` (s);
-    when it does not, only the default step is tried under the same rule. When
+    ``step_factors`` multiply ``default_internal_step(N)``. A run is skipped when the
+    predicted wall time (initial condition plus dynamic run, scaled from the previous
+    segment count's default-step run by the node count and the step ratio) would bring
+    the time spent on its segment count above ``time_budget`` (s). When
     ``damping_check_segments`` is set, that segment count is also run with axial damping
-    ratios 0.4 and 1.6 at the smaller step factor (BA = -1.6 needs the smaller step).
-    Returns the list of result dicts (without the time series).
+    ratios 0.4 and 1.6 at the smallest step factor. Returns the result dicts without
+    their time series.
     """
     results: list[dict] = []
-    header = (f"{'N':>5} {'dtM (s)':>10} {'dtM/transit':>11} {'zeta':>5} {'T amp (N)':>11} "
-              f"{'M max (kN*m)':>12} {'wall (s)':>9} {'x real':>7} {'IC (s)':>7} {'T static (N)':>12}")
+    header = (f"{'N':>5} {'dtM (s)':>10} {'dtM/transit':>11} {'zeta':>5} {'T amp (N)':>10} "
+              f"{'M max (kN*m)':>12} {'wall (s)':>9} {'x real':>7} {'IC (s)':>7} {'relax (s)':>9} "
+              f"{'T static (N)':>12}")
+    report(f"MoorDyn {time_scheme}, coupling step 1 ms, 60 s simulated, analysis 28-60 s")
     report(header)
     report("-" * len(header))
 
     def run_and_report(segments: int, dt_internal: float, damping_ratio: float) -> dict:
-        result = run_moordyn_h1(segments, dt_internal, axial_damping_ratio=damping_ratio)
+        result = run_moordyn_h1(segments, dt_internal, axial_damping_ratio=damping_ratio,
+                                time_scheme=time_scheme)
         summary = {key: value for key, value in result.items() if key not in ("time", "fairlead_tension")}
         summary["axial_damping_ratio"] = damping_ratio
-        summary["real_time_factor"] = (result["time"][-1]) / result["wall_time"]
         results.append(summary)
         report(f"{segments:>5} {result['dt_internal']:>10.4g} "
                f"{result['dt_internal'] / segment_transit_time(segments):>11.3f} {damping_ratio:>5.2f} "
-               f"{result['tension_amplitude']:>11.1f} {result['max_sagbend_moment'] / 1e3:>12.2f} "
-               f"{result['wall_time']:>9.1f} {summary['real_time_factor']:>7.2f} "
-               f"{result['ic_wall_time']:>7.1f} {result['static_fairlead_tension']:>12.0f}")
+               f"{result['tension_amplitude']:>10.1f} {result['max_sagbend_moment'] / 1e3:>12.2f} "
+               f"{result['wall_time']:>9.1f} {result['real_time_factor']:>7.2f} "
+               f"{result['ic_wall_time']:>7.1f} {result['ic_relaxation_time']:>9.1f} "
+               f"{result['static_fairlead_tension']:>12.0f}"
+               + ("" if result["ic_converged"] else "  (initial condition not converged)"))
         return summary
 
-    previous_cost = None  # (segments, dtM, wall time + IC time) of the last default-step run
+    reference = None  # (segments, dtM, seconds) of the last default-step run
     for segments in segment_counts:
-        steps = [default_internal_step(segments) * factor for factor in step_factors]
-        steps = [_fit_to_coupling_step(step, 1e-3) for step in steps]
-        if previous_cost is not None and segments > 200:
-            previous_segments, previous_step, previous_seconds = previous_cost
-
-            def predicted(step: float) -> float:
-                return previous_seconds * (segments / previous_segments) * (previous_step / step)
-
-            if sum(predicted(step) for step in steps) > time_budget:
-                steps = steps[:1]
-                if predicted(steps[0]) > time_budget:
-                    report(f"{segments:>5}  skipped: predicted {predicted(steps[0]):.0f} s > budget {time_budget:.0f} s")
+        spent = 0.0
+        for index, factor in enumerate(step_factors):
+            step = fit_to_coupling_step(default_internal_step(segments, 1e-3, time_scheme) * factor, 1e-3)
+            if reference is not None:
+                predicted = reference[2] * (segments / reference[0]) * (reference[1] / step)
+                if spent + predicted > time_budget:
+                    report(f"{segments:>5} {step:>10.4g}  skipped: about {predicted:.0f} s predicted, "
+                           f"budget {time_budget:.0f} s per N")
                     continue
-        for index, step in enumerate(steps):
             summary = run_and_report(segments, step, AXIAL_DAMPING_RATIO)
+            seconds = summary["wall_time"] + summary["ic_wall_time"]
+            spent += seconds
             if index == 0:
-                previous_cost = (segments, step, summary["wall_time"] + summary["ic_wall_time"])
+                reference = (segments, step, seconds)
 
     if damping_check_segments:
-        step = _fit_to_coupling_step(default_internal_step(damping_check_segments) * min(step_factors), 1e-3)
+        step = fit_to_coupling_step(
+            default_internal_step(damping_check_segments, 1e-3, time_scheme) * min(step_factors), 1e-3)
         for damping_ratio in (0.4, 1.6):
             run_and_report(damping_check_segments, step, damping_ratio)
 
-    _report_estimates(results, report)
+    _report_summary(results, report)
     return results
 
 
-def _report_estimates(results: list[dict], report=print) -> None:
-    """Print zero-step extrapolations per segment count and the damping sensitivity."""
+def _report_summary(results: list[dict], report=print) -> None:
+    """Print, per segment count, the finest-step values and their changes."""
+    nominal = [result for result in results if result["axial_damping_ratio"] == AXIAL_DAMPING_RATIO]
+    finest: dict[int, dict] = {}
+    coarsest: dict[int, dict] = {}
+    for result in nominal:
+        segments = result["segments"]
+        if segments not in finest or result["dt_internal"] < finest[segments]["dt_internal"]:
+            finest[segments] = result
+        if segments not in coarsest or result["dt_internal"] > coarsest[segments]["dt_internal"]:
+            coarsest[segments] = result
     report("")
-    report("Zero-step extrapolation per N (first order in dtM, from dtM and dtM/2; zeta = 0.8):")
-    by_segments: dict[int, list[dict]] = {}
-    for result in results:
-        if result["axial_damping_ratio"] == AXIAL_DAMPING_RATIO:
-            by_segments.setdefault(result["segments"], []).append(result)
-    for segments, runs in sorted(by_segments.items()):
-        runs = sorted(runs, key=lambda run: -run["dt_internal"])
-        if len(runs) >= 2 and math.isclose(runs[-1]["dt_internal"] * 2.0, runs[-2]["dt_internal"], rel_tol=0.2):
-            coarse, fine = runs[-2], runs[-1]
-            ratio = coarse["dt_internal"] / fine["dt_internal"]
-            tension = fine["tension_amplitude"] + (fine["tension_amplitude"] - coarse["tension_amplitude"]) / (ratio - 1.0)
-            moment = fine["max_sagbend_moment"] + (fine["max_sagbend_moment"] - coarse["max_sagbend_moment"]) / (ratio - 1.0)
-            report(f"  N = {segments:>4}: tension amplitude {tension:9.1f} N, max sag-bend moment {moment / 1e3:8.2f} kN*m")
-        else:
-            report(f"  N = {segments:>4}: single step only (tension amplitude {runs[0]['tension_amplitude']:.1f} N "
-                   f"at dtM = {runs[0]['dt_internal']:.4g} s)")
-    damping_checks = [result for result in results if result["axial_damping_ratio"] != AXIAL_DAMPING_RATIO]
-    damping_runs = sorted((result for result in results if damping_checks
-                           and result["segments"] == damping_checks[0]["segments"]
-                           and math.isclose(result["dt_internal"], damping_checks[0]["dt_internal"])),
-                          key=lambda run: run["axial_damping_ratio"])
-    if len(damping_runs) >= 2:
-        report("Axial damping sensitivity (same N and dtM):")
-        for run in damping_runs:
-            report(f"  zeta = {run['axial_damping_ratio']:.2f}: tension amplitude {run['tension_amplitude']:9.1f} N, "
-                   f"max sag-bend moment {run['max_sagbend_moment'] / 1e3:8.2f} kN*m")
+    report("Finest step per N (change from the coarser step; change from the previous N):")
+    previous = None
+    for segments in sorted(finest):
+        fine, coarse = finest[segments], coarsest[segments]
+        step_change = (f"{fine['tension_amplitude'] - coarse['tension_amplitude']:+8.1f} N, "
+                       f"{(fine['max_sagbend_moment'] - coarse['max_sagbend_moment']) / 1e3:+6.2f} kN*m"
+                       if fine is not coarse else "  single step       ")
+        n_change = (f"{fine['tension_amplitude'] - previous['tension_amplitude']:+8.1f} N, "
+                    f"{(fine['max_sagbend_moment'] - previous['max_sagbend_moment']) / 1e3:+6.2f} kN*m"
+                    if previous is not None else "")
+        report(f"  N = {segments:>4}: {fine['tension_amplitude']:9.1f} N, {fine['max_sagbend_moment'] / 1e3:7.2f} kN*m"
+               f"  (dtM: {step_change}; N: {n_change})")
+        previous = fine
+    damping = [result for result in results if result["axial_damping_ratio"] != AXIAL_DAMPING_RATIO]
+    if damping:
+        same = [result for result in nominal if result["segments"] == damping[0]["segments"]
+                and math.isclose(result["dt_internal"], damping[0]["dt_internal"])]
+        report("Axial damping ratio (same N and dtM):")
+        for result in sorted(same + damping, key=lambda run: run["axial_damping_ratio"]):
+            report(f"  zeta = {result['axial_damping_ratio']:.2f}: {result['tension_amplitude']:9.1f} N, "
+                   f"{result['max_sagbend_moment'] / 1e3:7.2f} kN*m  (N = {result['segments']}, "
+                   f"dtM = {result['dt_internal']:.4g} s)")
 
 
 if __name__ == "__main__":
@@ -556,16 +621,17 @@ if __name__ == "__main__":
     parser = argparse.ArgumentParser(description="MoorDyn convergence study on benchmark line H1.")
     parser.add_argument("--segments", type=int, nargs="+", default=[25, 50, 100, 200, 400])
     parser.add_argument("--step-factors", type=float, nargs="+", default=[1.0, 0.5],
-                        help="multiples of the default dtM (0.5 segment transit time)")
+                        help="multiples of the default dtM")
+    parser.add_argument("--time-scheme", default=DEFAULT_TIME_SCHEME, help="MoorDyn tScheme (RK4 or RK2)")
     parser.add_argument("--time-budget", type=float, default=600.0,
-                        help="largest predicted wall time (s) for the runs of one N above 200")
+                        help="largest predicted wall time (s) spent on one N")
     parser.add_argument("--damping-check-segments", type=int, default=100,
                         help="N for the axial-damping sensitivity runs (0 to skip)")
     arguments = parser.parse_args()
     if not moordyn_available():
         raise SystemExit("the moordyn package is not installed (pip install moordyn)")
     estimate = elastic_catenary_estimate()
-    print(f"Elastic-catenary estimate (no EI): fairlead tension {estimate['fairlead_tension']:.0f} N, "
+    print(f"Elastic catenary without EI: fairlead tension {estimate['fairlead_tension']:.0f} N, "
           f"horizontal {estimate['horizontal_tension']:.0f} N, on the seabed {estimate['grounded_length']:.1f} m")
-    convergence_study(arguments.segments, arguments.step_factors, arguments.time_budget,
-                      arguments.damping_check_segments or None)
+    convergence_study(arguments.segments, arguments.step_factors, arguments.time_scheme,
+                      arguments.time_budget, arguments.damping_check_segments or None)

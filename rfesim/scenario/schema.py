@@ -453,8 +453,9 @@ class GeneralizedAlphaSettings(_Strict):
     time_step: float = _units("s", "Time step", default=0.01, gt=0.0)
     rho_inf: float = Field(0.8, ge=0.0, le=1.0, description="Spectral radius at infinite frequency "
                                                             "(1: no numerical damping) [-]")
-    tolerance: float = Field(1e-8, gt=0.0, lt=1.0, description="Newton tolerance on the increment relative to "
-                                                               "the element size [-]")
+    tolerance: float = Field(1e-6, gt=0.0, lt=1.0, description="Newton tolerance: largest residual force "
+                                                               "relative to the largest element weight or point "
+                                                               "load [-]")
     max_iterations: int = Field(12, ge=1, le=200)
     jacobian_reuse: bool = Field(True, description="Modified Newton: keep the factorised Jacobian while "
                                                    "Newton converges fast")

@@ -98,7 +98,8 @@ class Recorder:
                 "position": np.zeros((nt, npts, 3)),
                 **{ch: np.zeros((nt, li.elements)) for ch in ("tension", "shear_force", "bend_moment", "torque",
                                                                "curvature")},
-                **{ch: np.zeros((nt, 3)) for ch in ("end_a_force", "end_b_force", "end_a_moment", "end_b_moment")},
+                **{ch: np.zeros((nt, 3)) for ch in ("end_a_force", "end_b_force", "end_a_moment", "end_b_moment",
+                                                     "end_a_direction", "end_b_direction")},
                 "seabed_force": np.zeros((nt, li.nrfe)),
             }
         self.vessel_names = list(model.scenario.vessels)
@@ -137,6 +138,8 @@ class Recorder:
             d["end_a_moment"][k] = -self._react[ia, 3:]
             d["end_b_moment"][k] = -self._react[ib, 3:]
             d["seabed_force"][k] = ws.contact_force[li.rfe_start:li.rfe_stop]
+            d["end_a_direction"][k] = ws.R[ia, :, 0]
+            d["end_b_direction"][k] = ws.R[ib, :, 0]
         for j, name in enumerate(self.vessel_names):
             a = 1 + j
             self.vessel_pos[k, j] = sysm.att.p[a]
@@ -232,7 +235,7 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
         force_ref = system.force_scale(st)
         floor = 100.0 * system.roundoff_force(st) / force_ref
         tol = max(float(integ.tolerance), floor)
-        flags = np.zeros(1, np.int64)
+        flags = np.zeros(2, np.int64)
         for k_out in range(1, n_out + 1):
             t_target = t_start + k_out * out_dt
             nsteps = int(round((t_target - st.t) / h))

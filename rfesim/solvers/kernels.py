@@ -16,6 +16,7 @@ from ..model.assemble import evaluate, rebase, solve_accelerations
 from ..vessel_kernel import attachment_kinematics
 from .banded import bt_factor, bt_solve
 
+SLOW_STEP = 4                   # residual evaluations after which the next step refreshes its Jacobian
 REBASE_THRESHOLD = 0.5          # rad: re-base an RFE's reference rotation beyond this angle
 RUNAWAY_SPEED = 1.0e5           # m/s or rad/s: a state faster than this has diverged
 RUNAWAY_DISTANCE = 1.0e7        # m
@@ -163,7 +164,10 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
     form of Arnold & Bruls 2007: equilibrium at t_{n+1}, algorithmic acceleration ``aux``).
 
     flags[0] = 1 when Fac holds a factorised Jacobian valid for this h (kept between calls:
-    modified Newton). stats += [steps, newton iterations, jacobians, rebases].
+    modified Newton); flags[1] = residual evaluations of the last step: a step that needed
+    more than SLOW_STEP of them refreshes the Jacobian at the start of the next (a reused
+    Jacobian goes stale as the line turns). stats += [steps, newton iterations, jacobians,
+    rebases].
     """
     n = q.shape[0]
     cq = h * h * beta * (1.0 - alpha_f) / (1.0 - alpha_m)
@@ -181,14 +185,16 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
             for k in range(6):
                 q[i, k] = qp[i, k]
         converged = False
+        evals = 0
         for attempt in range(2):
             fresh = False
-            need_new = flags[0] == 0 or (not reuse) or attempt > 0
+            need_new = flags[0] == 0 or (not reuse) or attempt > 0 or flags[1] > SLOW_STEP
             rn_prev = np.inf
             for it in range(maxit):
                 residual_q(km, att, q, ref, ws, 1.0, 1, Q0, V0, cq, cv, mask, qd_buf, A_buf, r)
                 rn = residual_norm(r, cq, mask, length_scale, force_ref)
                 stats[1] += 1
+                evals += 1
                 if not math.isfinite(rn):
                     break
                 if rn <= tol:
@@ -229,6 +235,7 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
             for i in range(n):
                 for k in range(6):
                     q[i, k] = Q0[i, k] + cq * qdd[i, k]
+        flags[1] = evals
         if not converged:
             fail[0] = t1
             fail[1] = -1

@@ -1,0 +1,70 @@
+"""VALIDATION.md P1: catenary with the seabed (MoorPy's published test data), solved by
+rfesim statics with EI -> 0 and >= 100 elements, tolerance 1e-3 relative."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import rfesim
+
+G = 9.81
+
+
+def catenary_line(n, weight, seabed=True, EA=7.51e12):
+    env = {"gravity": G}
+    if seabed:
+        env["seabed"] = {"z": 0.0, "normal_stiffness": 1e9, "damping_ratio": 0.0}
+    return {
+        "name": "P1 catenary",
+        "environment": env,
+        "line_types": {"chain": {"EA": EA, "EIy": 1.0, "GJ": 1.0, "GA": EA / 3, "mass_per_length": weight / G}},
+        "lines": {"line": {"type": "chain", "length": 500.0, "elements": n, "shear_stiffness": "kruszewski",
+                           "end_a": {"attach": "fixed", "position": [0, 0, 0], "connection": "pinned"},
+                           "end_b": {"attach": "fixed", "position": [400, 0, 200], "connection": "pinned"}}},
+        "analysis": {"dynamics": {"enabled": False}},
+    }
+
+
+@pytest.mark.parametrize("n", [100, 200])
+def test_P1_catenary_on_the_seabed(n):
+    """Span 400 m, height 200 m, length 500 m, w = 800 N/m: fairlead H = 96643.4 N,
+    V = 237751.8 N, 202.810 m on the seabed."""
+    res = rfesim.statics(catenary_line(n, 800.0))
+    line = res.line("line")
+    fairlead = line.end_b_force[0]               # force of the line on the fairlead
+    assert -fairlead[0] == pytest.approx(96643.4, rel=1e-3)
+    assert -fairlead[2] == pytest.approx(237751.8, rel=1e-3)
+    # the grounded length is carried by the seabed and, at its very end, by the anchor pin:
+    # (total seabed force + anchor vertical support) / w
+    grounded = (line.seabed_force[0].sum() - line.end_a_force[0][2]) / 800.0
+    assert grounded == pytest.approx(202.810, rel=1e-3)
+    # horizontal tension is continuous along the suspended part (no seabed friction)
+    tension = line.tension[0]
+    assert tension[-1] == pytest.approx(np.hypot(96643.4, 237751.8), rel=2e-3)
+
+
+@pytest.mark.parametrize("n", [100, 200])
+def test_P1_fully_suspended(n):
+    """Same geometry with w = 200 N/m and no seabed contact: H = 43694.6 N, fairlead
+    V = 77634.4 N, anchor V = 22365.6 N (the line leaves the anchor going down)."""
+    res = rfesim.statics(catenary_line(n, 200.0, seabed=False))
+    line = res.line("line")
+    fairlead = line.end_b_force[0]
+    anchor = line.end_a_force[0]
+    assert -fairlead[0] == pytest.approx(43694.6, rel=1e-3)
+    assert -fairlead[2] == pytest.approx(77634.4, rel=1e-3)
+    assert anchor[0] == pytest.approx(43694.6, rel=1e-3)
+    assert -anchor[2] == pytest.approx(22365.6, rel=1e-3)      # pulls the anchor down
+    assert line.position[0, :, 2].min() < -1.0                   # sags below the anchor
+
+
+def test_P1_matches_the_analytic_elastic_catenary_profile():
+    """The RFE shape lies on the analytic catenary (rfesim.catenary) within 1e-3 of the span."""
+    from rfesim.catenary import solve_catenary
+    res = rfesim.statics(catenary_line(100, 200.0, seabed=False))
+    line = res.line("line")
+    sol = solve_catenary(400.0, 200.0, 500.0, 200.0, 7.51e12, seabed=False)
+    x, z = sol.profile(line.arc_length)
+    pos = line.position[0]
+    assert np.abs(pos[:, 0] - x).max() < 0.4
+    assert np.abs(pos[:, 2] - z).max() < 0.4
