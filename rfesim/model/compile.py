@@ -313,9 +313,13 @@ def compile_scenario(sc, start: str | None = None) -> Model:
         s_lo = np.concatenate([[0.0], (np.arange(1, nseg + 1) - 0.5) * dx])
         s_hi = np.concatenate([(np.arange(1, nseg + 1) - 0.5) * dx, [L]])
         masses = sec.mass_per_length * lengths
-        polar = sec.polar_inertia
+        # Torsion inertia: the section's polar mass moment, but at least that of a
+        # homogeneous section with the same GJ/EA, 2 (1 + nu) mu GJ / EA, so that a section
+        # given without inertia has no torsion mode above its axial one.
+        nu = lt.poisson_ratio
+        polar = max(sec.polar_inertia, 2.0 * (1.0 + nu) * sec.mass_per_length * sec.GJ / sec.EA)
         if polar <= 0.0:
-            # a flexible cable with no section inertia: keep the torsion inertia positive
+            # no torsion stiffness either (a cable): any positive inertia will do
             radius = 0.5 * sec.outer_diameter if sec.outer_diameter > 0 else 1e-3 * dx
             polar = sec.mass_per_length * radius * radius
         inertia = np.column_stack([polar * lengths,
