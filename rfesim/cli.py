@@ -316,18 +316,29 @@ def cmd_sweep(args) -> int:
 def cmd_serve(args) -> int:
     if not _module_exists("service.app"):
         return _missing("the HTTP service (service.app)", "it has not been built yet")
+    # options override the RFESIM_* environment variables the service reads its settings from
+    if args.data_dir is not None:
+        os.environ["RFESIM_DATA_DIR"] = args.data_dir
+    if args.workers is not None:
+        os.environ["RFESIM_WORKERS"] = str(args.workers)
     try:
         module = importlib.import_module("service.app")
         import uvicorn
     except ImportError as exc:
         return _missing("the HTTP service", f"{exc}; install the extra: pip install 'rfesim[service]'")
-    app = getattr(module, "app", None)
-    if app is None and callable(getattr(module, "create_app", None)):
-        app = module.create_app()
+    try:
+        app = getattr(module, "app", None)
+        if app is None and callable(getattr(module, "create_app", None)):
+            app = module.create_app()
+    except ValueError as exc:   # pydantic's ValidationError of the settings
+        raise CliError(f"error: invalid service settings (RFESIM_* environment variables): {exc}", EXIT_USAGE) \
+            from None
     if app is None:
         return _missing("the HTTP service", "service.app defines neither 'app' nor 'create_app'")
     print(f"serving rfesim on http://{args.host}:{args.port} (OpenAPI at /docs); Ctrl-C to stop", file=sys.stderr)
-    uvicorn.run(app, host=args.host, port=args.port, log_level="info" if args.verbose else "warning")
+    # a bounded graceful shutdown: open event streams must not hold a stop for ever
+    uvicorn.run(app, host=args.host, port=args.port, log_level="info" if args.verbose else "warning",
+                timeout_graceful_shutdown=10)
     return EXIT_OK
 
 
@@ -385,6 +396,10 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("serve", parents=[common], help="the HTTP service")
     p.add_argument("--host", default="127.0.0.1")
     p.add_argument("--port", type=int, default=8000)
+    p.add_argument("--data-dir", default=None, metavar="DIR",
+                   help="job database and results (default: $RFESIM_DATA_DIR or ./rfesim-data)")
+    p.add_argument("--workers", type=int, default=None, metavar="N",
+                   help="worker processes (default: $RFESIM_WORKERS or min(2, cores))")
     p.set_defaults(func=cmd_serve)
 
     p = sub.add_parser("sweep", parents=[common], help="run a scenario over parameter values")

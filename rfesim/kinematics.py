@@ -80,7 +80,7 @@ def euler_rate_derivative_into(psi, theta, phi, dpsi, dtheta, dphi, out):
     out[2] = -dtheta * dphi * cx + dpsi * (-dtheta * sy * cx - cy * sx * dphi)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def skew_into(v, out):
     out[0, 0] = 0.0
     out[0, 1] = -v[2]
@@ -93,7 +93,7 @@ def skew_into(v, out):
     out[2, 2] = 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def cross_into(a, b, out):
     x = a[1] * b[2] - a[2] * b[1]
     y = a[2] * b[0] - a[0] * b[2]
@@ -103,7 +103,7 @@ def cross_into(a, b, out):
     out[2] = z
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def matvec_into(A, x, out):
     a = A[0, 0] * x[0] + A[0, 1] * x[1] + A[0, 2] * x[2]
     b = A[1, 0] * x[0] + A[1, 1] * x[1] + A[1, 2] * x[2]
@@ -113,7 +113,7 @@ def matvec_into(A, x, out):
     out[2] = c
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def matTvec_into(A, x, out):
     """out = A^T x."""
     a = A[0, 0] * x[0] + A[1, 0] * x[1] + A[2, 0] * x[2]
@@ -124,7 +124,7 @@ def matTvec_into(A, x, out):
     out[2] = c
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def matmul_into(A, B, out):
     for i in range(3):
         a0 = A[i, 0]
@@ -134,7 +134,7 @@ def matmul_into(A, B, out):
             out[i, j] = a0 * B[0, j] + a1 * B[1, j] + a2 * B[2, j]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def matTmul_into(A, B, out):
     """out = A^T B."""
     for i in range(3):

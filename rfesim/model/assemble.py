@@ -103,6 +103,12 @@ def accumulate_forces(km, ws, scale):
             ws.M[i, k] = 0.0
     sde_forces(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, km.sde_stiffness, km.sde_damping,
                ws.R, ws.rbase, ws.roff, ws.v, ws.w, ws.F, ws.M, ws.eps, ws.sigma, ws.sde_point)
+    local_loads(km, ws, scale)
+
+
+@njit(cache=True)
+def local_loads(km, ws, scale):
+    """Every load that acts on one RFE alone (all but the SDEs), added to ws.F, ws.M."""
     if km.gravity != 0.0:
         gravity_forces(km.rfe_mass, km.rfe_kind, km.gravity, scale, ws.F)
     if km.has_water:
@@ -119,6 +125,19 @@ def accumulate_forces(km, ws, scale):
     if km.has_loads:
         point_loads(km.load_rfe, km.load_arm, km.load_force, km.load_moment, km.load_local, scale,
                     ws.R, ws.F, ws.M, ws.tmp3)
+
+
+@njit(cache=True)
+def evaluate_frozen_sde(km, att, q, qd, ref, ws, scale, Fsde, Msde):
+    """Like evaluate, but with the SDE forces and moments given (held fixed): the local part
+    of the equations, whose Jacobian is block diagonal (rfesim.solvers.jacobian)."""
+    poses(km, att, q, qd, ref, ws)
+    for i in range(ws.F.shape[0]):
+        for k in range(3):
+            ws.F[i, k] = Fsde[i, k]
+            ws.M[i, k] = Msde[i, k]
+    local_loads(km, ws, scale)
+    project(km, att, ws)
 
 
 @njit(cache=True)

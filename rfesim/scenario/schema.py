@@ -459,6 +459,9 @@ class GeneralizedAlphaSettings(_Strict):
     max_iterations: int = Field(12, ge=1, le=200)
     jacobian_reuse: bool = Field(True, description="Modified Newton: keep the factorised Jacobian while "
                                                    "Newton converges fast")
+    jacobian: Literal["analytic", "finite-difference"] = Field(
+        "analytic", description="Jacobian of the SDEs: analytic tangent (fast) or coloured finite differences "
+                                "(the reference)")
 
 
 Integrator = Annotated[Union[RK4Settings, AdaptiveSettings, GeneralizedAlphaSettings], Field(discriminator="kind")]

@@ -236,6 +236,7 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
         floor = 100.0 * system.roundoff_force(st) / force_ref
         tol = max(float(integ.tolerance), floor)
         flags = np.zeros(2, np.int64)
+        analytic = integ.jacobian == "analytic"
         for k_out in range(1, n_out + 1):
             t_target = t_start + k_out * out_dt
             nsteps = int(round((t_target - st.t) / h))
@@ -243,7 +244,8 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
             status = ga_advance(km, vs, att, ws, st.q, st.qd, st.qdd, st.aux, st.ref, st.t, h, nsteps, am, af, beta,
                                 gamma, tol, integ.max_iterations, integ.jacobian_reuse, mask, system.length_scale,
                                 force_ref, system.J, system.Fac, system.Q0, system.V0, system.r, system.dq,
-                                system.qd_buf, system.A_buf, system.qp, system.rp, system.hs, flags, stats, fail)
+                                system.qd_buf, system.A_buf, system.qp, system.rp, system.hs, flags, stats, fail,
+                                analytic, system.Ks, system.Kds, system.T, system.Fsde, system.Msde)
             if status != 0:
                 # redo this output interval step by step, halving a failing step down to h/64
                 st = saved
@@ -265,7 +267,8 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
                                             integ.max_iterations, integ.jacobian_reuse, mask, system.length_scale,
                                             force_ref, system.J, system.Fac, system.Q0, system.V0, system.r,
                                             system.dq, system.qd_buf, system.A_buf, system.qp, system.rp, system.hs,
-                                            flags, stats, fail)
+                                            flags, stats, fail, analytic, system.Ks, system.Kds, system.T,
+                                            system.Fsde, system.Msde)
                             if s2 != 0:
                                 break
                         if s2 == 0:

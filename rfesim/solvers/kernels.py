@@ -13,6 +13,8 @@ import numpy as np
 from numba import njit
 
 from ..model.assemble import evaluate, rebase, solve_accelerations
+from .jacobian import jacobian_analytic
+from .residual import residual_norm, residual_q  # noqa: F401  (re-exported)
 from ..vessel_kernel import attachment_kinematics
 from .banded import bt_factor, bt_solve
 
@@ -23,42 +25,6 @@ RUNAWAY_DISTANCE = 1.0e7        # m
 
 # quantity codes in ``fail[2]``
 Q_POSITION, Q_VELOCITY, Q_NEWTON, Q_JACOBIAN = 0, 1, 2, 3
-
-
-@njit(cache=True)
-def residual_q(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, out):
-    """Residual as a function of the coordinates q.
-
-    mode 0 (statics): out = -fgen(q, 0); mode 1 (implicit step): with A = (q - Q0)/cq and
-    qdot = V0 + cv A, out = cq (Mgen A - fgen). Fixed coordinates give out = q (statics)
-    or q - Q0, so their Jacobian rows are the identity.
-    """
-    n = q.shape[0]
-    if mode == 0:
-        for i in range(n):
-            for k in range(6):
-                qd_buf[i, k] = 0.0
-        evaluate(km, att, q, qd_buf, ref, ws, scale)
-        for i in range(n):
-            for k in range(6):
-                if mask[i, k]:
-                    out[i, k] = -ws.fgen[i, k]
-                else:
-                    out[i, k] = q[i, k]
-    else:
-        inv = 1.0 / cq
-        for i in range(n):
-            for k in range(6):
-                A = (q[i, k] - Q0[i, k]) * inv
-                A_buf[i, k] = A
-                qd_buf[i, k] = V0[i, k] + cv * A
-        evaluate(km, att, q, qd_buf, ref, ws, scale)
-        for i in range(n):
-            for a in range(6):
-                s = -ws.fgen[i, a]
-                for c in range(6):
-                    s += ws.Mgen[i, a, c] * A_buf[i, c]
-                out[i, a] = cq * s
 
 
 @njit(cache=True)
@@ -108,26 +74,6 @@ def jacobian_fd_general(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, 
 
 
 @njit(cache=True)
-def residual_norm(r, cq, mask, length_scale, force_ref):
-    """Largest residual force over the moving coordinates, relative to force_ref
-    (moments are divided by the RFE length)."""
-    m = 0.0
-    inv = 1.0 / cq
-    for i in range(r.shape[0]):
-        for k in range(6):
-            if not mask[i, k]:
-                continue
-            v = abs(r[i, k]) * inv
-            if k >= 3:
-                v /= length_scale[i]
-            if v != v:
-                return np.inf
-            if v > m:
-                m = v
-    return m / force_ref
-
-
-@njit(cache=True)
 def check_state(q, qd, mask, fail, t):
     """Non-finite or runaway coordinates: fill fail and return 2, else 0."""
     for i in range(q.shape[0]):
@@ -159,7 +105,7 @@ def explicit_acceleration(km, vs, att, ws, t, q, qd, ref, qdd):
 @njit(cache=True)
 def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, alpha_f, beta, gamma, tol,
                maxit, reuse, mask, length_scale, force_ref, J, Fac, Q0, V0, r, dq, qd_buf, A_buf, qp, rp, hs,
-               flags, stats, fail):
+               flags, stats, fail, analytic, Ks, Kds, T, Fsde, Msde):
     """Advance nsteps generalised-alpha steps of size h from t0 (Chung & Hulbert 1993 in the
     form of Arnold & Bruls 2007: equilibrium at t_{n+1}, algorithmic acceleration ``aux``).
 
@@ -167,7 +113,8 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
     modified Newton); flags[1] = residual evaluations of the last step: a step that needed
     more than SLOW_STEP of them refreshes the Jacobian at the start of the next (a reused
     Jacobian goes stale as the line turns). stats += [steps, newton iterations, jacobians,
-    rebases].
+    rebases]. ``analytic``: Jacobian from the SDE tangent (rfesim.solvers.jacobian) instead
+    of coloured finite differences; Ks, Kds, T, Fsde, Msde are its work arrays.
     """
     n = q.shape[0]
     cq = h * h * beta * (1.0 - alpha_f) / (1.0 - alpha_m)
@@ -203,8 +150,12 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
                 if it > 0 and rn > 0.25 * rn_prev and not fresh:
                     need_new = True
                 if need_new:
-                    jacobian_fd(km, att, q, ref, ws, 1.0, 1, Q0, V0, cq, cv, mask, qd_buf, A_buf, r, qp, rp, hs,
-                                length_scale, J)
+                    if analytic:
+                        jacobian_analytic(km, att, q, ref, ws, 1.0, 1, Q0, V0, cq, cv, mask, qd_buf, A_buf, r, qp,
+                                          rp, hs, length_scale, J, Ks, Kds, T, Fsde, Msde)
+                    else:
+                        jacobian_fd(km, att, q, ref, ws, 1.0, 1, Q0, V0, cq, cv, mask, qd_buf, A_buf, r, qp, rp, hs,
+                                    length_scale, J)
                     stats[2] += 1
                     bad = bt_factor(J, Fac)
                     if bad >= 0:

@@ -28,6 +28,9 @@ class System:
         self.Q0, self.V0, self.r, self.dq = z(n, 6), z(n, 6), z(n, 6), z(n, 6)
         self.qd_buf, self.A_buf, self.qp, self.rp = z(n, 6), z(n, 6), z(n, 6), z(n, 6)
         self.hs = z(n)
+        nsde = max(model.nsde, 1)
+        self.Ks, self.Kds = z(nsde, 12, 12), z(nsde, 12, 12)
+        self.T, self.Fsde, self.Msde = z(n, 6, 6), z(n, 3), z(n, 3)
 
     # ------------------------------------------------------------------ evaluations
     def set_time(self, t: float) -> None:

@@ -1,0 +1,157 @@
+"""Block-tridiagonal Jacobian of the residual from the analytic SDE tangent.
+
+J = (local part) + (SDE part):
+
+* the SDE part couples neighbours: T_i^T (cK K_s + cD Kd_s) T_j for the RFE pair (i, j) of
+  every SDE s, with K_s, Kd_s the spatial tangent stiffness and damping of
+  ``rfesim.loads.sde_tangent`` and T_i the map from RFE i's coordinates to its spatial
+  virtual displacement (dr, da): diag(I, R E) for a free RFE, (-[c]x R E, R E) on the angles
+  of a pinned one (c from its pin to its centre), zero for a clamped one;
+* the local part is everything that acts on one RFE alone -- its mass and velocity terms,
+  gravity, buoyancy, Morison drag and added mass, seabed contact, point loads, and the
+  change of the projection T^T with the RFE's own coordinates under the (frozen) SDE
+  forces -- formed by forward differences with every RFE perturbed at once (6 evaluations
+  of the local terms, whatever the number of RFEs).
+
+In statics (mode 0) cK = 1, cD = 0; in an implicit step (mode 1) cK = cq, cD = cv
+(``rfesim.solvers.kernels.residual_q``). This costs about a fifth of the coloured
+finite-difference Jacobian (18 full evaluations) and is checked against it in the tests.
+"""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from ..kinematics import cross_into, matmul_into, matvec_into
+from ..loads.sde import sde_forces
+from ..loads.sde_tangent import sde_tangent
+from ..model.assemble import evaluate_frozen_sde
+from .residual import residual_q
+
+
+@njit(cache=True)
+def _local_residual(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, Fsde, Msde, out):
+    """residual_q with the SDE forces frozen."""
+    n = q.shape[0]
+    if mode == 0:
+        for i in range(n):
+            for k in range(6):
+                qd_buf[i, k] = 0.0
+        evaluate_frozen_sde(km, att, q, qd_buf, ref, ws, scale, Fsde, Msde)
+        for i in range(n):
+            for k in range(6):
+                out[i, k] = -ws.fgen[i, k] if mask[i, k] else q[i, k]
+    else:
+        inv = 1.0 / cq
+        for i in range(n):
+            for k in range(6):
+                A = (q[i, k] - Q0[i, k]) * inv
+                A_buf[i, k] = A
+                qd_buf[i, k] = V0[i, k] + cv * A
+        evaluate_frozen_sde(km, att, q, qd_buf, ref, ws, scale, Fsde, Msde)
+        for i in range(n):
+            for a in range(6):
+                s = -ws.fgen[i, a]
+                for c in range(6):
+                    s += ws.Mgen[i, a, c] * A_buf[i, c]
+                out[i, a] = cq * s
+
+
+@njit(cache=True)
+def _maps(km, att, ws, T):
+    """T (n, 6, 6): coordinates -> spatial virtual displacement (dr, da) of each RFE centre."""
+    RE = np.empty((3, 3))
+    P = np.empty(3)
+    c = np.empty(3)
+    for i in range(T.shape[0]):
+        for a in range(6):
+            for b in range(6):
+                T[i, a, b] = 0.0
+        kind = km.rfe_kind[i]
+        if kind == 2:
+            continue
+        matmul_into(ws.R[i], ws.E[i], RE)
+        for a in range(3):
+            for b in range(3):
+                T[i, 3 + a, 3 + b] = RE[a, b]
+        if kind == 0:
+            for a in range(3):
+                T[i, a, a] = 1.0
+        else:
+            at = km.rfe_attach[i]
+            matvec_into(att.R[at], km.rfe_attach_offset[i], P)
+            for k in range(3):
+                c[k] = ws.r[i, k] - (P[k] + att.p[at, k])
+            # dr = da x c = -[c]x RE dphi
+            for b in range(3):
+                col0 = RE[0, b]
+                col1 = RE[1, b]
+                col2 = RE[2, b]
+                T[i, 0, 3 + b] = col1 * c[2] - col2 * c[1]
+                T[i, 1, 3 + b] = col2 * c[0] - col0 * c[2]
+                T[i, 2, 3 + b] = col0 * c[1] - col1 * c[0]
+
+
+@njit(cache=True)
+def jacobian_analytic(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, r0, qp, rp, hs,
+                      length_scale, J, Ks, Kds, T, Fsde, Msde):
+    """Fill J (n, 3, 6, 6) at q; r0 receives the residual at q. Work arrays: Ks, Kds
+    (nsde, 12, 12), T (n, 6, 6), Fsde, Msde (n, 3)."""
+    n = q.shape[0]
+    residual_q(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, r0)
+    # SDE forces alone, spatial, at the base state (ws holds the base poses and velocities)
+    for i in range(n):
+        for k in range(3):
+            Fsde[i, k] = 0.0
+            Msde[i, k] = 0.0
+    sde_forces(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, km.sde_stiffness, km.sde_damping,
+               ws.R, ws.rbase, ws.roff, ws.v, ws.w, Fsde, Msde, ws.eps, ws.sigma, ws.sde_point)
+    sde_tangent(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, km.sde_stiffness, km.sde_damping,
+                ws.R, ws.rbase, ws.roff, ws.sigma, Ks, Kds)
+    _maps(km, att, ws, T)
+    cK = 1.0 if mode == 0 else cq
+    cD = 0.0 if mode == 0 else cv
+    for i in range(n):
+        for sl in range(3):
+            for a in range(6):
+                for b in range(6):
+                    J[i, sl, a, b] = 0.0
+    KT = np.empty((6, 6))
+    for s in range(km.sde_left.shape[0]):
+        ia = km.sde_left[s]
+        ib = km.sde_right[s]
+        for bi in range(2):
+            i = ia if bi == 0 else ib
+            for bj in range(2):
+                j = ia if bj == 0 else ib
+                slot = j - i + 1
+                # KT = (cK K + cD Kd)[bi, bj] T_j  (6 x 6)
+                for a in range(6):
+                    for b in range(6):
+                        acc = 0.0
+                        for k in range(6):
+                            kk = cK * Ks[s, 6 * bi + a, 6 * bj + k] + cD * Kds[s, 6 * bi + a, 6 * bj + k]
+                            acc += kk * T[j, k, b]
+                        KT[a, b] = acc
+                for a in range(6):
+                    for b in range(6):
+                        acc = 0.0
+                        for k in range(6):
+                            acc += T[i, k, a] * KT[k, b]
+                        J[i, slot, a, b] += acc
+    # local part: every RFE perturbed at once, SDE forces frozen
+    eps = 1.5e-8
+    for k in range(6):
+        for i in range(n):
+            for a in range(6):
+                qp[i, a] = q[i, a]
+            typical = length_scale[i] if k < 3 else 1.0
+            h = eps * max(abs(q[i, k]), typical)
+            tmp = q[i, k] + h
+            hs[i] = tmp - q[i, k]
+            qp[i, k] = tmp
+        _local_residual(km, att, qp, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, Fsde, Msde, rp)
+        for i in range(n):
+            inv = 1.0 / hs[i]
+            for a in range(6):
+                J[i, 1, a, k] += (rp[i, a] - r0[i, a]) * inv

@@ -1,0 +1,458 @@
+"""The executor seam: where jobs run, never in the web process.
+
+The job manager (``service.jobs``) talks to one executor from its one thread:
+
+    executor.start()
+    executor.free_slots() -> int                  # jobs it can take now
+    executor.submit(job_id, spec, results_path) -> bool
+    executor.cancel(job_id)
+    executor.wait(timeout) -> [event, ...]        # ("started", id, info) | ("progress", id, fraction, t)
+                                                  # | ("outcome", id, outcome dict)
+    executor.wake()                               # from any thread: make wait() return now
+    executor.shutdown()
+
+:class:`ProcessExecutor` (the default) keeps ``workers`` long-lived processes (spawn
+start method), each with its own duplex pipe, one job at a time. A small supervisor
+(``wait``) watches every pipe and every process sentinel, so:
+
+* progress arrives over the pipe, throttled by the worker;
+* cancel is a message the worker reads inside its progress callback (the run stops at
+  the next output step); a worker that does not stop within ``cancel_grace`` seconds
+  (e.g. busy in statics, which reports no progress) is killed and replaced;
+* a worker that dies (SIGKILL, out-of-memory killer, a crash in native code) fails only
+  the job it was running, with the exit signal in the message, and a new worker is
+  started in its place. ``concurrent.futures.ProcessPoolExecutor`` was not used: one
+  dead worker marks its whole pool broken and fails every job running in it.
+
+:class:`DaskExecutor` submits the same job body as a Dask task to a scheduler address.
+"""
+from __future__ import annotations
+
+import logging
+import os
+import queue
+import signal
+import time
+import uuid
+from multiprocessing import connection as mp_connection
+from pathlib import Path
+from typing import Any
+
+from . import worker as worker_module
+
+log = logging.getLogger("rfesim.service.executor")
+
+
+def _describe_exit(code: int | None) -> str:
+    if code is None:
+        return "is gone"
+    if code < 0:
+        try:
+            name = signal.Signals(-code).name
+        except ValueError:
+            name = f"signal {-code}"
+        hint = " (killed from outside: the out-of-memory killer or an operator)" if -code == signal.SIGKILL else ""
+        return f"was killed by {name}{hint}"
+    return f"exited with code {code}"
+
+
+class JobExecutor:
+    """Interface (see the module docstring)."""
+
+    kind = "abstract"
+
+    def start(self) -> None: ...
+
+    def free_slots(self) -> int:
+        return 0
+
+    def submit(self, job_id: str, spec: dict, results_path: Path) -> bool:
+        raise NotImplementedError
+
+    def cancel(self, job_id: str) -> None: ...
+
+    def wait(self, timeout: float) -> list[tuple]:
+        raise NotImplementedError
+
+    def wake(self) -> None: ...
+
+    def shutdown(self) -> None: ...
+
+    def status(self) -> dict[str, Any]:
+        return {"kind": self.kind}
+
+
+# --------------------------------------------------------------------------- local processes
+
+class _Worker:
+    def __init__(self, index: int, process, conn):
+        self.index = index
+        self.process = process
+        self.conn = conn
+        self.pid = process.pid
+        self.ready = False
+        self.job_id: str | None = None
+        self.cancel_at: float | None = None
+        self.dead = False
+
+
+class ProcessExecutor(JobExecutor):
+    kind = "local processes"
+
+    def __init__(self, workers: int = 1, *, warmup: bool = True, cancel_grace: float = 10.0):
+        self.size = int(workers)
+        self.warmup = warmup
+        self.cancel_grace = float(cancel_grace)
+        self.workers: list[_Worker | None] = [None] * self.size
+        self._respawn_at: dict[int, float] = {}
+        self._failures: dict[int, int] = {}      # consecutive deaths before "ready", per slot
+        self._events: list[tuple] = []
+        self._wake_r, self._wake_w = os.pipe()
+        os.set_blocking(self._wake_w, False)
+        self._closed = False
+
+    # ------------------------------------------------------------------ processes
+    def start(self) -> None:
+        for i in range(self.size):
+            self._spawn(i)
+
+    def _spawn(self, index: int) -> None:
+        import multiprocessing
+
+        from rfesim.sweep import worker_environment
+
+        ctx = multiprocessing.get_context("spawn")
+        parent_conn, child_conn = ctx.Pipe(duplex=True)
+        process = ctx.Process(target=worker_module.process_main, args=(child_conn, self.warmup),
+                              name=f"rfesim-worker-{index}", daemon=True)
+        with worker_environment():       # the child inherits one numba/BLAS thread
+            process.start()
+        child_conn.close()
+        self.workers[index] = _Worker(index, process, parent_conn)
+        log.info("started worker %d (pid %s)", index, process.pid)
+
+    def _kill(self, w: _Worker) -> None:
+        try:
+            w.process.kill()
+        except (OSError, AttributeError):
+            pass
+        w.process.join(timeout=5)
+
+    def _retire(self, w: _Worker, why: str) -> None:
+        """A worker is dead (or was killed): fail its job, schedule a replacement."""
+        w.dead = True
+        try:
+            w.conn.close()
+        except OSError:
+            pass
+        w.process.join(timeout=1)
+        if w.job_id is not None:
+            if w.cancel_at is not None:
+                self._events.append(("outcome", w.job_id, {
+                    "status": "cancelled", "message": f"cancelled: {why}", "summary": None, "has_results": False,
+                    "wall_time": None, "progress": None, "sim_time": None}))
+            else:
+                self._events.append(("outcome", w.job_id, {
+                    "status": "failed", "message": f"the worker process (pid {w.pid}) running this job {why}; "
+                                                   f"the job was not retried: resubmit it if the cause has gone",
+                    "summary": None, "has_results": False, "wall_time": None, "progress": None,
+                    "sim_time": None}))
+            w.job_id = None
+        if self._closed:
+            return
+        if not w.ready:
+            n = self._failures.get(w.index, 0) + 1
+            self._failures[w.index] = n
+            delay = min(60.0, 0.5 * 2 ** n)
+            log.error("worker %d (pid %s) %s before it was ready; restarting in %.3g s", w.index, w.pid, why, delay)
+        else:
+            delay = 0.0
+            log.warning("worker %d (pid %s) %s; restarting it", w.index, w.pid, why)
+        self.workers[w.index] = None
+        self._respawn_at[w.index] = time.monotonic() + delay
+
+    # ------------------------------------------------------------------ the seam
+    def free_slots(self) -> int:
+        return sum(1 for w in self.workers if w is not None and w.ready and w.job_id is None and not w.dead)
+
+    def submit(self, job_id: str, spec: dict, results_path: Path) -> bool:
+        for w in self.workers:
+            if w is not None and w.ready and w.job_id is None and not w.dead:
+                try:
+                    w.conn.send(("run", {**spec, "id": job_id, "results_path": str(results_path)}))
+                except (OSError, EOFError):
+                    self._retire(w, _describe_exit(w.process.exitcode))
+                    continue
+                w.job_id = job_id
+                w.cancel_at = None
+                self._events.append(("started", job_id, {"worker": f"local process {w.pid}", "pid": w.pid}))
+                return True
+        return False
+
+    def cancel(self, job_id: str) -> None:
+        for w in self.workers:
+            if w is not None and w.job_id == job_id and not w.dead:
+                if w.cancel_at is None:
+                    w.cancel_at = time.monotonic()
+                try:
+                    w.conn.send(("cancel", job_id))
+                except (OSError, EOFError):
+                    pass               # its death is seen by wait()
+                return
+
+    def wake(self) -> None:
+        try:
+            os.write(self._wake_w, b"x")
+        except (BlockingIOError, OSError):
+            pass
+
+    def wait(self, timeout: float) -> list[tuple]:
+        now = time.monotonic()
+        for index, due in list(self._respawn_at.items()):
+            if due <= now and not self._closed:
+                del self._respawn_at[index]
+                self._spawn(index)
+        if self._events:
+            timeout = 0.0
+        deadlines = [w.cancel_at + self.cancel_grace for w in self.workers if w is not None and w.cancel_at]
+        deadlines += list(self._respawn_at.values())
+        if deadlines:
+            timeout = max(0.0, min(timeout, min(deadlines) - now))
+        live = [w for w in self.workers if w is not None and not w.dead]
+        objects: list[Any] = [self._wake_r] + [w.conn for w in live] + [w.process.sentinel for w in live]
+        ready = set(mp_connection.wait(objects, timeout))
+        if self._wake_r in ready:
+            try:
+                os.read(self._wake_r, 4096)
+            except BlockingIOError:
+                pass
+        for w in live:
+            if w.conn in ready:
+                self._drain(w)
+        for w in live:
+            if not w.dead and w.process.sentinel in ready:
+                self._drain(w)
+                w.process.join(timeout=1)
+                self._retire(w, _describe_exit(w.process.exitcode))
+        now = time.monotonic()
+        for w in list(self.workers):
+            if w is not None and not w.dead and w.cancel_at is not None and now - w.cancel_at > self.cancel_grace:
+                log.warning("job %s did not stop within %.3g s of its cancel: killing worker pid %s",
+                            w.job_id, self.cancel_grace, w.pid)
+                self._kill(w)
+                self._retire(w, f"did not stop within {self.cancel_grace:g} s, so its worker process was killed "
+                                f"and replaced")
+        events, self._events = self._events, []
+        return events
+
+    def _drain(self, w: _Worker) -> None:
+        try:
+            while not w.dead and w.conn.poll():
+                msg = w.conn.recv()
+                kind = msg[0]
+                if kind == "ready":
+                    w.ready = True
+                    self._failures.pop(w.index, None)
+                    log.info("worker %d (pid %s) ready (warm-up %.2f s)", w.index, msg[1], msg[2])
+                elif kind == "progress" and msg[1] == w.job_id:
+                    self._events.append(("progress", msg[1], msg[2], msg[3]))
+                elif kind == "outcome" and msg[1] == w.job_id:
+                    self._events.append(("outcome", msg[1], msg[2]))
+                    w.job_id = None
+                    w.cancel_at = None
+        except (EOFError, OSError):
+            pass                       # the sentinel says why
+
+    def shutdown(self) -> None:
+        self._closed = True
+        workers = [w for w in self.workers if w is not None and not w.dead]
+        for w in workers:
+            try:
+                w.conn.send(("stop",))
+            except (OSError, EOFError):
+                pass
+        deadline = time.monotonic() + 3.0
+        for w in workers:
+            w.process.join(timeout=max(0.0, deadline - time.monotonic()))
+            if w.process.is_alive():
+                self._kill(w)
+            try:
+                w.conn.close()
+            except OSError:
+                pass
+        for fd in (self._wake_r, self._wake_w):
+            try:
+                os.close(fd)
+            except OSError:
+                pass
+
+    def status(self) -> dict[str, Any]:
+        workers = [w for w in self.workers if w is not None and not w.dead]
+        return {"kind": self.kind, "total": self.size, "ready": sum(w.ready for w in workers),
+                "busy": sum(w.job_id is not None for w in workers),
+                "pids": [w.pid for w in workers]}
+
+
+# --------------------------------------------------------------------------- Dask
+
+class DaskExecutor(JobExecutor):
+    """Jobs as Dask tasks on the cluster of ``address``. At most as many jobs are handed
+    to Dask as the cluster has worker threads; the rest wait in our queue (durable)."""
+
+    kind = "dask"
+
+    def __init__(self, address: str, *, progress_interval: float = 1.0):
+        self.address = address
+        self.progress_interval = progress_interval
+        self.client = None
+        self._q: queue.Queue = queue.Queue()
+        self._running: dict[str, tuple[Any, Path]] = {}
+        self._threads = (0, 0.0)
+        self._last_poll = 0.0
+
+    def start(self) -> None:
+        from distributed import Client
+
+        self.client = Client(self.address, timeout=30, set_as_default=False)
+        log.info("connected to the Dask scheduler %s", self.address)
+
+    def _nthreads(self) -> int:
+        n, at = self._threads
+        if time.monotonic() - at > 5.0:
+            try:
+                n = sum(self.client.nthreads().values())
+            except Exception as exc:  # scheduler unreachable: take nothing new
+                log.warning("Dask scheduler %s: %s", self.address, exc)
+                n = 0
+            self._threads = (n, time.monotonic())
+        return n
+
+    def free_slots(self) -> int:
+        return max(0, self._nthreads() - len(self._running))
+
+    def submit(self, job_id: str, spec: dict, results_path: Path) -> bool:
+        fut = self.client.submit(worker_module.dask_task, {**spec, "id": job_id},
+                                 key=f"rfesim-job-{job_id}-{uuid.uuid4().hex[:8]}", pure=False, retries=0)
+        self._running[job_id] = (fut, Path(results_path))
+        fut.add_done_callback(lambda f, job_id=job_id: self._q.put(("done", job_id)))
+        self._q.put(("started", job_id))
+        return True
+
+    def cancel(self, job_id: str) -> None:
+        from distributed import Event
+
+        item = self._running.get(job_id)
+        if item is None:
+            return
+        try:
+            Event(f"rfesim-cancel-{job_id}", client=self.client).set()
+        except Exception as exc:
+            log.warning("could not signal the cancel of %s: %s", job_id, exc)
+
+    def wake(self) -> None:
+        self._q.put(("wake", None))
+
+    def wait(self, timeout: float) -> list[tuple]:
+        events = []
+        try:
+            items = [self._q.get(timeout=min(timeout, self.progress_interval))]
+        except queue.Empty:
+            items = []
+        while True:
+            try:
+                items.append(self._q.get_nowait())
+            except queue.Empty:
+                break
+        for kind, job_id in items:
+            if kind == "started" and job_id in self._running:
+                events.append(("started", job_id, {"worker": f"dask {self.address}", "pid": None}))
+            elif kind == "done" and job_id in self._running:
+                events.append(("outcome", job_id, self._collect(job_id)))
+        if time.monotonic() - self._last_poll >= self.progress_interval:
+            self._last_poll = time.monotonic()
+            events += self._poll_progress()
+        return events
+
+    def _poll_progress(self) -> list[tuple]:
+        from distributed import Variable
+
+        events = []
+        for job_id in list(self._running):
+            try:
+                value = Variable(f"rfesim-progress-{job_id}", client=self.client).get(timeout=0.05)
+            except Exception:
+                continue
+            if isinstance(value, (list, tuple)) and len(value) == 2:
+                events.append(("progress", job_id, float(value[0]), float(value[1])))
+        return events
+
+    def _collect(self, job_id: str) -> dict:
+        fut, path = self._running.pop(job_id)
+        base = {"summary": None, "has_results": False, "wall_time": None, "progress": None, "sim_time": None}
+        try:
+            out = fut.result(timeout=60)
+        except Exception as exc:
+            name = type(exc).__name__
+            if name == "KilledWorker":
+                msg = ("the Dask worker running this job died (and so did its retries); the job was not "
+                       "retried again: resubmit it if the cause has gone")
+            elif name in ("CancelledError", "FutureCancelledError"):
+                return {**base, "status": "cancelled", "message": "cancelled"}
+            else:
+                msg = f"the Dask task failed: {name}: {exc}"
+            return {**base, "status": "failed", "message": msg}
+        data = out.pop("results_bytes", None)
+        if data is not None:
+            try:
+                _write_atomic(path, data)
+            except OSError as exc:
+                out.update(status="failed", has_results=False,
+                           message=f"{out.get('message', '')}; the results could not be written: {exc}")
+        try:
+            from distributed import Event, Variable
+
+            Variable(f"rfesim-progress-{job_id}", client=self.client).delete()
+            Event(f"rfesim-cancel-{job_id}", client=self.client).clear()
+        except Exception:
+            pass
+        return out
+
+    def shutdown(self) -> None:
+        if self.client is None:
+            return
+        for job_id in list(self._running):
+            self.cancel(job_id)
+        try:
+            self.client.cancel([f for f, _ in self._running.values()])
+        except Exception:
+            pass
+        try:
+            self.client.close(timeout=5)
+        except Exception:
+            pass
+
+    def status(self) -> dict[str, Any]:
+        return {"kind": self.kind, "scheduler": self.address, "total": self._threads[0],
+                "busy": len(self._running), "ready": self._threads[0]}
+
+
+def _write_atomic(path: Path, data: bytes) -> None:
+    """Write bytes to ``path`` through a temporary file in the same folder and a rename."""
+    path = Path(path)
+    tmp = path.with_name(f".{path.name}.{uuid.uuid4().hex[:12]}.tmp")
+    try:
+        with open(tmp, "wb") as f:
+            f.write(data)
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+
+
+def make_executor(settings) -> JobExecutor:
+    if settings.scheduler_address:
+        return DaskExecutor(settings.scheduler_address)
+    return ProcessExecutor(settings.workers, warmup=settings.warmup, cancel_grace=settings.cancel_grace)
+

@@ -1,0 +1,190 @@
+"""The job manager: the one thread between the job records (SQLite) and the executor.
+
+Routes insert jobs as ``queued`` rows and wake the manager; the manager claims the
+oldest queued jobs when the executor has free slots, records what the executor
+reports (started, progress, outcome) and forwards cancels. Progress is kept in memory
+and written to the database at most once a second per job; status changes are written
+at once.
+
+At start, jobs left ``running`` by a stopped (or killed) service are re-queued, or
+failed after ``max_attempts`` interruptions. At a clean stop, running jobs are handed
+back to the queue the same way.
+"""
+from __future__ import annotations
+
+import json
+import logging
+import queue
+import shutil
+import threading
+import time
+from pathlib import Path
+
+from .executor import JobExecutor
+from .store import Store
+
+log = logging.getLogger("rfesim.service.jobs")
+
+PROGRESS_FLUSH = 1.0     # s between database writes of one job's progress
+
+
+class JobManager:
+    def __init__(self, store: Store, executor: JobExecutor, data_dir: Path, *, max_attempts: int = 3):
+        self.store = store
+        self.executor = executor
+        self.data_dir = Path(data_dir)
+        self.max_attempts = max_attempts
+        self.live: dict[str, tuple[float, float]] = {}       # job id -> (fraction, simulated time)
+        self._flushed: dict[str, float] = {}
+        self._cancels: queue.SimpleQueue = queue.SimpleQueue()
+        self._stop = threading.Event()
+        self._thread: threading.Thread | None = None
+        self.started_at = time.time()
+        self.recovered: tuple[list[str], list[str]] = ([], [])
+        self.loop_errors = 0
+
+    # ------------------------------------------------------------------ paths
+    def job_dir(self, job_id: str) -> Path:
+        return self.data_dir / "jobs" / job_id
+
+    def results_path(self, job_id: str) -> Path:
+        return self.job_dir(job_id) / "results.nc"
+
+    # ------------------------------------------------------------------ life
+    def start(self) -> None:
+        self.recovered = self.store.requeue_running(
+            "re-queued after a service restart (it was running when the service stopped)", self.max_attempts)
+        if self.recovered[0] or self.recovered[1]:
+            log.warning("after the restart: %d jobs re-queued, %d failed (interrupted too often)",
+                        len(self.recovered[0]), len(self.recovered[1]))
+        for job_id in self.recovered[0]:
+            self._clean_job_dir(job_id)
+        self.executor.start()
+        self._thread = threading.Thread(target=self._run, name="rfesim-job-manager", daemon=True)
+        self._thread.start()
+
+    def stop(self) -> None:
+        self._stop.set()
+        self.executor.wake()
+        if self._thread is not None:
+            self._thread.join(timeout=10)
+        self.executor.shutdown()
+        self._flush(force=True)
+        self.store.requeue_running("re-queued: the service stopped while it was running", None)
+
+    def _clean_job_dir(self, job_id: str) -> None:
+        """Remove temporary files a killed worker may have left (complete results stay)."""
+        folder = self.job_dir(job_id)
+        for tmp in folder.glob(".*.tmp"):
+            tmp.unlink(missing_ok=True)
+
+    # ------------------------------------------------------------------ from the routes
+    def notify(self) -> None:
+        self.executor.wake()
+
+    def cancel(self, job_id: str) -> str | None:
+        """Cancel a job: the status it has now ("cancelled" for a queued job,
+        "running" while a running job is being stopped), or None if unknown."""
+        if self.store.cancel_queued(job_id):
+            return "cancelled"
+        if self.store.request_cancel(job_id):
+            self._cancels.put(job_id)
+            self.executor.wake()
+            return "running"
+        job = self.store.get(job_id)
+        return job["status"] if job else None
+
+    def get(self, job_id: str) -> dict | None:
+        job = self.store.get(job_id)
+        if job is not None and job["status"] == "running" and job_id in self.live:
+            job["progress"], job["sim_time"] = self.live[job_id]
+        return job
+
+    def overlay(self, jobs: list[dict]) -> list[dict]:
+        for job in jobs:
+            if job["status"] == "running" and job["id"] in self.live:
+                job["progress"], job["sim_time"] = self.live[job["id"]]
+        return jobs
+
+    # ------------------------------------------------------------------ the loop
+    def _run(self) -> None:
+        while not self._stop.is_set():
+            try:
+                self._step()
+            except Exception:                       # never let the manager die
+                self.loop_errors += 1
+                log.exception("job manager loop")
+                time.sleep(0.5)
+
+    def _step(self) -> None:
+        for event in self.executor.wait(0.5):
+            self._handle(event)
+        while True:
+            try:
+                job_id = self._cancels.get_nowait()
+            except queue.Empty:
+                break
+            self.executor.cancel(job_id)
+        self._flush()
+        if self._stop.is_set():
+            return
+        slots = self.executor.free_slots()
+        if slots <= 0:
+            return
+        for job_id, scenario, attempt in self.store.claim_queued(slots):
+            self._dispatch(job_id, scenario, attempt)
+
+    def _dispatch(self, job_id: str, scenario_text: str, attempt: int) -> None:
+        folder = self.job_dir(job_id)
+        try:
+            folder.mkdir(parents=True, exist_ok=True)
+            spec = {"id": job_id, "scenario": json.loads(scenario_text), "attempt": attempt}
+        except (OSError, ValueError) as exc:
+            self.store.finish(job_id, "failed", f"could not prepare the job: {exc}")
+            return
+        if not self.executor.submit(job_id, spec, self.results_path(job_id)):
+            # no worker after all (one died just now): back to the queue, first in line
+            self.store.requeue_one(job_id)
+
+    def _handle(self, event: tuple) -> None:
+        kind, job_id = event[0], event[1]
+        if kind == "started":
+            info = event[2]
+            job = self.store.get(job_id)
+            attempt = job["attempts"] if job else 1
+            note = f" (attempt {attempt})" if attempt > 1 else ""
+            self.store.set_running_info(job_id, f"running on {info['worker']}{note}", info.get("worker"),
+                                        info.get("pid"))
+            self.live[job_id] = (0.0, 0.0)
+        elif kind == "progress":
+            self.live[job_id] = (float(event[2]), float(event[3]))
+        elif kind == "outcome":
+            out = event[2]
+            self.live.pop(job_id, None)
+            self._flushed.pop(job_id, None)
+            status = out.get("status", "failed")
+            if status not in ("done", "failed", "cancelled"):
+                status = "failed"
+            self.store.finish(job_id, status, str(out.get("message", "")), summary=out.get("summary"),
+                              wall_time=out.get("wall_time"), has_results=bool(out.get("has_results")),
+                              progress=out.get("progress"), sim_time=out.get("sim_time"))
+            log.info("job %s %s: %s", job_id, status, out.get("message", ""))
+
+    def _flush(self, force: bool = False) -> None:
+        now = time.monotonic()
+        for job_id, (fraction, t) in list(self.live.items()):
+            if force or now - self._flushed.get(job_id, 0.0) >= PROGRESS_FLUSH:
+                self.store.set_progress(job_id, fraction, t)
+                self._flushed[job_id] = now
+
+    # ------------------------------------------------------------------ status
+    def health(self) -> dict:
+        return {"executor": self.executor.status(), "queued": self.store.count("queued"),
+                "running": self.store.count("running"),
+                "manager": "running" if self._thread is not None and self._thread.is_alive() else "stopped"}
+
+    def disk_free(self) -> int | None:
+        try:
+            return shutil.disk_usage(self.data_dir).free
+        except OSError:
+            return None

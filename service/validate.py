@@ -1,0 +1,203 @@
+"""Synchronous checks of what a client submits: the scenario (rfesim.load_scenario), its
+file references (inside the data directory only) and the service's limits.
+
+Every problem is a :class:`Invalid` holding ``(loc, msg)`` pairs, answered as 422
+``{"detail": [{"loc": [...], "msg": ...}]}``.
+"""
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+from typing import Any
+
+from .paths import SAFE_NAME, check_scenario_paths
+
+WRAPPER_KEYS = ("scenario", "overrides")
+
+
+class Invalid(Exception):
+    def __init__(self, errors: list[tuple[list, str]]):
+        self.errors = errors
+        super().__init__("; ".join(f"{'.'.join(map(str, loc))}: {msg}" for loc, msg in errors))
+
+    def detail(self) -> list[dict]:
+        return [{"loc": list(loc), "msg": msg, "type": "value_error"} for loc, msg in self.errors]
+
+
+def _loc(dotted: str) -> list[str]:
+    return dotted.split(".") if dotted else ["body"]
+
+
+def _scenario_errors(exc, suffix: str = "") -> Invalid:
+    return Invalid([(_loc(f), r + suffix) for f, r in exc.errors])
+
+
+def parse_body(body: bytes, content_type: str | None) -> Any:
+    """JSON (or YAML when the content type says so) -> plain data; Invalid if not."""
+    from rfesim import ScenarioError
+    from rfesim.scenario import parse_text
+
+    fmt = "yaml" if content_type and "yaml" in content_type.lower() else "json"
+    try:
+        return parse_text(body, fmt)
+    except ScenarioError as exc:
+        raise Invalid([(["body"], r) for _, r in exc.errors]) from None
+
+
+def bundled(name: str, scenarios_dir: Path | None) -> dict:
+    """A bundled example scenario by name (``cantilever_pipe``), as a dict."""
+    from rfesim.scenario import parse_text
+
+    if scenarios_dir is None:
+        raise Invalid([(["scenario"], "this installation has no bundled scenarios")])
+    stem = name[:-5] if name.endswith(".json") else name
+    path = scenarios_dir / f"{stem}.json"
+    if not SAFE_NAME.match(stem) or not path.is_file():
+        known = ", ".join(sorted(p.stem for p in scenarios_dir.glob("*.json")))
+        raise Invalid([(["scenario"], f"no bundled scenario {name!r} (available: {known})")])
+    return parse_text(path.read_bytes(), "json")
+
+
+def unwrap(data: Any, scenarios_dir: Path | None) -> tuple[Any, dict]:
+    """The body of POST /jobs: a scenario, or ``{"scenario": <scenario or bundled name>,
+    "overrides": {dotted.path: value}}``. Returns (scenario data, overrides)."""
+    if not (isinstance(data, dict) and "scenario" in data):
+        return data, {}
+    extra = [k for k in data if k not in WRAPPER_KEYS]
+    if extra:
+        raise Invalid([([str(k)], f"unknown key (allowed with 'scenario': {', '.join(WRAPPER_KEYS)})")
+                       for k in extra])
+    scenario = data["scenario"]
+    if isinstance(scenario, str):
+        scenario = bundled(scenario, scenarios_dir)
+    elif not isinstance(scenario, dict):
+        raise Invalid([(["scenario"], "must be a scenario (a mapping) or the name of a bundled scenario")])
+    return scenario, check_overrides(data.get("overrides"))
+
+
+def check_overrides(overrides: Any) -> dict:
+    if overrides is None:
+        return {}
+    if not isinstance(overrides, dict):
+        raise Invalid([(["overrides"], "must be a mapping of dotted scenario paths to values")])
+    bad = [k for k in overrides if not isinstance(k, str) or not k.strip() or len(k) > 500]
+    if bad:
+        raise Invalid([(["overrides"], f"bad path {k!r}: use a dotted path such as 'lines.pipe.elements'")
+                       for k in bad])
+    return overrides
+
+
+def output_times(sc) -> int:
+    """An upper bound of the output times a run stores (as the dynamics driver picks them)."""
+    dyn = sc.analysis.dynamics
+    if not (dyn.enabled and dyn.duration > 0):
+        return 1
+    T = float(dyn.duration)
+    integ = dyn.integrator
+    step = getattr(integ, "time_step", None)
+    if dyn.output_interval is not None:
+        interval = max(float(dyn.output_interval), float(step or 0.0))
+        return int(math.floor(T / interval + 1e-9)) + 2
+    if integ.kind == "adaptive":
+        return 1002
+    return 10_002
+
+
+def check_limits(sc, settings, prefix: list | None = None) -> None:
+    """The service's limits on one validated Scenario (Invalid naming the field)."""
+    prefix = prefix or []
+    errors = []
+    if not sc.lines:
+        errors.append((prefix + ["lines"], "the scenario has no lines to simulate"))
+    nrfe = sum(line.elements + 1 for line in sc.lines.values())
+    if nrfe > settings.max_rfes:
+        errors.append((prefix + ["lines"], f"the scenario has {nrfe} RFEs (sum over lines of elements + 1); this "
+                                           f"service takes at most {settings.max_rfes} (RFESIM_MAX_RFES)"))
+    dyn = sc.analysis.dynamics
+    if dyn.enabled and dyn.duration > settings.max_duration:
+        errors.append((prefix + ["analysis", "dynamics", "duration"],
+                       f"{dyn.duration:g} s is longer than this service simulates ({settings.max_duration:g} s; "
+                       f"RFESIM_MAX_DURATION)"))
+    values = output_times(sc) * max(1, nrfe)
+    if not errors and values > settings.max_output_values:
+        errors.append((prefix + ["analysis", "dynamics", "output_interval"],
+                       f"{output_times(sc)} output times x {nrfe} RFEs = {values} stored values, more than this "
+                       f"service keeps for one job ({settings.max_output_values}; RFESIM_MAX_OUTPUT_VALUES): "
+                       f"give a longer output_interval"))
+    if errors:
+        raise Invalid(errors)
+
+
+def prepare_job(data: Any, settings, scenarios_dir: Path | None):
+    """(scenario dict to store, validated Scenario) for POST /jobs."""
+    from rfesim import ScenarioError, load_scenario
+    from rfesim.scenario import apply_overrides
+
+    scenario, overrides = unwrap(data, scenarios_dir)
+    if not isinstance(scenario, dict):
+        # never a string: rfesim.load_scenario would read a string as a file path
+        raise Invalid([(["body"], "must be a scenario (a JSON object), or {\"scenario\": <scenario or bundled "
+                                  "name>, \"overrides\": {dotted.path: value}}")])
+    try:
+        if overrides:
+            scenario = apply_overrides(scenario, overrides)
+        path_errors = check_scenario_paths(scenario, settings.resolved_data_dir())
+        if path_errors:
+            raise Invalid([(_loc(f), r) for f, r in path_errors])
+        sc = load_scenario(scenario)
+    except ScenarioError as exc:
+        raise _scenario_errors(exc) from None
+    check_limits(sc, settings)
+    return scenario, sc
+
+
+def prepare_sweep(data: Any, settings, scenarios_dir: Path | None) -> tuple[dict, list[tuple[dict, dict]], str]:
+    """(vary, [(case values, scenario dict)], name) for POST /sweeps."""
+    from rfesim import ScenarioError, load_scenario
+    from rfesim.scenario import apply_overrides
+    from rfesim.sweep import grid
+
+    if not isinstance(data, dict):
+        raise Invalid([(["body"], "must be a mapping: {\"scenario\": ..., \"vary\": {path: [values]}}")])
+    allowed = ("scenario", "vary", "overrides")
+    extra = [k for k in data if k not in allowed]
+    missing = [k for k in ("scenario", "vary") if k not in data]
+    if extra or missing:
+        raise Invalid([([str(k)], f"unknown key (allowed: {', '.join(allowed)})") for k in extra]
+                      + [([k], "required field is missing") for k in missing])
+    scenario, overrides = unwrap({"scenario": data["scenario"], "overrides": data.get("overrides")}, scenarios_dir)
+    vary = data["vary"]
+    if not isinstance(vary, dict) or not vary:
+        raise Invalid([(["vary"], "must be a non-empty mapping of dotted scenario paths to lists of values")])
+    errors = []
+    for path, values in vary.items():
+        if not path.strip() or len(path) > 500:
+            errors.append((["vary", path], "must be a dotted scenario path such as 'lines.pipe.elements'"))
+        elif not isinstance(values, list) or not values:
+            errors.append((["vary", path], "must be a non-empty list of values"))
+    if errors:
+        raise Invalid(errors)
+    ncases = math.prod(len(v) for v in vary.values())
+    limit = settings.max_queued_jobs
+    if ncases > limit:
+        raise Invalid([(["vary"], f"{ncases} load cases; this service takes at most {limit} at once "
+                                  f"(RFESIM_MAX_QUEUED_JOBS)")])
+    name = scenario.get("name", "") if isinstance(scenario, dict) else ""
+    cases = []
+    for values in grid(vary):
+        where = ", ".join(f"{k}={json.dumps(v)}" for k, v in values.items())
+        try:
+            case = apply_overrides(scenario, {**overrides, **values})
+            path_errors = check_scenario_paths(case, settings.resolved_data_dir())
+            if path_errors:
+                raise Invalid([(_loc(f), f"{r} (load case {where})") for f, r in path_errors])
+            sc = load_scenario(case)
+        except ScenarioError as exc:
+            raise _scenario_errors(exc, f" (load case {where})") from None
+        try:
+            check_limits(sc, settings)
+        except Invalid as exc:
+            raise Invalid([(loc, f"{msg} (load case {where})") for loc, msg in exc.errors]) from None
+        cases.append((values, case))
+    return vary, cases, str(name)

@@ -1,0 +1,244 @@
+"""What runs outside the web process: one job = load the scenario, simulate, write the
+results file, summarise.
+
+Two ways in, one body (:func:`execute`):
+
+* :func:`process_main` is the main function of a local worker process (see
+  ``service.executor.ProcessExecutor``). It sets one numba/BLAS thread, imports rfesim,
+  runs a tiny scenario so the numba cache is loaded before the first job, says "ready",
+  then runs one job at a time from its pipe. Progress goes back over the pipe; a
+  "cancel" message read from the pipe inside the progress callback stops the run
+  (the callback raises, rfesim stops with CancelledError). When the web process dies
+  the pipe closes and the worker exits.
+* :func:`dask_task` runs one job as a Dask task (``service.executor.DaskExecutor``):
+  progress through a ``distributed.Variable``, cancel through a ``distributed.Event``,
+  the results file returned as bytes (a Dask worker need not share our disk).
+
+This module imports nothing heavy at import time: the thread variables must be set
+before numba is imported.
+"""
+from __future__ import annotations
+
+import logging
+import os
+import signal
+import tempfile
+import time
+import traceback
+from pathlib import Path
+from typing import Any, Callable
+
+log = logging.getLogger("rfesim.service.worker")
+
+THREAD_ENV = {"NUMBA_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1",
+              "MKL_NUM_THREADS": "1"}
+
+PROGRESS_INTERVAL = 0.2   # s of wall time between progress messages of one job
+
+# a tiny scene that touches the common kernels: water, seabed, a heaving vessel, a pinned
+# riser, a clamped cantilever with a point load, statics and generalised-alpha dynamics
+WARMUP_SCENARIO: dict[str, Any] = {
+    "schema_version": 1,
+    "name": "worker warm-up",
+    "environment": {"gravity": 9.81, "water": {"density": 1025.0, "depth": 20.0},
+                    "seabed": {"normal_stiffness": 1.0e5, "damping_ratio": 0.5}},
+    "vessels": {"v": {"motion": {"kind": "harmonic", "heave": {"amplitude": 0.5, "period": 5.0}}}},
+    "line_types": {"p": {"outer_diameter": 0.2, "wall_thickness": 0.01, "youngs_modulus": 2.0e11,
+                         "density": 7850.0, "drag_normal": 1.0, "drag_axial": 0.01, "added_mass_normal": 1.0,
+                         "damping": {"axial_ratio": 0.02, "bending_ratio": 0.02}}},
+    "lines": {
+        "riser": {"type": "p", "length": 30.0, "elements": 4,
+                  "end_a": {"attach": "fixed", "position": [-20.0, 0.0, -19.9]},
+                  "end_b": {"attach": "v", "position": [0.0, 0.0, -2.0]}},
+        "arm": {"type": "p", "length": 2.0, "elements": 2, "shear_stiffness": "fem",
+                "end_a": {"attach": "fixed", "position": [5.0, 0.0, -5.0], "direction": [1.0, 0.0, 0.0],
+                          "connection": "clamped"},
+                "end_b": {"attach": "free"},
+                "loads": [{"at": "end_b", "force": [0.0, 0.0, -100.0]}]},
+    },
+    "analysis": {"statics": {"enabled": True},
+                 "dynamics": {"duration": 0.1, "output_interval": 0.05,
+                              "integrator": {"kind": "generalized-alpha", "time_step": 0.05}}},
+}
+
+
+class Cancelled(Exception):
+    """Raised by the progress callback to stop a run."""
+
+
+class ParentGone(Cancelled):
+    """The web process went away: stop the run and exit."""
+
+
+def set_thread_environment() -> None:
+    os.environ.update(THREAD_ENV)
+
+
+def warm_up() -> float:
+    """Run the warm-up scenario (loads numba's cache, imports the netCDF writer); returns its
+    wall time in s."""
+    import rfesim
+
+    from rfesim.sweep import summarize
+
+    t0 = time.perf_counter()
+    try:
+        res = rfesim.simulate(WARMUP_SCENARIO)
+        summarize(res)
+        with tempfile.TemporaryDirectory(prefix="rfesim-warmup-") as tmp:
+            res.to_netcdf(Path(tmp) / "warmup.nc")            # imports h5netcdf / h5py now
+    except Exception:  # a warm-up that fails must not stop the worker: the job will say what is wrong
+        log.warning("worker warm-up failed:\n%s", traceback.format_exc())
+    return time.perf_counter() - t0
+
+
+def execute(spec: dict, progress: Callable[[float, float], None], results_path: Path) -> dict[str, Any]:
+    """Run one job. ``spec``: ``{"id", "scenario"}`` (a scenario dict). ``progress(fraction,
+    t)`` may raise :class:`Cancelled`. Writes ``results_path`` (atomically) when there are
+    results. Returns the outcome: ``status`` (done / failed / cancelled), ``message``,
+    ``summary``, ``wall_time``, ``has_results``, ``progress``, ``sim_time``."""
+    import rfesim
+    from rfesim.sweep import summarize
+
+    wall0 = time.perf_counter()
+    last = {"fraction": 0.0, "t": None}
+
+    def callback(fraction: float, t: float) -> None:
+        last["fraction"], last["t"] = float(fraction), float(t)
+        progress(float(fraction), float(t))
+
+    def outcome(status, message, res=None, **kw):
+        out = {"status": status, "message": message, "summary": None, "has_results": False,
+               "progress": last["fraction"], "sim_time": last["t"]}
+        if res is not None and len(res.time):
+            try:
+                res.to_netcdf(results_path)
+            except OSError as exc:
+                out.update(status="failed", message=f"{message}; the results could not be written: {exc}")
+            else:
+                out["has_results"] = True
+            out["summary"] = summarize(res)
+            out["sim_time"] = float(res.time[-1])
+        out.update(kw)
+        out["wall_time"] = time.perf_counter() - wall0
+        return out
+
+    try:
+        sc = rfesim.load_scenario(spec["scenario"])
+        res = rfesim.simulate(sc, progress=callback)
+    except (rfesim.CancelledError, Cancelled) as exc:
+        cause = exc.__cause__ if exc.__cause__ is not None else exc
+        if isinstance(cause, ParentGone):
+            raise cause
+        where = f" at t = {last['t']:.6g} s" if last["t"] is not None else ""
+        return outcome("cancelled", f"cancelled while running{where}")
+    except rfesim.SolverError as exc:
+        return outcome("failed", f"solver error: {exc}", exc.results)
+    except rfesim.ScenarioError as exc:
+        return outcome("failed", f"scenario error: {exc}")
+    except MemoryError:
+        return outcome("failed", "out of memory: the scenario needs more memory than the worker has "
+                                 "(fewer elements, a shorter duration or a longer output_interval)")
+    except Exception as exc:  # a bug: say what, keep the worker
+        log.error("job %s failed:\n%s", spec.get("id"), traceback.format_exc())
+        return outcome("failed", f"internal error: {type(exc).__name__}: {exc}")
+    return outcome("done", res.message, res, progress=1.0)
+
+
+# --------------------------------------------------------------------------- local process
+
+def process_main(conn, warmup: bool = True) -> None:
+    """Main function of a local worker process: ``("run", spec)`` in, messages out.
+
+    Out: ``("ready", pid, warmup_seconds)``, ``("started", job_id)``,
+    ``("progress", job_id, fraction, t)``, ``("outcome", job_id, outcome)``.
+    In: ``("run", spec)``, ``("cancel", job_id)``, ``("stop",)``.
+    """
+    set_thread_environment()
+    signal.signal(signal.SIGINT, signal.SIG_IGN)     # Ctrl-C goes to the web process, which stops us
+    parent = os.getppid()
+    seconds = warm_up() if warmup else 0.0
+    try:
+        conn.send(("ready", os.getpid(), seconds))
+    except (OSError, EOFError):
+        return
+    while True:
+        try:
+            msg = conn.recv()
+        except (EOFError, OSError):
+            return                                    # the web process is gone
+        if msg[0] == "stop":
+            return
+        if msg[0] != "run":
+            continue                                  # e.g. a late cancel of a finished job
+        spec = msg[1]
+        job_id = spec["id"]
+        state = {"last": 0.0}
+
+        def progress(fraction: float, t: float, job_id=job_id, state=state) -> None:
+            now = time.monotonic()
+            if now - state["last"] >= PROGRESS_INTERVAL:
+                state["last"] = now
+                try:
+                    conn.send(("progress", job_id, fraction, t))
+                except (OSError, EOFError):
+                    raise ParentGone("the service is gone") from None
+            if os.getppid() != parent:
+                raise ParentGone("the service is gone")
+            try:
+                while conn.poll():
+                    m = conn.recv()
+                    if m[0] == "cancel" and m[1] == job_id:
+                        raise Cancelled("cancelled")
+                    if m[0] == "stop":
+                        raise ParentGone("the service is stopping")
+            except (EOFError, OSError):
+                raise ParentGone("the service is gone") from None
+
+        try:
+            conn.send(("started", job_id))
+            result = execute(spec, progress, Path(spec["results_path"]))
+        except ParentGone:
+            return
+        except (OSError, EOFError):
+            return
+        try:
+            conn.send(("outcome", job_id, result))
+        except (OSError, EOFError):
+            return
+
+
+# --------------------------------------------------------------------------- Dask task
+
+def dask_task(spec: dict) -> dict[str, Any]:
+    """Run one job on a Dask worker; the outcome carries the results file as bytes."""
+    set_thread_environment()
+    from distributed import Event, Variable
+
+    job_id = spec["id"]
+    var = Variable(f"rfesim-progress-{job_id}")
+    cancel = Event(f"rfesim-cancel-{job_id}")
+    state = {"sent": 0.0, "checked": 0.0}
+
+    def progress(fraction: float, t: float) -> None:
+        now = time.monotonic()
+        if now - state["sent"] >= 1.0:
+            state["sent"] = now
+            var.set([fraction, t])
+        if now - state["checked"] >= 0.5:
+            state["checked"] = now
+            if cancel.is_set():
+                raise Cancelled("cancelled")
+
+    if cancel.is_set():
+        return {"status": "cancelled", "message": "cancelled before it started", "summary": None,
+                "has_results": False, "wall_time": 0.0, "progress": 0.0, "sim_time": None}
+    with tempfile.TemporaryDirectory(prefix="rfesim-job-") as tmp:
+        path = Path(tmp) / "results.nc"
+        out = execute(spec, progress, path)
+        out["results_bytes"] = path.read_bytes() if out["has_results"] else None
+    try:
+        var.delete()
+    except Exception:
+        pass
+    return out
