@@ -310,6 +310,12 @@ def cmd_sweep(args) -> int:
         argv += ["--vary", v]
     if args.scheduler:
         argv += ["--scheduler", args.scheduler]
+    if args.local_cluster is not None:
+        argv += ["--local-cluster", str(args.local_cluster)]
+    if args.workers is not None:
+        argv += ["--workers", str(args.workers)]
+    if args.output:
+        argv += ["-o", args.output]
     return _exit_code(sweep_main(argv + list(args.extra)))
 
 
@@ -407,6 +413,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--vary", action="append", required=True, metavar="PATH=V1,V2,...",
                    help="dotted scenario path and its values (repeat for a grid)")
     p.add_argument("--scheduler", metavar="ADDRESS", help="address of a distributed scheduler")
+    p.add_argument("--local-cluster", type=int, metavar="N", help="run on a Dask LocalCluster of N processes")
+    p.add_argument("--workers", type=int, metavar="N", help="size of the local process pool (default: cores)")
+    p.add_argument("-o", "--output", metavar="TABLE.csv", help="also write the table as CSV")
     p.set_defaults(func=cmd_sweep)
     return parser
 

@@ -305,7 +305,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             data = validate.parse_body(body, request.headers.get("content-type"))
             scenario, sc = validate.prepare_job(data, settings, scenarios_dir)
             job_id = secrets.token_urlsafe(16)
-            text = json.dumps(scenario, separators=(",", ":"), allow_nan=False)
+            text = validate.to_json(scenario, ["body"])
             try:
                 app.state.store.insert_jobs([{"id": job_id, "name": sc.name, "scenario": text}],
                                             settings.max_queued_jobs)
@@ -445,7 +445,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             sweep_id = secrets.token_urlsafe(16)
             jobs = []
             for i, (values, case) in enumerate(cases):
-                text = json.dumps(case, separators=(",", ":"), allow_nan=False)
+                text = validate.to_json(case, ["scenario"])
                 jobs.append({"id": secrets.token_urlsafe(16), "name": f"{name} [case {i}]", "scenario": text,
                              "sweep_id": sweep_id, "case_index": i, "case_values": values})
             try:

@@ -305,15 +305,19 @@ class DaskExecutor(JobExecutor):
         self.address = address
         self.progress_interval = progress_interval
         self.client = None
+        self.progress_queue = f"rfesim-progress-{uuid.uuid4().hex[:12]}"
+        self._progress = None
         self._q: queue.Queue = queue.Queue()
         self._running: dict[str, tuple[Any, Path]] = {}
+        self._cancelled: set[str] = set()
         self._threads = (0, 0.0)
         self._last_poll = 0.0
 
     def start(self) -> None:
-        from distributed import Client
+        from distributed import Client, Queue
 
         self.client = Client(self.address, timeout=30, set_as_default=False)
+        self._progress = Queue(self.progress_queue, client=self.client)
         log.info("connected to the Dask scheduler %s", self.address)
 
     def _nthreads(self) -> int:
@@ -331,7 +335,8 @@ class DaskExecutor(JobExecutor):
         return max(0, self._nthreads() - len(self._running))
 
     def submit(self, job_id: str, spec: dict, results_path: Path) -> bool:
-        fut = self.client.submit(worker_module.dask_task, {**spec, "id": job_id},
+        fut = self.client.submit(worker_module.dask_task, {**spec, "id": job_id,
+                                                           "progress_queue": self.progress_queue},
                                  key=f"rfesim-job-{job_id}-{uuid.uuid4().hex[:8]}", pure=False, retries=0)
         self._running[job_id] = (fut, Path(results_path))
         fut.add_done_callback(lambda f, job_id=job_id: self._q.put(("done", job_id)))
@@ -346,6 +351,7 @@ class DaskExecutor(JobExecutor):
             return
         try:
             Event(f"rfesim-cancel-{job_id}", client=self.client).set()
+            self._cancelled.add(job_id)
         except Exception as exc:
             log.warning("could not signal the cancel of %s: %s", job_id, exc)
 
@@ -374,20 +380,28 @@ class DaskExecutor(JobExecutor):
         return events
 
     def _poll_progress(self) -> list[tuple]:
-        from distributed import Variable
-
-        events = []
-        for job_id in list(self._running):
-            try:
-                value = Variable(f"rfesim-progress-{job_id}", client=self.client).get(timeout=0.05)
-            except Exception:
-                continue
-            if isinstance(value, (list, tuple)) and len(value) == 2:
-                events.append(("progress", job_id, float(value[0]), float(value[1])))
-        return events
+        """One round trip for the progress of every running job (a distributed.Queue)."""
+        try:
+            items = self._progress.get(batch=True)
+        except Exception as exc:
+            log.warning("progress from the Dask cluster: %s", exc)
+            return []
+        latest: dict[str, tuple[float, float]] = {}
+        for item in items:
+            if isinstance(item, (list, tuple)) and len(item) == 3 and item[0] in self._running:
+                latest[item[0]] = (float(item[1]), float(item[2]))
+        return [("progress", job_id, f, t) for job_id, (f, t) in latest.items()]
 
     def _collect(self, job_id: str) -> dict:
         fut, path = self._running.pop(job_id)
+        if job_id in self._cancelled:               # drop the flag from the scheduler
+            self._cancelled.discard(job_id)
+            try:
+                from distributed import Event
+
+                Event(f"rfesim-cancel-{job_id}", client=self.client).clear()
+            except Exception:
+                pass
         base = {"summary": None, "has_results": False, "wall_time": None, "progress": None, "sim_time": None}
         try:
             out = fut.result(timeout=60)
@@ -408,13 +422,6 @@ class DaskExecutor(JobExecutor):
             except OSError as exc:
                 out.update(status="failed", has_results=False,
                            message=f"{out.get('message', '')}; the results could not be written: {exc}")
-        try:
-            from distributed import Event, Variable
-
-            Variable(f"rfesim-progress-{job_id}", client=self.client).delete()
-            Event(f"rfesim-cancel-{job_id}", client=self.client).clear()
-        except Exception:
-            pass
         return out
 
     def shutdown(self) -> None:

@@ -70,7 +70,7 @@ class JobManager:
             self._thread.join(timeout=10)
         self.executor.shutdown()
         self._flush(force=True)
-        self.store.requeue_running("re-queued: the service stopped while it was running", None)
+        self.store.requeue_running("re-queued: the service stopped while it was running", None, refund=True)
 
     def _clean_job_dir(self, job_id: str) -> None:
         """Remove temporary files a killed worker may have left (complete results stay)."""

@@ -198,9 +198,11 @@ class Store:
     def running_ids(self) -> list[str]:
         return [r[0] for r in self._connect().execute("SELECT id FROM jobs WHERE status='running'").fetchall()]
 
-    def requeue_running(self, message: str, max_attempts: int | None = None) -> tuple[list[str], list[str]]:
+    def requeue_running(self, message: str, max_attempts: int | None = None,
+                        refund: bool = False) -> tuple[list[str], list[str]]:
         """After a stop: running jobs go back to the queue (or fail when interrupted too
-        often, or are cancelled when a cancel was asked). Returns (re-queued, failed) ids."""
+        often, or are cancelled when a cancel was asked). ``refund``: a clean stop of the
+        service, which does not count as an attempt. Returns (re-queued, failed) ids."""
         requeued, failed = [], []
         now = time.time()
         with self._write_lock:
@@ -220,7 +222,8 @@ class Store:
                         failed.append(job_id)
                     else:
                         con.execute("UPDATE jobs SET status='queued', message=?, progress=0, sim_time=NULL, "
-                                    "worker=NULL, worker_pid=NULL WHERE id=?", (message, job_id))
+                                    "worker=NULL, worker_pid=NULL, attempts=attempts-? WHERE id=?",
+                                    (message, int(refund and attempts > 0), job_id))
                         requeued.append(job_id)
                 con.execute("COMMIT")
             except BaseException:

@@ -88,6 +88,14 @@ def check_overrides(overrides: Any) -> dict:
     return overrides
 
 
+def to_json(value: Any, loc: list) -> str:
+    """Compact JSON text of plain data (Invalid if it has values JSON cannot hold)."""
+    try:
+        return json.dumps(value, separators=(",", ":"), allow_nan=False)
+    except (TypeError, ValueError) as exc:
+        raise Invalid([(loc, f"cannot be stored as JSON: {exc}")]) from None
+
+
 def output_times(sc) -> int:
     """An upper bound of the output times a run stores (as the dynamics driver picks them)."""
     dyn = sc.analysis.dynamics
@@ -178,6 +186,7 @@ def prepare_sweep(data: Any, settings, scenarios_dir: Path | None) -> tuple[dict
             errors.append((["vary", path], "must be a non-empty list of values"))
     if errors:
         raise Invalid(errors)
+    to_json(vary, ["vary"])
     ncases = math.prod(len(v) for v in vary.values())
     limit = settings.max_queued_jobs
     if ncases > limit:

@@ -11,7 +11,7 @@ Two ways in, one body (:func:`execute`):
   (the callback raises, rfesim stops with CancelledError). When the web process dies
   the pipe closes and the worker exits.
 * :func:`dask_task` runs one job as a Dask task (``service.executor.DaskExecutor``):
-  progress through a ``distributed.Variable``, cancel through a ``distributed.Event``,
+  progress through a ``distributed.Queue``, cancel through a ``distributed.Event``,
   the results file returned as bytes (a Dask worker need not share our disk).
 
 This module imports nothing heavy at import time: the thread variables must be set
@@ -129,7 +129,7 @@ def execute(spec: dict, progress: Callable[[float, float], None], results_path: 
     except (rfesim.CancelledError, Cancelled) as exc:
         cause = exc.__cause__ if exc.__cause__ is not None else exc
         if isinstance(cause, ParentGone):
-            raise cause
+            raise cause from None
         where = f" at t = {last['t']:.6g} s" if last["t"] is not None else ""
         return outcome("cancelled", f"cancelled while running{where}")
     except rfesim.SolverError as exc:
@@ -211,20 +211,24 @@ def process_main(conn, warmup: bool = True) -> None:
 # --------------------------------------------------------------------------- Dask task
 
 def dask_task(spec: dict) -> dict[str, Any]:
-    """Run one job on a Dask worker; the outcome carries the results file as bytes."""
+    """Run one job on a Dask worker; the outcome carries the results file as bytes.
+
+    Progress goes to the ``distributed.Queue`` named in the spec, at most once a second;
+    the cancel flag is the ``distributed.Event`` ``rfesim-cancel-<job id>``, checked twice a
+    second."""
     set_thread_environment()
-    from distributed import Event, Variable
+    from distributed import Event, Queue
 
     job_id = spec["id"]
-    var = Variable(f"rfesim-progress-{job_id}")
+    progress_queue = Queue(spec["progress_queue"]) if spec.get("progress_queue") else None
     cancel = Event(f"rfesim-cancel-{job_id}")
     state = {"sent": 0.0, "checked": 0.0}
 
     def progress(fraction: float, t: float) -> None:
         now = time.monotonic()
-        if now - state["sent"] >= 1.0:
+        if progress_queue is not None and now - state["sent"] >= 1.0:
             state["sent"] = now
-            var.set([fraction, t])
+            progress_queue.put([job_id, fraction, t])
         if now - state["checked"] >= 0.5:
             state["checked"] = now
             if cancel.is_set():
@@ -237,8 +241,4 @@ def dask_task(spec: dict) -> dict[str, Any]:
         path = Path(tmp) / "results.nc"
         out = execute(spec, progress, path)
         out["results_bytes"] = path.read_bytes() if out["has_results"] else None
-    try:
-        var.delete()
-    except Exception:
-        pass
     return out

@@ -83,7 +83,7 @@ def test_twenty_concurrent_jobs_all_finish_with_correct_results(api):
 
 
 def test_server_sent_events_report_progress_until_done(api):
-    job_id = api.submit(long_job(40.0))
+    job_id = api.submit(long_job(60.0))
     events = []
     with httpx.stream("GET", f"{api.server.url}/jobs/{job_id}/events", timeout=120) as r:
         assert r.status_code == 200 and r.headers["content-type"].startswith("text/event-stream")
@@ -118,7 +118,7 @@ def test_cancel_a_running_and_a_queued_job(api):
     job = api.wait(first, timeout=30)
     assert job["status"] == "cancelled", job
     assert "cancelled while running" in job["message"] and job["progress"] < 1.0
-    assert time.monotonic() - t0 < 5.0, "the run should stop at its next output step"
+    assert time.monotonic() - t0 < 8.0, "the run should stop at its next output step"
     assert api.client.delete(f"/jobs/{first}").status_code == 409
     assert api.client.delete(f"/jobs/{second}").status_code == 202
     assert api.wait(second, timeout=30)["status"] == "cancelled"
@@ -129,7 +129,7 @@ def test_cancel_a_running_and_a_queued_job(api):
 
 def test_a_killed_worker_fails_only_its_job_and_the_pool_recovers(api):
     victim = api.submit(long_job())
-    other = api.submit(long_job(20.0))
+    other = api.submit(long_job(60.0))
     pid = api.wait_running(victim, min_progress=0.001)["worker_pid"]
     api.wait_running(other)
     os.kill(pid, signal.SIGKILL)

@@ -10,7 +10,7 @@ import time
 
 import pytest
 
-from service_helpers import REPO, Api, long_job, riser
+from service_helpers import Api, long_job, riser
 
 distributed = pytest.importorskip("distributed")
 
