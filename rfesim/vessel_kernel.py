@@ -157,16 +157,17 @@ def _dofs(vs, j, t, d, dd, ddd):
 @njit(cache=True)
 def attachment_kinematics(vs, t, att):
     """Fill the AttachmentState ``att`` with every attachment's pose at time t."""
-    d = np.empty(6)
-    dd = np.empty(6)
-    ddd = np.empty(6)
-    Rl = np.empty((3, 3))
-    c1 = np.empty(3)
-    c2 = np.empty(3)
-    c3 = np.empty(3)
-    wl = np.empty(3)
-    al = np.empty(3)
-    tmp = np.empty(3)
+    sc = att.scratch
+    d = sc[0:2].reshape(6)
+    dd = sc[2:4].reshape(6)
+    ddd = sc[4:6].reshape(6)
+    Rl = sc[6:9]
+    c1 = sc[9]
+    c2 = sc[10]
+    c3 = sc[11]
+    wl = sc[12]
+    al = sc[13]
+    tmp = sc[14]
     for j in range(1, vs.kind.shape[0]):
         Rh = vs.R_heading[j]
         if vs.kind[j] == 0 and vs.ramp[j] == 0.0:

@@ -21,7 +21,9 @@ start method), each with its own duplex pipe, one job at a time. A small supervi
   (e.g. busy in statics, which reports no progress) is killed and replaced;
 * a worker that dies (SIGKILL, out-of-memory killer, a crash in native code) fails only
   the job it was running, with the exit signal in the message, and a new worker is
-  started in its place. ``concurrent.futures.ProcessPoolExecutor`` was not used: one
+  started in its place;
+* the first worker starts alone and the others once it is ready, so with a cold numba
+  cache one process compiles and writes it and the others only load it. ``concurrent.futures.ProcessPoolExecutor`` was not used: one
   dead worker marks its whole pool broken and fails every job running in it.
 
 :class:`DaskExecutor` submits the same job body as a Dask task to a scheduler address.
@@ -99,8 +101,12 @@ class _Worker:
 class ProcessExecutor(JobExecutor):
     kind = "local processes"
 
-    def __init__(self, workers: int = 1, *, warmup: bool = True, cancel_grace: float = 10.0):
+    def __init__(self, workers: int = 1, *, warmup: bool = True, cancel_grace: float = 10.0,
+                 stagger_timeout: float = 120.0):
         self.size = int(workers)
+        self.stagger_timeout = float(stagger_timeout)
+        self._deferred: list[int] = []
+        self._deferred_until = 0.0
         self.warmup = warmup
         self.cancel_grace = float(cancel_grace)
         self.workers: list[_Worker | None] = [None] * self.size
@@ -113,8 +119,18 @@ class ProcessExecutor(JobExecutor):
 
     # ------------------------------------------------------------------ processes
     def start(self) -> None:
-        for i in range(self.size):
-            self._spawn(i)
+        """Start the first worker now and the others once it is ready (or after
+        ``stagger_timeout`` s): with a cold numba cache the first one compiles and writes
+        it, and the others only load it instead of all compiling at once."""
+        self._spawn(0)
+        self._deferred = list(range(1, self.size))
+        self._deferred_until = time.monotonic() + self.stagger_timeout
+
+    def _start_deferred(self) -> None:
+        for i in self._deferred:
+            if self.workers[i] is None and i not in self._respawn_at and not self._closed:
+                self._spawn(i)
+        self._deferred = []
 
     def _spawn(self, index: int) -> None:
         import multiprocessing
@@ -208,6 +224,8 @@ class ProcessExecutor(JobExecutor):
 
     def wait(self, timeout: float) -> list[tuple]:
         now = time.monotonic()
+        if self._deferred and now >= self._deferred_until:
+            self._start_deferred()
         for index, due in list(self._respawn_at.items()):
             if due <= now and not self._closed:
                 del self._respawn_at[index]
@@ -216,6 +234,8 @@ class ProcessExecutor(JobExecutor):
             timeout = 0.0
         deadlines = [w.cancel_at + self.cancel_grace for w in self.workers if w is not None and w.cancel_at]
         deadlines += list(self._respawn_at.values())
+        if self._deferred:
+            deadlines.append(self._deferred_until)
         if deadlines:
             timeout = max(0.0, min(timeout, min(deadlines) - now))
         live = [w for w in self.workers if w is not None and not w.dead]
@@ -253,6 +273,8 @@ class ProcessExecutor(JobExecutor):
                 if kind == "ready":
                     w.ready = True
                     self._failures.pop(w.index, None)
+                    if self._deferred:
+                        self._start_deferred()
                     log.info("worker %d (pid %s) ready (warm-up %.2f s)", w.index, msg[1], msg[2])
                 elif kind == "progress" and msg[1] == w.job_id:
                     self._events.append(("progress", msg[1], msg[2], msg[3]))
@@ -288,7 +310,7 @@ class ProcessExecutor(JobExecutor):
 
     def status(self) -> dict[str, Any]:
         workers = [w for w in self.workers if w is not None and not w.dead]
-        return {"kind": self.kind, "total": self.size, "ready": sum(w.ready for w in workers),
+        return {"kind": self.kind, "total": self.size, "started": len(workers), "ready": sum(w.ready for w in workers),
                 "busy": sum(w.job_id is not None for w in workers),
                 "pids": [w.pid for w in workers]}
 

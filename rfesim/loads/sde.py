@@ -30,6 +30,15 @@ from ..kinematics import (cross_into, matmul_into, matTmul_into, matTvec_into, m
 @njit(cache=True)
 def sde_forces(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiffness, sde_damping,
                R, rbase, roff, v, w, F, M, eps_out, sigma_out, point_out):
+    """Convenience form of ``sde_forces_into`` that allocates its own scratch."""
+    sde_forces_into(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiffness, sde_damping,
+                    R, rbase, roff, v, w, F, M, eps_out, sigma_out, point_out, np.zeros((32, 3)),
+                    np.zeros((16, 3, 3)))
+
+
+@njit(cache=True)
+def sde_forces_into(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiffness, sde_damping,
+                    R, rbase, roff, v, w, F, M, eps_out, sigma_out, point_out, v3, m33):
     """Add the SDE forces and moments (global, about each RFE's centre) to F and M.
 
     Inputs per SDE: neighbour indices, body-frame arms from the RFE centres to the SDE
@@ -38,29 +47,29 @@ def sde_forces(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiffness, 
     Outputs per SDE: eps (deformation), sigma (forces F' and moments M' in {i'}), and the
     SDE point (midpoint of the gap).
     """
-    pa = np.empty(3)
-    pb = np.empty(3)
-    g = np.empty(3)
-    gdot = np.empty(3)
-    Rrel = np.empty((3, 3))
-    Rh = np.empty((3, 3))
-    Rp = np.empty((3, 3))
-    th = np.empty(3)
-    Jri = np.empty((3, 3))
-    Jrh = np.empty((3, 3))
-    tmp = np.empty(3)
-    tmp2 = np.empty(3)
-    dw = np.empty(3)
-    thdot = np.empty(3)
-    wp = np.empty(3)
-    dlt = np.empty(3)
-    dltdot = np.empty(3)
-    Fp = np.empty(3)
-    Mp = np.empty(3)
-    Fg = np.empty(3)
-    h = np.empty(3)
-    mg = np.empty(3)
-    wth = np.empty(3)
+    pa = v3[0]
+    pb = v3[1]
+    g = v3[2]
+    gdot = v3[3]
+    th = v3[4]
+    tmp = v3[5]
+    tmp2 = v3[6]
+    dw = v3[7]
+    thdot = v3[8]
+    wp = v3[9]
+    dlt = v3[10]
+    dltdot = v3[11]
+    Fp = v3[12]
+    Mp = v3[13]
+    Fg = v3[14]
+    h = v3[15]
+    mg = v3[16]
+    wth = v3[17]
+    Rrel = m33[0]
+    Rh = m33[1]
+    Rp = m33[2]
+    Jri = m33[3]
+    Jrh = m33[4]
     for s in range(sde_left.shape[0]):
         a = sde_left[s]
         b = sde_right[s]

@@ -90,6 +90,8 @@ class Workspace(NamedTuple):
     Mgen: np.ndarray        # (n, 6, 6) generalised mass block of each RFE
     fgen: np.ndarray        # (n, 6) generalised force (applied - velocity terms)
     tmp3: np.ndarray        # (8, 3) scratch
+    v3: np.ndarray          # (32, 3) scratch vectors of the kernels (no allocation in hot loops)
+    m33: np.ndarray         # (16, 3, 3) scratch matrices of the kernels
 
 
 class Reference(NamedTuple):
@@ -110,6 +112,7 @@ class AttachmentState(NamedTuple):
     w: np.ndarray       # (natt, 3) rad/s
     a: np.ndarray       # (natt, 3) m/s^2
     alpha: np.ndarray   # (natt, 3) rad/s^2
+    scratch: np.ndarray  # (16, 3) work space of the compiled kinematics
 
 
 def new_workspace(n: int, nsde: int) -> Workspace:
@@ -120,11 +123,12 @@ def new_workspace(n: int, nsde: int) -> Workspace:
         sigma=np.zeros((nsde, 6)), sde_point=np.zeros((nsde, 3)), surface_z=np.zeros(n),
         water_vel=np.zeros((n, 3)), water_acc=np.zeros((n, 3)), sub_frac=np.zeros(n),
         sub_point=np.zeros((n, 3)), contact_force=np.zeros(n), contact_length=np.zeros(n),
-        Mgen=np.zeros((n, 6, 6)), fgen=np.zeros((n, 6)), tmp3=np.zeros((8, 3)))
+        Mgen=np.zeros((n, 6, 6)), fgen=np.zeros((n, 6)), tmp3=np.zeros((8, 3)),
+        v3=np.zeros((32, 3)), m33=np.zeros((16, 3, 3)))
 
 
 def new_attachment_state(natt: int) -> AttachmentState:
     R = np.zeros((natt, 3, 3))
     R[:] = np.eye(3)
     return AttachmentState(p=np.zeros((natt, 3)), R=R, v=np.zeros((natt, 3)), w=np.zeros((natt, 3)),
-                           a=np.zeros((natt, 3)), alpha=np.zeros((natt, 3)))
+                           a=np.zeros((natt, 3)), alpha=np.zeros((natt, 3)), scratch=np.zeros((16, 3)))

@@ -25,17 +25,17 @@ from ..kinematics import (cross_into, euler_rate_derivative_into, euler_rate_mat
 from ..loads.gravity import gravity_forces
 from ..loads.hydro import buoyancy_forces, morison_forces, submergence
 from ..loads.point import point_loads
-from ..loads.sde import sde_forces
+from ..loads.sde import sde_forces_into
 from ..loads.seabed import seabed_forces
 
 
 @njit(cache=True)
 def poses(km, att, q, qd, ref, ws):
     """Orientation, position, velocities of every RFE from the coordinates (eqs. 8.73-8.74)."""
-    Rz = np.empty((3, 3))
-    P = np.empty(3)
-    tmp = np.empty(3)
-    c = np.empty(3)
+    Rz = ws.m33[0]
+    P = ws.v3[0]
+    tmp = ws.v3[1]
+    c = ws.v3[2]
     for i in range(q.shape[0]):
         kind = km.rfe_kind[i]
         R = ws.R[i]
@@ -101,8 +101,9 @@ def accumulate_forces(km, ws, scale):
         for k in range(3):
             ws.F[i, k] = 0.0
             ws.M[i, k] = 0.0
-    sde_forces(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, km.sde_stiffness, km.sde_damping,
-               ws.R, ws.rbase, ws.roff, ws.v, ws.w, ws.F, ws.M, ws.eps, ws.sigma, ws.sde_point)
+    sde_forces_into(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, km.sde_stiffness,
+                    km.sde_damping, ws.R, ws.rbase, ws.roff, ws.v, ws.w, ws.F, ws.M, ws.eps, ws.sigma, ws.sde_point,
+                    ws.v3, ws.m33)
     local_loads(km, ws, scale)
 
 
@@ -143,18 +144,18 @@ def evaluate_frozen_sde(km, att, q, qd, ref, ws, scale, Fsde, Msde):
 @njit(cache=True)
 def project(km, att, ws):
     """Generalised mass blocks and forces of every RFE (eqs. 8.92, 8.94)."""
-    Jb = np.empty((3, 3))
-    Jg = np.empty((3, 3))
-    Mt = np.empty((3, 3))
-    JP = np.empty((3, 3))
-    B = np.empty((3, 3))
-    T1 = np.empty((3, 3))
-    Cx = np.empty((3, 3))
-    rhs = np.empty(3)
-    tmp = np.empty(3)
-    tmp2 = np.empty(3)
-    c = np.empty(3)
-    P = np.empty(3)
+    Jb = ws.m33[0]
+    Jg = ws.m33[1]
+    Mt = ws.m33[2]
+    JP = ws.m33[3]
+    B = ws.m33[4]
+    T1 = ws.m33[5]
+    Cx = ws.m33[6]
+    rhs = ws.v3[0]
+    tmp = ws.v3[1]
+    tmp2 = ws.v3[2]
+    c = ws.v3[3]
+    P = ws.v3[4]
     for i in range(ws.F.shape[0]):
         Mg = ws.Mgen[i]
         f = ws.fgen[i]
@@ -271,9 +272,9 @@ def evaluate(km, att, q, qd, ref, ws, scale):
 @njit(cache=True)
 def solve_accelerations(ws, qdd):
     """qdd = Mgen^-1 fgen, RFE by RFE (3x3 translational and rotational blocks)."""
-    A = np.empty((3, 3))
-    b = np.empty(3)
-    x = np.empty(3)
+    A = ws.m33[0]
+    b = ws.v3[0]
+    x = ws.v3[1]
     for i in range(qdd.shape[0]):
         for blk in range(2):
             o = 3 * blk

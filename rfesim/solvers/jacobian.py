@@ -23,7 +23,7 @@ import numpy as np
 from numba import njit
 
 from ..kinematics import cross_into, matmul_into, matvec_into
-from ..loads.sde import sde_forces
+from ..loads.sde import sde_forces_into
 from ..loads.sde_tangent import sde_tangent
 from ..model.assemble import evaluate_frozen_sde
 from .residual import residual_q
@@ -104,8 +104,9 @@ def jacobian_analytic(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd
         for k in range(3):
             Fsde[i, k] = 0.0
             Msde[i, k] = 0.0
-    sde_forces(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, km.sde_stiffness, km.sde_damping,
-               ws.R, ws.rbase, ws.roff, ws.v, ws.w, Fsde, Msde, ws.eps, ws.sigma, ws.sde_point)
+    sde_forces_into(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, km.sde_stiffness,
+                    km.sde_damping, ws.R, ws.rbase, ws.roff, ws.v, ws.w, Fsde, Msde, ws.eps, ws.sigma, ws.sde_point,
+                    ws.v3, ws.m33)
     sde_tangent(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, km.sde_stiffness, km.sde_damping,
                 ws.R, ws.rbase, ws.roff, ws.sigma, Ks, Kds)
     _maps(km, att, ws, T)

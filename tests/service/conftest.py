@@ -13,6 +13,15 @@ from service.launch import ServerProcess  # noqa: E402
 from service_helpers import Api  # noqa: E402
 
 
+@pytest.fixture(scope="session", autouse=True)
+def numba_cache():
+    """Compile (or load) the numba kernels once in this process before any server starts,
+    so that on a cold cache (a fresh clone in CI) the workers only load it."""
+    from service.worker import warm_up
+
+    warm_up()
+
+
 @pytest.fixture
 def make_server(tmp_path_factory):
     """A factory of servers on fresh (or given) data directories, stopped at the end."""
@@ -24,7 +33,7 @@ def make_server(tmp_path_factory):
             data_dir = tmp_path_factory.mktemp("service") / "data"
         s = ServerProcess(data_dir, env={"RFESIM_WORKERS": "2", **(env or {})}, token=token)
         servers.append(s)
-        return s.start(timeout=180.0, wait_workers=wait_workers)
+        return s.start(timeout=600.0, wait_workers=wait_workers)
 
     yield make
     for s in servers:
@@ -36,7 +45,7 @@ def shared_server(tmp_path_factory):
     """One server (2 workers) for the tests that do not restart or reconfigure it."""
     data_dir = tmp_path_factory.mktemp("shared") / "data"
     s = ServerProcess(data_dir, env={"RFESIM_WORKERS": "2", "RFESIM_CANCEL_GRACE": "10"})
-    s.start(timeout=180.0)
+    s.start(timeout=600.0)
     yield s
     s.stop()
 

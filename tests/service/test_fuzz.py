@@ -27,7 +27,7 @@ def fuzz_server(tmp_path_factory):
     s = ServerProcess(data_dir, env={"RFESIM_WORKERS": "1", "RFESIM_MAX_RFES": "40", "RFESIM_MAX_DURATION": "0.2",
                                      "RFESIM_MAX_QUEUED_JOBS": "20", "RFESIM_MAX_REQUEST_BYTES": "200000",
                                      "RFESIM_CANCEL_GRACE": "2"})
-    s.start(timeout=180.0, wait_workers=False)
+    s.start(timeout=600.0, wait_workers=False)
     yield s
     s.stop()
 
