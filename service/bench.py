@@ -114,6 +114,11 @@ def measure(workers: int = 2, sequential: int = 20, batch: int = 40, repeats: in
             "cpu": f"{platform.machine()}, {os.cpu_count()} cores", "python": platform.python_version()}
 
 
+def _span(values: list[float]) -> str:
+    lo, hi = f"{min(values):.2f}", f"{max(values):.2f}"
+    return lo if lo == hi else f"{lo}-{hi}"
+
+
 def report(m: dict) -> str:
     lines = [BEGIN, "## Service", "",
              f"`python -m service.bench` (service/bench.py): a real server (`rfesim serve`, uvicorn) on 127.0.0.1 "
@@ -145,9 +150,8 @@ def report(m: dict) -> str:
                   f"and from the worker, the poll.", "",
               f"Reading: the service's own plumbing costs "
               f"{max(r['latency'] - r['in_worker'] for r in m['results']):.3f} s per job at most; nearly all the "
-              f"rest of the overhead is `Results.to_netcdf` (h5netcdf, "
-              f"{min(r['write'] for r in m['results']):.2f}-{max(r['write'] for r in m['results']):.2f} s even for "
-              f"these small files), which every job pays before it is reported done. A faster writer in "
+              f"rest of the overhead is `Results.to_netcdf` (h5netcdf, {_span([r['write'] for r in m['results']])} "
+              f"s even for these small files), which every job pays before it is reported done. A faster writer in "
               f"`rfesim.results` (same layout through plain h5py) would bring the overhead down to the plumbing. "
               f"Throughput ratios below 1 come from that write and from the CPU the workers get: "
               f"{m['workers']} workers on {os.cpu_count()} cores, sharing them with the web process, the clients "

@@ -23,8 +23,10 @@ start method), each with its own duplex pipe, one job at a time. A small supervi
   the job it was running, with the exit signal in the message, and a new worker is
   started in its place;
 * the first worker starts alone and the others once it is ready, so with a cold numba
-  cache one process compiles and writes it and the others only load it. ``concurrent.futures.ProcessPoolExecutor`` was not used: one
-  dead worker marks its whole pool broken and fails every job running in it.
+  cache one process compiles and writes it and the others only load it.
+
+``concurrent.futures.ProcessPoolExecutor`` was not used: one dead worker marks its
+whole pool broken and fails every job running in it.
 
 :class:`DaskExecutor` submits the same job body as a Dask task to a scheduler address.
 """
