@@ -235,7 +235,8 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
         force_ref = system.force_scale(st)
         floor = 100.0 * system.roundoff_force(st) / force_ref
         tol = max(float(integ.tolerance), floor)
-        flags = np.zeros(2, np.int64)
+        flags = np.zeros(3, np.int64)
+        qdd_prev = st.qdd.copy()
         analytic = integ.jacobian == "analytic"
         for k_out in range(1, n_out + 1):
             t_target = t_start + k_out * out_dt
@@ -245,12 +246,13 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
                                 gamma, tol, integ.max_iterations, integ.jacobian_reuse, mask, system.length_scale,
                                 force_ref, system.J, system.Fac, system.Q0, system.V0, system.r, system.dq,
                                 system.qd_buf, system.A_buf, system.qp, system.rp, system.hs, flags, stats, fail,
-                                analytic, system.Ks, system.Kds, system.T, system.Fsde, system.Msde)
+                                analytic, system.Ks, system.Kds, system.T, system.Fsde, system.Msde, qdd_prev)
             if status != 0:
                 # redo this output interval step by step, halving a failing step down to h/64
                 st = saved
                 stats[:] = 0
                 flags[0] = 0
+                flags[2] = 0
                 status = 0
                 for j in range(nsteps):
                     t_step0 = saved.t + j * h
@@ -268,7 +270,7 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
                                             force_ref, system.J, system.Fac, system.Q0, system.V0, system.r,
                                             system.dq, system.qd_buf, system.A_buf, system.qp, system.rp, system.hs,
                                             flags, stats, fail, analytic, system.Ks, system.Kds, system.T,
-                                            system.Fsde, system.Msde)
+                                            system.Fsde, system.Msde, qdd_prev)
                             if s2 != 0:
                                 break
                         if s2 == 0:

@@ -105,7 +105,7 @@ def explicit_acceleration(km, vs, att, ws, t, q, qd, ref, qdd):
 @njit(cache=True)
 def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, alpha_f, beta, gamma, tol,
                maxit, reuse, mask, length_scale, force_ref, J, Fac, Q0, V0, r, dq, qd_buf, A_buf, qp, rp, hs,
-               flags, stats, fail, analytic, Ks, Kds, T, Fsde, Msde):
+               flags, stats, fail, analytic, Ks, Kds, T, Fsde, Msde, qdd_prev):
     """Advance nsteps generalised-alpha steps of size h from t0 (Chung & Hulbert 1993 in the
     form of Arnold & Bruls 2007: equilibrium at t_{n+1}, algorithmic acceleration ``aux``).
 
@@ -114,7 +114,9 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
     more than SLOW_STEP of them refreshes the Jacobian at the start of the next (a reused
     Jacobian goes stale as the line turns). stats += [steps, newton iterations, jacobians,
     rebases]. ``analytic``: Jacobian from the SDE tangent (rfesim.solvers.jacobian) instead
-    of coloured finite differences; Ks, Kds, T, Fsde, Msde are its work arrays.
+    of coloured finite differences; Ks, Kds, T, Fsde, Msde are its work arrays. The Newton
+    predictor extrapolates the acceleration linearly from the last two steps (qdd_prev holds
+    the previous one; flags[2] = 1 once it is valid).
     """
     n = q.shape[0]
     cq = h * h * beta * (1.0 - alpha_f) / (1.0 - alpha_m)
@@ -127,7 +129,10 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
                 ab = (alpha_f * qdd[i, k] - alpha_m * aux[i, k]) / (1.0 - alpha_m)
                 Q0[i, k] = q[i, k] + h * qd[i, k] + h * h * (0.5 - beta) * aux[i, k] + h * h * beta * ab
                 V0[i, k] = qd[i, k] + h * (1.0 - gamma) * aux[i, k] + h * gamma * ab
-                qp[i, k] = Q0[i, k] + cq * qdd[i, k]          # predictor: A = qdd_n
+                if flags[2] == 1:
+                    qp[i, k] = Q0[i, k] + cq * (2.0 * qdd[i, k] - qdd_prev[i, k])   # predictor: linear in time
+                else:
+                    qp[i, k] = Q0[i, k] + cq * qdd[i, k]      # predictor: A = qdd_n
         for i in range(n):
             for k in range(6):
                 q[i, k] = qp[i, k]
@@ -182,7 +187,7 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
                     break
             if converged or fresh:
                 break
-            # restart from the predictor with a fresh Jacobian
+            # restart from the (constant-acceleration) predictor with a fresh Jacobian
             for i in range(n):
                 for k in range(6):
                     q[i, k] = Q0[i, k] + cq * qdd[i, k]
@@ -199,12 +204,17 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
                 A = (q[i, k] - Q0[i, k]) * inv
                 anew = (alpha_f * qdd[i, k] + (1.0 - alpha_f) * A - alpha_m * aux[i, k]) / (1.0 - alpha_m)
                 qd[i, k] = V0[i, k] + cv * A
+                qdd_prev[i, k] = qdd[i, k]
                 qdd[i, k] = A
                 aux[i, k] = anew
         status = check_state(q, qd, mask, fail, t1)
         if status != 0:
             return status
         nre = rebase(q, qd, ref, km.rfe_kind, REBASE_THRESHOLD, qdd, aux, True)
+        if nre > 0:
+            flags[2] = 0           # the previous acceleration is in an old chart: skip one extrapolation
+        else:
+            flags[2] = 1
         stats[3] += nre
         stats[0] += 1
     return 0
