@@ -17,62 +17,79 @@ This module runs the C++ MoorDyn v2 (PyPI package ``moordyn``) in-process on tha
 
 How the H1 data are written for MoorDyn
 ---------------------------------------
-MoorDyn describes a line by one "volume-equivalent" diameter ``d`` that sets both the
-buoyancy (``rho_water * pi/4 * d^2`` per metre) and the hydrodynamic and seabed areas.
-H1 is an empty pipe whose submerged weight is defined as
-``w = (rho_steel - rho_water) * g * A_steel`` (so the buoyant volume is the steel
-volume), while drag acts on the outer diameter. The input file therefore uses
+H1 is an *empty* (air-filled) pipe: its whole outer volume displaces water, so its
+submerged weight is ``w = (rho_steel A_steel - rho_water pi/4 D_outer^2) g`` (about
+644 N/m). MoorDyn describes a line by one diameter that sets the buoyancy, the drag and
+the seabed contact areas; for this pipe that is simply the outer diameter:
 
-* ``Diam = sqrt(D_outer^2 - D_inner^2)`` (about 0.1497 m), so that MoorDyn's buoyant
-  area is the steel area, and ``Mass/m = rho_steel * A_steel`` (about 138.1 kg/m):
-  MoorDyn's submerged weight is then exactly ``w`` (about 1177.9 N/m);
-* the drag coefficients multiplied by ``D_outer / Diam`` (about 2.004), so that the
-  normal drag per metre is ``0.5 rho_water 1.2 D_outer |v|v`` and the axial drag per
-  metre is ``0.5 rho_water 0.008 pi D_outer |v|v`` (MoorDyn's own definitions);
-* the seabed stiffness and damping multiplied by the same ratio, so that the contact
-  acts on the outer diameter (see ``SEABED_STIFFNESS`` and ``SEABED_DAMPING``);
-* ``EA = E * A_steel``, ``EI = E * pi/64 * (D_outer^4 - D_inner^4)``, ``Ca = CaAx = 0``.
+* ``Diam = D_outer = 0.3 m``, ``Mass/m = rho_steel * A_steel`` (about 138.1 kg/m);
+* drag coefficients 1.2 (normal, on ``Diam``) and 0.008 (axial, on ``pi Diam``), MoorDyn's
+  own definitions; ``Ca = CaAx = 0``;
+* ``EA = E * A_steel``, ``EI = E * pi/64 * (D_outer^4 - D_inner^4)``;
+* seabed: MoorDyn's contact acts on the node (the pipe's centreline), rfesim's on the
+  pipe's underside. So that both describe the same line, MoorDyn's seabed and anchor are
+  at z = -99.85 m, where the centreline of the pipe resting on the real seabed at
+  -100 m lies (rfesim's H1 scenario pins end A at -99.85 m on a seabed at -100 m).
 
 Axial internal damping uses MoorDyn's negative-BA convention: ``BA = -0.8`` asks for
 0.8 of the critical damping of one segment's axial mode (MoorDyn then sets
-``BA = 0.8 * (L/N) * sqrt(EA * m)`` in N*s). Its effect on the tension amplitude is
-small (see the convergence study in ``__main__``).
+``BA = 0.8 * (L/N) * sqrt(EA * m)`` in N*s). Its effect is small: at 100 segments the
+tension amplitude is 15549.1, 15549.7 and 15553.9 N for damping ratios 0.4, 0.8 and
+1.6, and the moment does not change.
 
-Coupling, time integration and initial condition
-------------------------------------------------
-MoorDyn is driven with a coupling step (one ``moordyn.Step`` call) of at most 1 ms
-(earlier measurements on this machine found the tension amplitude 20-30 % low with
-larger coupling steps). At each coupling step the fairlead is given its exact position
-at the start of the step and the constant velocity that reaches the exact position at
-the end of the step (MoorDyn moves a coupled point linearly within a step). The force
-MoorDyn returns at the end of a step is computed with that secant velocity, which lags
-the true velocity by about ``a dt / 2``; through the large axial damping of the top
-segment this biased the tension amplitude by about -0.6 % at a 1 ms coupling step
-(-6 % at 10 ms, about linear in the step). At every output time (0.01 s) a probe step of
-1e-12 s with the exact fairlead velocity therefore makes MoorDyn re-evaluate the force at
-the exact fairlead position and velocity; the remaining coupling error is then second
-order (about -6 N, 0.04 %, at 1 ms; -1.5 N at 0.5 ms).
+Coupling
+--------
+MoorDyn moves a coupled point with constant velocity within one ``moordyn.Step`` call.
+The harness gives the fairlead its exact position at the start of each call and the
+constant velocity that reaches the exact position at its end: a piecewise-linear path
+whose velocity jumps by about ``a * dt`` at every call. Two errors follow (measured):
 
+* the force MoorDyn returns at the end of a call uses the secant velocity, which lags
+  the true one by about ``a * dt / 2``; through the large axial damping of the top
+  segment this made the tension amplitude 0.6 % low with 1 ms calls (3.4 % low with
+  5 ms, 6.7 % with 10 ms). Every ``OUTPUT_INTERVAL`` (0.01 s) a probe call of 1e-12 s
+  with the exact fairlead velocity therefore makes MoorDyn re-evaluate the force at
+  the exact fairlead position and velocity, without changing the state;
+* the velocity jumps excite the short top segments: with 1 ms calls the probed
+  amplitude was still 10, 16 and 20 N low at 100, 200 and 400 segments (60 N at 400
+  with damping ratio 0.4). The fairlead is therefore updated at every internal step
+  by default (coupling step = dtM, at most 1 ms); the remaining error (with the dtM
+  error) is about 2 N at 100 segments and shrinks about as dtM^2.
+
+Time integration
+----------------
 MoorDyn integrates explicitly with the internal step ``dtM``, which must stay below the
 stability limit of the highest axial mode of the lumped-mass line, proportional to the
 axial transit time of one segment ``(L / N) / sqrt(EA / m)`` = 0.05607 s / N (see
 ``segment_transit_time``). Measured on this line with ``BA = -0.8``: MoorDyn's default
-RK2 is stable up to about 0.8 transit times, its RK4 up to about 1.0 (unstable at 1.2).
+RK2 is stable up to about 0.8 transit times, RK4 up to about 1.0 (unstable at 1.2).
 RK4 is the default here because RK2 is also weakly unstable on the undamped bending
-modes (highest bending frequency about ``4 sqrt(EI / m) / (L / N)^2``, RK2 amplifies it
-by ``1 + (w dt)^4 / 8`` per step): at 400 segments RK2 diverged even at 0.3-0.48 transit
-times, and RK2's amplitude carries an error about proportional to dtM (about
-+1e5 N/s * dtM, +0.16 % at 100 segments and 0.45 transit times), whereas RK4 at 0.9
-transit times is within about 0.13 % of its converged value at 50 segments and
-improves as about dtM^4. See ``default_internal_step``.
+modes (highest bending frequency about ``4 sqrt(EI / m) / (L / N)^2``, amplified by
+``1 + (w dt)^4 / 8`` per RK2 step): at 400 segments RK2 diverged at 0.48 transit times
+and at 0.3 gave a spurious 20 % tension peak within 12 s, while RK4 ran stably at 0.9. The default dtM is
+0.75 transit times for RK4 and 0.5 for RK2 (``default_internal_step``); there the
+tension amplitude is within 4 N (RK4) or 7 N (RK2) of the half-step value at 50
+segments, 2 N or 3.6 N at 100, 1 N or 1.8 N at 200.
 
+Initial condition
+-----------------
 The initial condition comes from MoorDyn's dynamic relaxation (``ICgenDynamic 1``, drag
-times 5, stopped when the fairlead tension changes by less than 1e-5 relative over 1 s
-checks); earlier measurements found MoorDyn's default stationary solver 36-42 % off
-on this stiff line. The relaxed static state agrees with an independent elastica
-(inextensible rod with EI on a rigid seabed, solved as a boundary-value problem):
-fairlead tension 184.2 kN, horizontal tension 78.0 kN, largest moment 393 kN*m, touch
-down 128 m from the anchor (the elastic catenary without EI gives 194.7 kN and 142.8 m).
+times 5, stopped when the fairlead tension changes by less than 1e-5 relative between
+1 s checks). MoorDyn's default stationary solver is not used: earlier measurements on
+this machine found it 36-42 % off on this stiff line (a check here at 50 segments left
+the static tension 1.5 % low; by 28 s the dynamic amplitude no longer showed it). The
+relaxed static state agrees with an independent elastica (inextensible rod with EI on
+a rigid seabed, solved as a boundary-value problem): fairlead tension 184.2 kN,
+horizontal tension 78.0 kN, largest moment 393 kN*m, touchdown 128 m from the anchor
+(the elastic catenary without EI gives 194.7 kN and 142.8 m on the seabed).
+
+Reference values
+----------------
+Convergence study (RK4, default steps, ``python -m rfesim.bench.moordyn_h1``): tension
+amplitude 15282, 15521, 15550, 15581 and 15595 N and largest sag-bend moment 420.98,
+419.53, 420.12, 420.02 and 419.90 kN*m for 25, 50, 100, 200 and 400 segments. The
+amplitude still grows by 15-30 N per doubling at 400 segments; the estimated converged
+values are 15.61 kN (+-0.01 kN) and 419.8 kN*m (+-0.2 kN*m).
 """
 from __future__ import annotations
 
@@ -98,12 +115,12 @@ YOUNG_MODULUS = 2.1e11  # Pa
 STEEL_DENSITY = 7850.0  # kg/m^3
 WATER_DENSITY = 1025.0  # kg/m^3
 GRAVITY = 9.81  # m/s^2
-WATER_DEPTH = 100.0  # m (flat seabed at z = -100 m)
+WATER_DEPTH = 100.0 - 0.5 * 0.3  # m: MoorDyn's node-centre seabed = centreline of the pipe resting on z = -100
 AXIAL_STIFFNESS = YOUNG_MODULUS * STEEL_AREA  # EA, N
 BENDING_STIFFNESS = YOUNG_MODULUS * math.pi / 64.0 * (OUTER_DIAMETER**4 - INNER_DIAMETER**4)  # EI, N*m^2
 MASS_PER_LENGTH = STEEL_DENSITY * STEEL_AREA  # kg/m (empty pipe)
-SUBMERGED_WEIGHT_PER_LENGTH = (STEEL_DENSITY - WATER_DENSITY) * GRAVITY * STEEL_AREA  # N/m
-ANCHOR_POSITION = (0.0, 0.0, -100.0)  # m, end A, pinned on the seabed
+SUBMERGED_WEIGHT_PER_LENGTH = (MASS_PER_LENGTH - WATER_DENSITY * math.pi / 4.0 * OUTER_DIAMETER**2) * GRAVITY  # N/m
+ANCHOR_POSITION = (0.0, 0.0, -WATER_DEPTH)  # m, end A, pinned on the seabed (pipe centreline)
 FAIRLEAD_POSITION = (250.0, 0.0, -10.0)  # m, end B, prescribed
 UNSTRETCHED_LENGTH = 290.0  # m
 NORMAL_DRAG_COEFFICIENT = 1.2  # -, on the outer diameter
@@ -125,10 +142,9 @@ RAMP_DURATION = 8.0  # s
 ANALYSIS_START = 28.0  # s
 HEAVE_ANGULAR_FREQUENCY = 2.0 * math.pi / HEAVE_PERIOD  # rad/s
 
-# MoorDyn's line diameter: volume-equivalent, so that the buoyant area is the steel area
-MOORDYN_DIAMETER = math.sqrt(OUTER_DIAMETER**2 - INNER_DIAMETER**2)  # m
-# Factor on drag coefficients and seabed constants so that they act on D_outer
-OUTER_TO_MOORDYN_DIAMETER = OUTER_DIAMETER / MOORDYN_DIAMETER  # -
+# MoorDyn's line diameter: the outer diameter of the empty pipe (buoyancy, drag, seabed)
+MOORDYN_DIAMETER = OUTER_DIAMETER  # m
+OUTER_TO_MOORDYN_DIAMETER = OUTER_DIAMETER / MOORDYN_DIAMETER  # - (1: no rescaling needed)
 
 # Axial wave speed sqrt(EA / m) that sets the explicit stability limit
 AXIAL_WAVE_SPEED = math.sqrt(AXIAL_STIFFNESS / MASS_PER_LENGTH)  # m/s
@@ -196,14 +212,19 @@ def default_internal_step(segments: int, coupling_step: float | None = None,
     """Default MoorDyn internal step dtM (s) for ``segments`` segments.
 
     ``DEFAULT_TRANSIT_FRACTION[time_scheme]`` times the axial transit time of one
-    segment (RK4: 0.75 * 0.05607 s / N = 0.04205 s / N; RK2: 0.02804 s / N), capped at
+    segment (RK4: 0.75 * 0.05607 s / N = 0.04205 s / N; RK2: 0.02804 s / N), lowered so
+    that a whole number of steps fits in ``coupling_step`` or, when that is None (the
+    fairlead is then updated at every internal step), capped at
     ``MAXIMUM_COUPLING_STEP`` and lowered so that a whole number of steps fits in
-    ``coupling_step`` or, when that is None (the fairlead is then updated at every
-    internal step), in ``OUTPUT_INTERVAL``. With RK4 and no coupling step this gives
-    1 ms for N = 25, 0.833 ms for N = 50, 0.417 ms for N = 100, 0.208 ms for N = 200
-    and 0.104 ms for N = 400.
+    ``OUTPUT_INTERVAL``. With RK4 and no coupling step this gives 1 ms for N = 25,
+    0.833 ms for N = 50, 0.417 ms for N = 100, 0.208 ms for N = 200 and 0.104 ms for
+    N = 400 (RK2: 1, 0.556, 0.278, 0.139 and 0.070 ms).
     """
-    target = DEFAULT_TRANSIT_FRACTION[time_scheme.upper()] * segment_transit_time(segments)
+    scheme = time_scheme.upper()
+    if scheme not in DEFAULT_TRANSIT_FRACTION:
+        raise ValueError(f"no default dtM for time scheme {time_scheme!r}; pass dt_internal "
+                         f"(known: {', '.join(DEFAULT_TRANSIT_FRACTION)})")
+    target = DEFAULT_TRANSIT_FRACTION[scheme] * segment_transit_time(segments)
     if coupling_step is None:
         return fit_to_coupling_step(min(target, MAXIMUM_COUPLING_STEP), OUTPUT_INTERVAL)
     return fit_to_coupling_step(target, coupling_step)
@@ -280,9 +301,8 @@ def moordyn_input_text(segments: int, dt_internal: float,
     anchor_x, anchor_y, anchor_z = ANCHOR_POSITION
     fairlead_x, fairlead_y, fairlead_z = FAIRLEAD_POSITION
     return f"""--------------------- MoorDyn Input File ------------------------------------
-Benchmark line H1 (rfesim.bench.moordyn_h1): steel pipe OD 0.3 m, wall 0.02 m, empty.
-Diam is volume-equivalent (buoyant area = steel area); Cd, CdAx, kBot and cBot are
-scaled by D_outer/Diam = {scale:.6f} so that drag and seabed contact act on D_outer.
+Benchmark line H1 (rfesim.bench.moordyn_h1): steel pipe OD 0.3 m, wall 0.02 m, empty
+(air inside): Diam is the outer diameter; seabed at the centreline of the resting pipe.
 ---------------------- LINE TYPES ----------------------------------------------------
 TypeName  Diam  Mass/m  EA  BA/-zeta  EI  Cd  Ca  CdAx  CaAx
 (name)  (m)  (kg/m)  (N)  (N-s/-)  (N-m^2)  (-)  (-)  (-)  (-)
@@ -361,8 +381,8 @@ def run_moordyn_h1(segments: int, dt_internal: float | None = None, coupling_ste
         Interval (s) between ``moordyn.Step`` calls, i.e. between fairlead updates; at
         most 1 ms. ``None`` (the default) updates the fairlead at every internal step
         (coupling step = dtM, at most 1 ms), which removes most of the coupling error
-        (see the module notes): a fixed 1 ms biased the amplitude by -10 N at 100
-        segments and about -40 N (-0.25 %) at 400.
+        (see the module notes): a fixed 1 ms biased the amplitude by -10, -16 and -20 N
+        at 100, 200 and 400 segments.
     duration:
         Simulated time (s) after the initial condition; the analysis window is
         ``ANALYSIS_START`` (28 s) to ``duration``.
@@ -395,8 +415,9 @@ def run_moordyn_h1(segments: int, dt_internal: float | None = None, coupling_ste
         ``time`` (s) and ``fairlead_tension`` (N): arrays every ``OUTPUT_INTERVAL`` from 0
         (the first value is the static tension after the initial condition);
         ``line_fairlead_tension_amplitude`` (N): the same fit on
-        ``moordyn.GetLineFairTen`` (tension of the top segment, without the top node's
-        half-segment weight and drag);
+        ``moordyn.GetLineFairTen``, MoorDyn's line fairlead tension (it leaves out part
+        of the top node's load: 1.8 % below the point force in the static state at 50
+        segments, 0.2 % lower amplitude);
         ``max_sagbend_moment_time`` (s), ``max_sagbend_moment_node`` and
         ``max_sagbend_moment_node_position`` (m, xyz): when and where the largest moment
         occurred;
