@@ -15,8 +15,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.interpolate import CubicSpline
-
 from .kinematics import rot_zyx
 
 
@@ -130,6 +128,7 @@ class TableVessel(VesselMotion):
         self.values = values
         self.kind = spec.interpolation
         if self.kind == "cubic":
+            from scipy.interpolate import CubicSpline      # imported here: 0.8 s of start-up otherwise
             self.spline = CubicSpline(self.time, values, axis=0, bc_type="natural")
 
     def dofs(self, t):

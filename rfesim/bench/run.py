@@ -295,11 +295,20 @@ def main(argv=None) -> int:
     p = argparse.ArgumentParser(prog="rfesim bench", description=__doc__)
     p.add_argument("--quick", action="store_true", help="a small grid (a few minutes)")
     p.add_argument("--no-moordyn", action="store_true", help="skip the MoorDyn comparison")
-    p.add_argument("--only", choices=["h1", "scaling", "startup"], action="append",
+    p.add_argument("--only", choices=["h1", "scaling", "startup", "validation"], action="append",
                    help="run only these parts (repeatable)")
     p.add_argument("--output", default=str(DOCS / "benchmarks.md"), help="report file (its core section is replaced)")
+    p.add_argument("--validation", action="store_true", help="also write docs/validation.md")
     args = p.parse_args(argv)
     parts = set(args.only or ["h1", "scaling", "startup"])
+    if args.validation:
+        parts.add("validation")
+    if "validation" in parts:
+        from .validation import write as write_validation
+        log("validation cases ...")
+        print(write_validation(DOCS / "validation.md"))
+        if parts == {"validation"}:
+            return 0
     out_path = Path(args.output)
     (out_path.parent / "img").mkdir(parents=True, exist_ok=True)
     h1 = run_h1(args.quick, not args.no_moordyn) if "h1" in parts else None
@@ -311,8 +320,14 @@ def main(argv=None) -> int:
         plot_scaling(scaling, out_path.parent / "img" / "scaling.png")
     text = report(h1, scaling, startup, args.quick)
     write_section(text, out_path)
-    raw = {"h1": {k: ([r.as_row() for r in v] if isinstance(v, list) else
-                      (v.as_row() if isinstance(v, H1Run) else v)) for k, v in (h1 or {}).items()},
+    def _json(v):
+        if isinstance(v, H1Run):
+            return v.as_row()
+        if isinstance(v, list):
+            return [_json(x) for x in v]
+        return v
+
+    raw = {"h1": {k: _json(v) for k, v in (h1 or {}).items()},
            "scaling": scaling, "startup": startup, "quick": args.quick}
     (out_path.parent / "benchmarks.json").write_text(json.dumps(raw, indent=1, default=float))
     print(text)

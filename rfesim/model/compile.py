@@ -165,9 +165,10 @@ def _submerged_weight(sec: Section, sc) -> float:
 class _Curve:
     """Initial shape of a line: a polyline through points at given arc lengths."""
 
-    def __init__(self, s: np.ndarray, X: np.ndarray):
+    def __init__(self, s: np.ndarray, X: np.ndarray, strain=None):
         self.s = s
         self.X = X
+        self.strain = strain          # callable: axial strain at arc length s (e.g. T(s) / EA), or None
 
     def __call__(self, s):
         return np.column_stack([np.interp(s, self.s, self.X[:, k]) for k in range(3)])
@@ -203,10 +204,14 @@ class _Curve:
         return pts
 
     def joints(self, lengths: np.ndarray, end_b: np.ndarray | None) -> np.ndarray:
-        """Points A = J0, J1, ..., J_{n+1} with |J_{i+1} - J_i| = lengths_i (1 + strain),
-        the common strain chosen (secant) so the chain closes at end_b when given: the
-        RFEs then meet exactly at every SDE, without spurious initial forces."""
+        """Points A = J0, J1, ..., J_{n+1} with |J_{i+1} - J_i| = lengths_i (1 + e_i + e),
+        e_i the curve's own strain at the element (the catenary's T/EA) and e a common
+        correction chosen (secant) so the chain closes at end_b when given: the RFEs then
+        meet at every SDE with the tension of the curve, without spurious initial forces."""
         start = self.X[0]
+        if self.strain is not None:
+            mid = np.concatenate([[0.0], np.cumsum(lengths)])
+            lengths = lengths * (1.0 + self.strain(0.5 * (mid[:-1] + mid[1:])))
         if end_b is None:
             return self._march(start, lengths)
         strain = 0.0
@@ -245,8 +250,11 @@ def _straight(start: np.ndarray, direction: np.ndarray, length: float, stretch: 
 
 
 def _catenary_curve(A: np.ndarray, B: np.ndarray, length: float, weight: float, EA: float,
-                    seabed_z: float | None, contact_radius: float) -> _Curve | None:
-    """Elastic catenary in the vertical plane through A and B (None if not applicable)."""
+                    seabed_z: float | None, contact_radius: float, seabed_k: float = 0.0) -> _Curve | None:
+    """Elastic catenary in the vertical plane through A and B (None if not applicable).
+    The part on the seabed is placed at its static penetration weight / k, where the
+    contact already has its stiffness (at zero penetration it has none, and Newton would
+    see no seabed under the grounded elements)."""
     from ..catenary import solve_catenary
     swap = B[2] < A[2]
     lo, hi = (B, A) if swap else (A, B)
@@ -261,15 +269,23 @@ def _catenary_curve(A: np.ndarray, B: np.ndarray, length: float, weight: float, 
     except Exception as exc:  # noqa: BLE001 - fall back to another start shape
         log.info("catenary start failed (%s); using a straight start", exc)
         return None
-    s = np.linspace(0.0, length, 401)
+    s = np.linspace(0.0, length, 2001)
     x, z = sol.profile(s)
     eh = np.array([dh[0], dh[1], 0.0]) / span
     X = lo[None, :] + x[:, None] * eh[None, :] + z[:, None] * np.array([0.0, 0.0, 1.0])[None, :]
     if seabed_z is not None:
-        X[:, 2] = np.maximum(X[:, 2], seabed_z + contact_radius)
+        rest = seabed_z + contact_radius - (weight / seabed_k if seabed_k > 0 else 0.0)
+        # grounded: at the level of the lower end (the catenary's seabed), which may sit a
+        # little above or below the contact level given by the pipe radius
+        level = max(seabed_z + contact_radius, lo[2]) if on_seabed else seabed_z + contact_radius
+        on = X[:, 2] <= level + 1e-6 * length
+        X[on, 2] = rest
+        X[:, 2] = np.maximum(X[:, 2], rest)
+    strain = (lambda arc: sol.tension(arc) / EA)
     if swap:
         X = X[::-1].copy()
-    return _Curve(s, X)
+        return _Curve(s, X, lambda arc: sol.tension(length - arc) / EA)
+    return _Curve(s, X, strain)
 
 
 # ----------------------------------------------------------------------------- compile
@@ -370,7 +386,7 @@ def compile_scenario(sc, start: str | None = None) -> Model:
                 curve = _straight(A, chord, L, stretch=d / L)
             else:
                 curve = _catenary_curve(A, B, L, _submerged_weight(sec, sc), sec.EA, seabed_z,
-                                        0.5 * sec.outer_diameter)
+                                        0.5 * sec.outer_diameter, seabed.normal_stiffness if seabed else 0.0)
                 if curve is None:
                     curve = _sagged_curve(A, B, L)
         elif A is not None:

@@ -206,8 +206,11 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
     else:
         out_dt = h * max(1, math.ceil(T / h / 10000.0))
     if integ.kind != "adaptive":
-        per_out = max(1, int(round(out_dt / h)))
-        out_dt = per_out * h
+        # the step divides the output interval: outputs land exactly on the requested times
+        # (a requested step that does not divide it is shortened, never lengthened)
+        per_out = max(1, int(math.ceil(out_dt / h - 1e-9)))
+        h = out_dt / per_out
+        counters["time_step"] = h
     n_out = int(math.floor(T / out_dt + 1e-9))
     if recorder is None:
         recorder = Recorder(system, n_out + 2)

@@ -11,9 +11,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.linalg as sla
-import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from ..errors import SolverError
 from ..model.assemble import rebase
@@ -42,6 +39,9 @@ class ModalResults:
 
 
 def modal_analysis(system: System, state: State, nmodes: int) -> ModalResults:
+    import scipy.linalg as sla              # imported here: 0.3 s of every start-up otherwise
+    import scipy.sparse as sp
+    import scipy.sparse.linalg as spla
     st = state.copy()
     st.qd[:] = 0.0
     dummy = np.zeros_like(st.q)

@@ -56,6 +56,15 @@ class System:
                     self.qd_buf, self.A_buf, r0, self.qp, self.rp, self.hs, self.length_scale, self.J)
         return self.J
 
+    def static_jacobian_analytic(self, q: np.ndarray, ref, scale: float = 1.0) -> np.ndarray:
+        """Static Jacobian from the analytic SDE tangent (rfesim.solvers.jacobian)."""
+        from .jacobian import jacobian_analytic
+        work = np.zeros((self.n, 6))
+        jacobian_analytic(self.km, self.att, q, ref, self.ws, float(scale), 0, self.Q0, self.V0, 1.0, 0.0, self.mask,
+                          self.qd_buf, self.A_buf, work, self.qp, self.rp, self.hs, self.length_scale, self.J, self.Ks,
+                          self.Kds, self.T, self.Fsde, self.Msde)
+        return self.J
+
     def static_jacobian_accurate(self, q: np.ndarray, ref, scale: float = 1.0) -> np.ndarray:
         """Central-difference static Jacobian (statics and modal analysis). Central
         differences cancel the second-order change of stiff (axial) springs under lateral

@@ -6,23 +6,7 @@ import numpy as np
 import pytest
 
 import rfesim
-
-G = 9.81
-
-
-def catenary_line(n, weight, seabed=True, EA=7.51e12):
-    env = {"gravity": G}
-    if seabed:
-        env["seabed"] = {"z": 0.0, "normal_stiffness": 1e9, "damping_ratio": 0.0}
-    return {
-        "name": "P1 catenary",
-        "environment": env,
-        "line_types": {"chain": {"EA": EA, "EIy": 1.0, "GJ": 1.0, "GA": EA / 3, "mass_per_length": weight / G}},
-        "lines": {"line": {"type": "chain", "length": 500.0, "elements": n, "shear_stiffness": "kruszewski",
-                           "end_a": {"attach": "fixed", "position": [0, 0, 0], "connection": "pinned"},
-                           "end_b": {"attach": "fixed", "position": [400, 0, 200], "connection": "pinned"}}},
-        "analysis": {"dynamics": {"enabled": False}},
-    }
+from rfesim.bench.cases import catenary_line
 
 
 @pytest.mark.parametrize("n", [100, 200])
