@@ -165,56 +165,6 @@ def exp_so3_into(w0, w1, w2, out):
 
 
 @njit(cache=True)
-def log_so3_into(R, out):
-    """Rotation vector of R (angle in [0, pi]), robust near 0 and pi (via the quaternion)."""
-    tr = R[0, 0] + R[1, 1] + R[2, 2]
-    # Shepperd: pick the largest of w^2, x^2, y^2, z^2 (times 4)
-    if tr >= R[0, 0] and tr >= R[1, 1] and tr >= R[2, 2]:
-        s = math.sqrt(1.0 + tr) * 2.0
-        w = 0.25 * s
-        x = (R[2, 1] - R[1, 2]) / s
-        y = (R[0, 2] - R[2, 0]) / s
-        z = (R[1, 0] - R[0, 1]) / s
-    elif R[0, 0] >= R[1, 1] and R[0, 0] >= R[2, 2]:
-        s = math.sqrt(1.0 + R[0, 0] - R[1, 1] - R[2, 2]) * 2.0
-        w = (R[2, 1] - R[1, 2]) / s
-        x = 0.25 * s
-        y = (R[0, 1] + R[1, 0]) / s
-        z = (R[0, 2] + R[2, 0]) / s
-    elif R[1, 1] >= R[2, 2]:
-        s = math.sqrt(1.0 + R[1, 1] - R[0, 0] - R[2, 2]) * 2.0
-        w = (R[0, 2] - R[2, 0]) / s
-        x = (R[0, 1] + R[1, 0]) / s
-        y = 0.25 * s
-        z = (R[1, 2] + R[2, 1]) / s
-    else:
-        s = math.sqrt(1.0 + R[2, 2] - R[0, 0] - R[1, 1]) * 2.0
-        w = (R[1, 0] - R[0, 1]) / s
-        x = (R[0, 2] + R[2, 0]) / s
-        y = (R[1, 2] + R[2, 1]) / s
-        z = 0.25 * s
-    if w < 0.0:
-        w = -w
-        x = -x
-        y = -y
-        z = -z
-    vn = math.sqrt(x * x + y * y + z * z)
-    if vn < 1e-300:
-        out[0] = 0.0
-        out[1] = 0.0
-        out[2] = 0.0
-        return
-    angle = 2.0 * math.atan2(vn, w)
-    if vn < 1e-7:
-        f = 2.0 / w * (1.0 + vn * vn / (3.0 * w * w))
-    else:
-        f = angle / vn
-    out[0] = f * x
-    out[1] = f * y
-    out[2] = f * z
-
-
-@njit(cache=True)
 def quaternion_from_matrix(R):
     """Unit quaternion (w, x, y, z) of R with w >= 0 (Shepperd's method), as a tuple."""
     tr = R[0, 0] + R[1, 1] + R[2, 2]
@@ -249,6 +199,26 @@ def quaternion_from_matrix(R):
         z = -z
     n = math.sqrt(w * w + x * x + y * y + z * z)
     return w / n, x / n, y / n, z / n
+
+
+@njit(cache=True)
+def log_so3_into(R, out):
+    """Rotation vector of R (angle in [0, pi]), robust near 0 and pi (via the quaternion)."""
+    w, x, y, z = quaternion_from_matrix(R)
+    vn = math.sqrt(x * x + y * y + z * z)
+    if vn < 1e-300:
+        out[0] = 0.0
+        out[1] = 0.0
+        out[2] = 0.0
+        return
+    angle = 2.0 * math.atan2(vn, w)
+    if vn < 1e-7:
+        f = 2.0 / w * (1.0 + vn * vn / (3.0 * w * w))
+    else:
+        f = angle / vn
+    out[0] = f * x
+    out[1] = f * y
+    out[2] = f * z
 
 
 @njit(cache=True)

@@ -91,7 +91,7 @@ def report(rows: list[dict]) -> str:
            "|---|---|---:|---:|---:|---:|---|---:|"]
     for r in rows:
         out.append(f"| {r['case']} | {r['quantity']} | {r['reference']:.7g} | {r['rfesim']:.7g} | {r['error']:.2e} | "
-                   f"{r['tolerance']:.0e} | {r['discretisation']} | {r['time']:.2f} |")
+                   f"{r['tolerance']:.1e} | {r['discretisation']} | {r['time']:.2f} |")
     bad = [r for r in rows if not r["pass"]]
     out += ["", f"{len(rows) - len(bad)} of {len(rows)} rows within their tolerance."]
     return "\n".join(out) + "\n"

@@ -28,6 +28,24 @@ from ..kinematics import (cross_into, matmul_into, matTmul_into, matTvec_into, m
 
 
 @njit(cache=True)
+def sde_geometry(a, b, arm_a, arm_b, R, rbase, roff, pa, pb, g, Rrel, th, Rh, Rp, Jri, Jrh):
+    """Arms pa, pb (global) from the RFE centres to the SDE ends, the gap g, the relative
+    rotation Rrel = R_a^T R_b, its rotation vector th, half rotation Rh, the mean frame
+    Rp = R' and the right Jacobians J_r(th)^-1, J_r(th/2) of SDE (a, b)."""
+    Ra = R[a]
+    Rb = R[b]
+    matvec_into(Ra, arm_a, pa)
+    matvec_into(Rb, arm_b, pb)
+    for k in range(3):
+        # eq. 8.78-8.79: r_R - r_L, differencing reference positions and displacements apart
+        g[k] = (rbase[b, k] - rbase[a, k]) + (roff[b, k] - roff[a, k]) + (pb[k] - pa[k])
+    matTmul_into(Ra, Rb, Rrel)
+    # eq. 8.75 in rotation-vector form, the half rotation and the right Jacobians
+    relative_rotation_terms(Rrel, th, Rh, Jri, Jrh)
+    matmul_into(Ra, Rh, Rp)                                         # eq. 8.77: mean orientation {i'}
+
+
+@njit(cache=True)
 def sde_forces(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiffness, sde_damping,
                R, rbase, roff, v, w, F, M, eps_out, sigma_out, point_out):
     """Convenience form of ``sde_forces_into`` that allocates its own scratch."""
@@ -75,15 +93,7 @@ def sde_forces_into(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiffn
         b = sde_right[s]
         Ra = R[a]
         Rb = R[b]
-        matvec_into(Ra, sde_arm_left[s], pa)
-        matvec_into(Rb, sde_arm_right[s], pb)
-        for k in range(3):
-            # eq. 8.78-8.79: r_R - r_L, differencing reference positions and displacements apart
-            g[k] = (rbase[b, k] - rbase[a, k]) + (roff[b, k] - roff[a, k]) + (pb[k] - pa[k])
-        matTmul_into(Ra, Rb, Rrel)
-        # eq. 8.75 in rotation-vector form, the half rotation and the right Jacobians
-        relative_rotation_terms(Rrel, th, Rh, Jri, Jrh)
-        matmul_into(Ra, Rh, Rp)                                     # eq. 8.77: mean orientation {i'}
+        sde_geometry(a, b, sde_arm_left[s], sde_arm_right[s], R, rbase, roff, pa, pb, g, Rrel, th, Rh, Rp, Jri, Jrh)
         matTvec_into(Rp, g, dlt)                                    # eq. 8.85: R'^T (r_R - r_L)
         # rates
         cross_into(w[b], pb, tmp)

@@ -19,20 +19,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ..kinematics import matmul_into, matTmul_into, matTvec_into, matvec_into, relative_rotation_terms
-
-
-@njit(cache=True)
-def _skew(v, out):
-    out[0, 0] = 0.0
-    out[0, 1] = -v[2]
-    out[0, 2] = v[1]
-    out[1, 0] = v[2]
-    out[1, 1] = 0.0
-    out[1, 2] = -v[0]
-    out[2, 0] = -v[1]
-    out[2, 1] = v[0]
-    out[2, 2] = 0.0
+from ..kinematics import matmul_into, matvec_into, skew_into
+from .sde import sde_geometry
 
 
 @njit(cache=True)
@@ -69,24 +57,17 @@ def sde_tangent(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiffness,
     for s in range(sde_left.shape[0]):
         a = sde_left[s]
         b = sde_right[s]
-        Ra = R[a]
         Rb = R[b]
-        matvec_into(Ra, sde_arm_left[s], pa)
-        matvec_into(Rb, sde_arm_right[s], pb)
-        for k in range(3):
-            g[k] = (rbase[b, k] - rbase[a, k]) + (roff[b, k] - roff[a, k]) + (pb[k] - pa[k])
-        matTmul_into(Ra, Rb, Rrel)
-        relative_rotation_terms(Rrel, th, Rh, Jri, Jrh)
-        matmul_into(Ra, Rh, Rp)
+        sde_geometry(a, b, sde_arm_left[s], sde_arm_right[s], R, rbase, roff, pa, pb, g, Rrel, th, Rh, Rp, Jri, Jrh)
         # W = Rp Jrh Jri Rb^T
         matmul_into(Jrh, Jri, T1)
         matmul_into(Rp, T1, T2)
         for i in range(3):
             for j in range(3):
                 W[i, j] = T2[i, 0] * Rb[j, 0] + T2[i, 1] * Rb[j, 1] + T2[i, 2] * Rb[j, 2]
-        _skew(pa, Pa)
-        _skew(pb, Pb)
-        _skew(g, Gx)
+        skew_into(pa, Pa)
+        skew_into(pb, Pb)
+        skew_into(g, Gx)
         # ---- B (6 x 12): rows delta' then theta; columns dr_a, da_a, dr_b, da_b
         for i in range(6):
             for j in range(12):
@@ -149,8 +130,8 @@ def sde_tangent(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiffness,
         for k in range(3):
             tmp[k] = sigma[s, 3 + k]
         matvec_into(Rp, tmp, m)                       # m ~ R' M'
-        _skew(F, Fx)
-        _skew(m, mx)
+        skew_into(F, Fx)
+        skew_into(m, mx)
         # helper products: [F]x[pa]x, [pa]x[F]x, [F]x[pb]x, [pb]x[F]x
         matmul_into(Fx, Pa, FPa)
         matmul_into(Pa, Fx, PaF)

@@ -25,36 +25,7 @@ from numba import njit
 from ..kinematics import cross_into, matmul_into, matvec_into
 from ..loads.sde import sde_forces_into
 from ..loads.sde_tangent import sde_tangent
-from ..model.assemble import evaluate_frozen_sde
-from .residual import residual_q
-
-
-@njit(cache=True)
-def _local_residual(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, Fsde, Msde, out):
-    """residual_q with the SDE forces frozen."""
-    n = q.shape[0]
-    if mode == 0:
-        for i in range(n):
-            for k in range(6):
-                qd_buf[i, k] = 0.0
-        evaluate_frozen_sde(km, att, q, qd_buf, ref, ws, scale, Fsde, Msde)
-        for i in range(n):
-            for k in range(6):
-                out[i, k] = -ws.fgen[i, k] if mask[i, k] else q[i, k]
-    else:
-        inv = 1.0 / cq
-        for i in range(n):
-            for k in range(6):
-                A = (q[i, k] - Q0[i, k]) * inv
-                A_buf[i, k] = A
-                qd_buf[i, k] = V0[i, k] + cv * A
-        evaluate_frozen_sde(km, att, q, qd_buf, ref, ws, scale, Fsde, Msde)
-        for i in range(n):
-            for a in range(6):
-                s = -ws.fgen[i, a]
-                for c in range(6):
-                    s += ws.Mgen[i, a, c] * A_buf[i, c]
-                out[i, a] = cq * s
+from .residual import residual_general, residual_q
 
 
 @njit(cache=True)
@@ -151,7 +122,8 @@ def jacobian_analytic(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd
             tmp = q[i, k] + h
             hs[i] = tmp - q[i, k]
             qp[i, k] = tmp
-        _local_residual(km, att, qp, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, Fsde, Msde, rp)
+        residual_general(km, att, qp, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, rp, True, Fsde,
+                         Msde)
         for i in range(n):
             inv = 1.0 / hs[i]
             for a in range(6):

@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ..model.assemble import evaluate
+from ..model.assemble import evaluate, evaluate_frozen_sde
 
 
 @njit(cache=True)
@@ -15,18 +15,20 @@ def residual_q(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A
     qdot = V0 + cv A, out = cq (Mgen A - fgen). Fixed coordinates give out = q (statics)
     or q - Q0, so their Jacobian rows are the identity.
     """
+    residual_general(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, out, False,
+                     ws.F, ws.M)
+
+
+@njit(cache=True)
+def residual_general(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, out, frozen, Fsde,
+                     Msde):
+    """residual_q; with ``frozen`` the SDE forces and moments are the given Fsde, Msde
+    instead of being evaluated (the local part of the Jacobian, rfesim.solvers.jacobian)."""
     n = q.shape[0]
     if mode == 0:
         for i in range(n):
             for k in range(6):
                 qd_buf[i, k] = 0.0
-        evaluate(km, att, q, qd_buf, ref, ws, scale)
-        for i in range(n):
-            for k in range(6):
-                if mask[i, k]:
-                    out[i, k] = -ws.fgen[i, k]
-                else:
-                    out[i, k] = q[i, k]
     else:
         inv = 1.0 / cq
         for i in range(n):
@@ -34,7 +36,15 @@ def residual_q(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A
                 A = (q[i, k] - Q0[i, k]) * inv
                 A_buf[i, k] = A
                 qd_buf[i, k] = V0[i, k] + cv * A
+    if frozen:
+        evaluate_frozen_sde(km, att, q, qd_buf, ref, ws, scale, Fsde, Msde)
+    else:
         evaluate(km, att, q, qd_buf, ref, ws, scale)
+    if mode == 0:
+        for i in range(n):
+            for k in range(6):
+                out[i, k] = -ws.fgen[i, k] if mask[i, k] else q[i, k]
+    else:
         for i in range(n):
             for a in range(6):
                 s = -ws.fgen[i, a]
