@@ -23,7 +23,7 @@ def _scenario(scenario) -> Scenario:
 def _static_state(system: System, sc: Scenario, progress=None):
     s = sc.analysis.statics
     state, info = solve_statics(system, tolerance=s.tolerance, max_iterations=s.max_iterations,
-                                load_steps=s.load_steps, progress=progress)
+                                load_steps=s.load_steps, progress=progress, seabed_friction=s.seabed_friction)
     return state, info
 
 

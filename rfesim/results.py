@@ -23,6 +23,9 @@ CHANNELS: dict[str, tuple[str, str]] = {
     "end_a_moment": ("N*m", "Moment of the line on its end-A attachment (global)"),
     "end_b_moment": ("N*m", "Moment of the line on its end-B attachment (global)"),
     "seabed_force": ("N", "Seabed normal force on each RFE"),
+    "seabed_friction": ("N", "Seabed friction force on each RFE (global)"),
+    "touchdown_position": ("m", "Touchdown point: where seabed contact begins, seen from end B (NaN: no contact)"),
+    "touchdown_arc_length": ("m", "Arc length from end A of the touchdown point (NaN: no contact)"),
     "end_a_direction": ("1", "Unit tangent of the line at end A (axis of the end RFE, global)"),
     "end_b_direction": ("1", "Unit tangent of the line at end B (axis of the end RFE, global)"),
     "arc_length": ("m", "Arc length from end A of the line points"),
@@ -35,7 +38,7 @@ CHANNELS: dict[str, tuple[str, str]] = {
 
 LINE_CHANNELS = ("position", "tension", "shear_force", "bend_moment", "torque", "curvature", "end_a_force",
                  "end_b_force", "end_a_moment", "end_b_moment", "seabed_force", "end_a_direction",
-                 "end_b_direction")
+                 "end_b_direction", "seabed_friction", "touchdown_position", "touchdown_arc_length")
 
 
 @dataclass
@@ -56,6 +59,9 @@ class LineResults:
     seabed_force: np.ndarray          # (nt, nrfe) N
     end_a_direction: np.ndarray       # (nt, 3) unit tangent at end A
     end_b_direction: np.ndarray       # (nt, 3) unit tangent at end B
+    seabed_friction: np.ndarray = None      # (nt, nrfe, 3) N
+    touchdown_position: np.ndarray = None   # (nt, 3) m, NaN without contact
+    touchdown_arc_length: np.ndarray = None  # (nt,) m, NaN without contact
 
     @property
     def top_tension(self) -> np.ndarray:
@@ -187,6 +193,9 @@ def _write_netcdf(res: Results, path: str) -> None:
                        "end_b_direction"):
                 _var(g, ch, ("time", "xyz"), getattr(lr, ch))
             _var(g, "seabed_force", ("time", "rfe"), lr.seabed_force)
+            _var(g, "seabed_friction", ("time", "rfe", "xyz"), lr.seabed_friction)
+            _var(g, "touchdown_position", ("time", "xyz"), lr.touchdown_position)
+            _var(g, "touchdown_arc_length", ("time",), lr.touchdown_arc_length)
         if res.vessels:
             vg = f.create_group("vessels")
             for name, vr in res.vessels.items():
@@ -214,7 +223,7 @@ def open_results(path: str | os.PathLike) -> Results:
             time = g["time"][()]
             lines[name] = LineResults(
                 name=name, arc_length=g["arc_length"][()], sde_arc_length=g["sde_arc_length"][()],
-                **{ch: g[ch][()] for ch in LINE_CHANNELS})
+                **{ch: g[ch][()] for ch in LINE_CHANNELS if ch in g})
         vessels = {}
         for name, g in f.get("vessels", {}).items():
             if not lines:

@@ -197,6 +197,9 @@ def _base_dict(scenario) -> dict:
     if isinstance(scenario, (str, os.PathLike)):
         text_like = isinstance(scenario, str) and ("\n" in scenario or scenario.lstrip().startswith(("{", "[")))
         data = parse_text(scenario) if text_like else parse_text(*_read_file(Path(scenario)))
+        if not text_like:                        # data files are relative to the scenario file
+            from .scenario.files import resolve_data_files
+            data = resolve_data_files(data, Path(scenario).parent)
     else:
         data = scenario
     if not isinstance(data, dict):

@@ -145,8 +145,9 @@ class TableVessel(VesselMotion):
         return self.values[j] + slope * (t - self.time[j]), slope, np.zeros(6)
 
 
-def make_vessel_motion(vessel) -> VesselMotion:
-    """The motion object of a scenario vessel."""
+def make_vessel_motion(vessel, environment=None) -> VesselMotion:
+    """The motion object of a scenario vessel (an ``rao`` motion needs the scenario's
+    ``environment``, whose waves drive it)."""
     m = vessel.motion
     if m.kind == "fixed":
         return FixedVessel(vessel.position, vessel.heading_deg)
@@ -154,4 +155,10 @@ def make_vessel_motion(vessel) -> VesselMotion:
         return HarmonicVessel(vessel.position, vessel.heading_deg, m)
     if m.kind == "table":
         return TableVessel(vessel.position, vessel.heading_deg, m)
+    if m.kind == "csv":
+        from .sea.motion_csv import csv_vessel
+        return csv_vessel(vessel)
+    if m.kind == "rao":
+        from .sea.rao import rao_vessel
+        return rao_vessel(vessel, environment)
     raise ValueError(f"unknown vessel motion kind {m.kind!r}")

@@ -157,6 +157,7 @@ def _dofs(vs, j, t, d, dd, ddd):
 @njit(cache=True)
 def attachment_kinematics(vs, t, att):
     """Fill the AttachmentState ``att`` with every attachment's pose at time t."""
+    att.time[0] = t
     sc = att.scratch
     d = sc[0:2].reshape(6)
     dd = sc[2:4].reshape(6)

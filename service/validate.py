@@ -11,7 +11,7 @@ import math
 from pathlib import Path
 from typing import Any
 
-from .paths import SAFE_NAME, check_scenario_paths
+from .paths import SAFE_NAME, check_scenario_paths, files_dir
 
 WRAPPER_KEYS = ("scenario", "overrides")
 
@@ -141,6 +141,7 @@ def prepare_job(data: Any, settings, scenarios_dir: Path | None):
     """(scenario dict to store, validated Scenario) for POST /jobs."""
     from rfesim import ScenarioError, load_scenario
     from rfesim.scenario import apply_overrides
+    from rfesim.scenario.files import resolve_data_files
 
     scenario, overrides = unwrap(data, scenarios_dir)
     if not isinstance(scenario, dict):
@@ -153,7 +154,10 @@ def prepare_job(data: Any, settings, scenarios_dir: Path | None):
         path_errors = check_scenario_paths(scenario, settings.resolved_data_dir())
         if path_errors:
             raise Invalid([(_loc(f), r) for f, r in path_errors])
-        sc = load_scenario(scenario)
+        # relative data files are the service's <data_dir>/files, never its working directory:
+        # store them absolute so the worker reads the same files
+        scenario = resolve_data_files(scenario, files_dir(settings.resolved_data_dir()))
+        sc = load_scenario(scenario, base_dir=files_dir(settings.resolved_data_dir()))
     except ScenarioError as exc:
         raise _scenario_errors(exc) from None
     check_limits(sc, settings)
@@ -164,6 +168,7 @@ def prepare_sweep(data: Any, settings, scenarios_dir: Path | None) -> tuple[dict
     """(vary, [(case values, scenario dict)], name) for POST /sweeps."""
     from rfesim import ScenarioError, load_scenario
     from rfesim.scenario import apply_overrides
+    from rfesim.scenario.files import resolve_data_files
     from rfesim.sweep import grid
 
     if not isinstance(data, dict):
@@ -201,7 +206,8 @@ def prepare_sweep(data: Any, settings, scenarios_dir: Path | None) -> tuple[dict
             path_errors = check_scenario_paths(case, settings.resolved_data_dir())
             if path_errors:
                 raise Invalid([(_loc(f), f"{r} (load case {where})") for f, r in path_errors])
-            sc = load_scenario(case)
+            case = resolve_data_files(case, files_dir(settings.resolved_data_dir()))
+            sc = load_scenario(case, base_dir=files_dir(settings.resolved_data_dir()))
         except ScenarioError as exc:
             raise _scenario_errors(exc, f" (load case {where})") from None
         try:

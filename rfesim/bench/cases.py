@@ -159,11 +159,12 @@ def pendulum_period_ratio(theta0_deg, integrator, n=4, L=2.0, periods=2.2):
 
 
 # --------------------------------------------------------------------------- lines
-def catenary_line(n, weight, seabed=True, EA=7.51e12):
-    """P1: span 400 m, height 200 m, length 500 m, EI -> 0."""
+def catenary_line(n, weight, seabed=True, EA=7.51e12, friction=0.0):
+    """P1: span 400 m, height 200 m, length 500 m, EI -> 0; with axial seabed friction
+    fully mobilised in statics when ``friction`` > 0."""
     env = {"gravity": G}
     if seabed:
-        env["seabed"] = {"z": 0.0, "normal_stiffness": 1e9, "damping_ratio": 0.0}
+        env["seabed"] = {"z": 0.0, "normal_stiffness": 1e9, "damping_ratio": 0.0, "friction_axial": friction}
     return {
         "name": "P1 catenary",
         "environment": env,
@@ -171,5 +172,6 @@ def catenary_line(n, weight, seabed=True, EA=7.51e12):
         "lines": {"line": {"type": "chain", "length": 500.0, "elements": n, "shear_stiffness": "kruszewski",
                            "end_a": {"attach": "fixed", "position": [0, 0, 0], "connection": "pinned"},
                            "end_b": {"attach": "fixed", "position": [400, 0, 200], "connection": "pinned"}}},
-        "analysis": {"dynamics": {"enabled": False}},
+        "analysis": {"dynamics": {"enabled": False},
+                     "statics": {"seabed_friction": "mobilised" if friction > 0 else "none"}},
     }

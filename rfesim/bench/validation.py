@@ -78,6 +78,8 @@ def collect() -> list[dict]:
                              ("fairlead V [N]", cases.P1_SUSPENDED["V"], -fb[2]),
                              ("anchor V [N]", cases.P1_SUSPENDED["V_anchor"], -fa[2])):
             rows.append(_row("P1 fully suspended", name, ref, float(v), f"{n} elements", dt, 1e-3))
+    from .sea_cases import validation_rows as sea_rows
+    rows += sea_rows(_row, _timed)
     return rows
 
 

@@ -1,12 +1,33 @@
-"""Seabed contact (eq. 8.95, forces F^d): a flat horizontal seabed with a normal spring
-and damper per unit length, integrated in closed form along each RFE.
+"""Seabed contact (eq. 8.95, forces F^d): a flat, sloped or profiled seabed with a normal
+spring and damper per unit length, integrated in closed form along each RFE, and Coulomb
+friction by a spring-slider (stick/slip) law.
 
-The penetration of the pipe's underside, ``p(s) = z_seabed - (z(s) - a)`` with ``a`` the
-contact radius, is linear along a straight RFE; the spring force per unit length ``k p``
-over the penetrated part is integrated exactly (a triangle or a trapezoid) and applied
-at its centroid, so the force is continuously differentiable in the RFE's position as
+Geometry. The seabed is a profile z_b(s) along a horizontal direction d (a plane is a
+profile of two points; a flat seabed has equal heights), linear between its points and
+continued with the end slopes. Each RFE meets the tangent plane of the seabed under its
+centre, with unit normal n. The penetration of the pipe's underside,
+``p(s) = a - n . (P(s) - P_b)`` with ``a`` the contact radius and ``P_b`` the seabed point
+under the centre, is linear along a straight RFE; the spring force per unit length ``k p``
+over the penetrated part is integrated exactly (a triangle or a trapezoid) and applied at
+its centroid along n, so the force is continuously differentiable in the RFE's position as
 contact spreads along it (smooth touchdown, good Newton convergence). The damper
-``c v_z`` acts on the same length; the total normal force is never tensile.
+``c (v . n)`` acts on the same length; the total normal force ``N`` is never tensile.
+
+Friction (stick/slip). Each RFE in contact carries an anchor point ``A`` (history: the
+committed anchor is read, the trial one written; the integrators commit after every
+accepted step). The tangential displacement ``u = (I - n n^T)(r - A)`` of the RFE centre
+loads a stick spring ``f = -k_t l_c u``; the force is split into axial (along the RFE axis
+projected on the seabed, e_1) and lateral (e_2 = n x e_1) parts and returned radially onto
+the friction ellipse ``(f_1/mu_1)^2 + (f_2/mu_2)^2 <= N^2`` when it lies outside (slip);
+the trial anchor is then ``A' = r + f / (k_t l_c)``, so the anchor slides with the pipe
+and the force stays at the friction limit. A sticking line holds still under any force
+below the limit (no creep), unlike a viscous regularisation. Modes (``mode[0]``):
+
+* 0 spring-slider (dynamics);
+* 1 fully mobilised axial friction pointing towards end A (statics: the line was pulled
+  towards end B while it was laid, MoorPy's assumption); the anchors are written so that
+  a following dynamic run starts from the same friction forces;
+* 2 no friction.
 """
 from __future__ import annotations
 
@@ -16,16 +37,52 @@ from numba import njit
 
 
 @njit(cache=True)
-def seabed_forces(rfe_length, rfe_contact_radius, rfe_seabed_c, seabed_z, seabed_k, R, r, v, w,
-                  F, M, contact_force, contact_length):
+def seabed_height(bed_s, bed_z, bed_dir, x, y, out):
+    """Seabed height and its gradient under (x, y): out = [z_b, dz/dx, dz/dy]."""
+    s = x * bed_dir[0] + y * bed_dir[1]
+    m = bed_s.shape[0]
+    j = 0
+    # profiles are short: a linear scan (segment j spans points j .. j+1)
+    while j < m - 2 and s > bed_s[j + 1]:
+        j += 1
+    g = (bed_z[j + 1] - bed_z[j]) / (bed_s[j + 1] - bed_s[j])
+    out[0] = bed_z[j] + g * (s - bed_s[j])
+    out[1] = g * bed_dir[0]
+    out[2] = g * bed_dir[1]
+
+
+@njit(cache=True)
+def seabed_forces(rfe_length, rfe_contact_radius, rfe_seabed_c, bed_s, bed_z, bed_dir, seabed_k, mu, kt,
+                  R, r, v, w, F, M, contact_force, contact_length, anchor, anchored, anchor_trial,
+                  anchored_trial, mode, friction_force, tmp):
+    """Normal contact and friction of every RFE (see the module text). ``mu`` = [axial,
+    lateral] coefficients; ``kt`` the stick stiffness per unit length; ``anchor``/``anchored``
+    the committed friction anchors (read), ``anchor_trial``/``anchored_trial`` written;
+    ``friction_force`` (n, 3) the friction force on each RFE; ``tmp`` a (3,) scratch."""
+    fmode = mode[0]
     for i in range(rfe_length.shape[0]):
         contact_force[i] = 0.0
         contact_length[i] = 0.0
+        anchored_trial[i] = 0
+        for k in range(3):
+            friction_force[i, k] = 0.0
+            anchor_trial[i, k] = r[i, k]
+        seabed_height(bed_s, bed_z, bed_dir, r[i, 0], r[i, 1], tmp)
+        gx = tmp[1]
+        gy = tmp[2]
+        inv = 1.0 / math.sqrt(1.0 + gx * gx + gy * gy)
+        nx = -gx * inv
+        ny = -gy * inv
+        nz = inv
         hl = 0.5 * rfe_length[i]
+        tx = R[i, 0, 0]
+        ty = R[i, 1, 0]
         tz = R[i, 2, 0]
         a = rfe_contact_radius[i]
-        pl = seabed_z - (r[i, 2] - hl * tz - a)
-        pr = seabed_z - (r[i, 2] + hl * tz - a)
+        dc = (r[i, 2] - tmp[0]) * nz          # height of the centre above the seabed plane
+        dt = nx * tx + ny * ty + nz * tz
+        pl = a - (dc - hl * dt)
+        pr = a - (dc + hl * dt)
         if pl <= 0.0 and pr <= 0.0:
             continue
         L = rfe_length[i]
@@ -43,16 +100,88 @@ def seabed_forces(rfe_length, rfe_contact_radius, rfe_seabed_c, seabed_z, seabed
             fk = 0.5 * seabed_k * lc * pr
             sc = L - lc / 3.0
         off = sc - hl
-        dx = off * R[i, 0, 0]
-        dy = off * R[i, 1, 0]
-        # vertical velocity at the contact centroid: v + w x d
+        dx = off * tx
+        dy = off * ty
         dz = off * tz
+        # normal velocity at the contact centroid: (v + w x d) . n
+        vx = v[i, 0] + w[i, 1] * dz - w[i, 2] * dy
+        vy = v[i, 1] + w[i, 2] * dx - w[i, 0] * dz
         vz = v[i, 2] + w[i, 0] * dy - w[i, 1] * dx
-        fn = fk - rfe_seabed_c[i] * lc * vz
+        fn = fk - rfe_seabed_c[i] * lc * (vx * nx + vy * ny + vz * nz)
         if fn < 0.0:
             fn = 0.0
-        F[i, 2] += fn
-        M[i, 0] += dy * fn
-        M[i, 1] -= dx * fn
+        fx = fn * nx
+        fy = fn * ny
+        fz = fn * nz
         contact_force[i] = fn
         contact_length[i] = lc
+        if fmode != 2 and fn > 0.0 and (mu[0] > 0.0 or mu[1] > 0.0):
+            # axial direction on the seabed e1 (the RFE axis projected), lateral e2 = n x e1
+            e1x = tx - dt * nx
+            e1y = ty - dt * ny
+            e1z = tz - dt * nz
+            ne = math.sqrt(e1x * e1x + e1y * e1y + e1z * e1z)
+            if ne < 1e-12:
+                # a vertical RFE standing on the seabed: any tangent will do
+                e1x = nz
+                e1y = 0.0
+                e1z = -nx
+                ne = math.sqrt(e1x * e1x + e1z * e1z)
+            e1x /= ne
+            e1y /= ne
+            e1z /= ne
+            e2x = ny * e1z - nz * e1y
+            e2y = nz * e1x - nx * e1z
+            e2z = nx * e1y - ny * e1x
+            klc = kt * lc
+            if fmode == 1:
+                f1 = -mu[0] * fn
+                f2 = 0.0
+            elif anchored[i] == 0:
+                f1 = 0.0        # first touch: the anchor is where the RFE is now
+                f2 = 0.0
+            else:
+                ux = r[i, 0] - anchor[i, 0]
+                uy = r[i, 1] - anchor[i, 1]
+                uz = r[i, 2] - anchor[i, 2]
+                f1 = -klc * (ux * e1x + uy * e1y + uz * e1z)
+                f2 = -klc * (ux * e2x + uy * e2y + uz * e2z)
+                if mu[0] <= 0.0:
+                    f1 = 0.0
+                if mu[1] <= 0.0:
+                    f2 = 0.0
+                q1 = f1 / mu[0] if mu[0] > 0.0 else 0.0
+                q2 = f2 / mu[1] if mu[1] > 0.0 else 0.0
+                phi = math.sqrt(q1 * q1 + q2 * q2)
+                if phi > fn:
+                    f1 *= fn / phi
+                    f2 *= fn / phi
+            ffx = f1 * e1x + f2 * e2x
+            ffy = f1 * e1y + f2 * e2y
+            ffz = f1 * e1z + f2 * e2z
+            friction_force[i, 0] = ffx
+            friction_force[i, 1] = ffy
+            friction_force[i, 2] = ffz
+            anchored_trial[i] = 1
+            anchor_trial[i, 0] = r[i, 0] + ffx / klc
+            anchor_trial[i, 1] = r[i, 1] + ffy / klc
+            anchor_trial[i, 2] = r[i, 2] + ffz / klc
+            fx += ffx
+            fy += ffy
+            fz += ffz
+        F[i, 0] += fx
+        F[i, 1] += fy
+        F[i, 2] += fz
+        # moment of the contact force at the centroid d: d x f
+        M[i, 0] += dy * fz - dz * fy
+        M[i, 1] += dz * fx - dx * fz
+        M[i, 2] += dx * fy - dy * fx
+
+
+@njit(cache=True)
+def commit_friction(anchor, anchored, anchor_trial, anchored_trial):
+    """Accept the trial friction anchors of the last evaluation (after an accepted step)."""
+    for i in range(anchor.shape[0]):
+        anchored[i] = anchored_trial[i]
+        for k in range(3):
+            anchor[i, k] = anchor_trial[i, k]

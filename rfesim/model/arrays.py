@@ -52,13 +52,22 @@ class KernelModel(NamedTuple):
     gravity: float                  # m/s^2
     water_density: float            # kg/m^3
     water_level: float              # m, z of the still surface
-    seabed_z: float                 # m
+    seabed_z: float                 # m, seabed z under the global origin
     seabed_k: float                 # N/m/m, normal stiffness per unit length
+    bed_s: np.ndarray               # (np,) m, seabed profile distances along bed_dir (a plane: 2 points)
+    bed_z: np.ndarray               # (np,) m, seabed z at those distances
+    bed_dir: np.ndarray             # (2,) horizontal unit direction of the profile axis
+    seabed_mu: np.ndarray           # (2,) friction coefficients [axial, lateral]
+    seabed_kt: float                # N/m/m, stick-spring stiffness per unit length in contact
     # --- what the scene contains (a term it does not contain costs nothing)
     has_water: bool
     has_morison: bool
     has_seabed: bool
     has_loads: bool
+    has_friction: bool
+    has_sea: bool                   # waves or current: water kinematics evaluated at the RFEs
+    sea: object                     # rfesim.sea.kernel.SeaSpec (wave components, current profile)
+    sea_still: object               # the same without waves (statics: still water plus current)
 
 
 class Workspace(NamedTuple):
@@ -92,6 +101,15 @@ class Workspace(NamedTuple):
     tmp3: np.ndarray        # (8, 3) scratch
     v3: np.ndarray          # (32, 3) scratch vectors of the kernels (no allocation in hot loops)
     m33: np.ndarray         # (16, 3, 3) scratch matrices of the kernels
+    # --- history (committed at accepted steps) and its trial values written by an evaluation
+    fric_anchor: np.ndarray          # (n, 3) m, committed seabed friction anchor of each RFE
+    fric_anchored: np.ndarray        # (n,) int64, 1 when the committed anchor is valid
+    fric_anchor_trial: np.ndarray    # (n, 3) m
+    fric_anchored_trial: np.ndarray  # (n,) int64
+    fric_mode: np.ndarray            # (1,) int64: 0 stick/slip, 1 mobilised towards end A (statics), 2 off
+    friction_force: np.ndarray       # (n, 3) N, seabed friction force on each RFE
+    waves_off: np.ndarray            # (1,) int64, 1: still water plus current (statics), 0: waves on
+    point1: np.ndarray               # (1, 3) m, scratch point for one-point sea kinematics
 
 
 class Reference(NamedTuple):
@@ -112,6 +130,7 @@ class AttachmentState(NamedTuple):
     w: np.ndarray       # (natt, 3) rad/s
     a: np.ndarray       # (natt, 3) m/s^2
     alpha: np.ndarray   # (natt, 3) rad/s^2
+    time: np.ndarray    # (1,) s, the time these kinematics are for (time-dependent loads read it)
     scratch: np.ndarray  # (16, 3) work space of the compiled kinematics
 
 
@@ -124,11 +143,14 @@ def new_workspace(n: int, nsde: int) -> Workspace:
         water_vel=np.zeros((n, 3)), water_acc=np.zeros((n, 3)), sub_frac=np.zeros(n),
         sub_point=np.zeros((n, 3)), contact_force=np.zeros(n), contact_length=np.zeros(n),
         Mgen=np.zeros((n, 6, 6)), fgen=np.zeros((n, 6)), tmp3=np.zeros((8, 3)),
-        v3=np.zeros((32, 3)), m33=np.zeros((16, 3, 3)))
+        v3=np.zeros((32, 3)), m33=np.zeros((16, 3, 3)),
+        fric_anchor=np.zeros((n, 3)), fric_anchored=np.zeros(n, np.int64), fric_anchor_trial=np.zeros((n, 3)),
+        fric_anchored_trial=np.zeros(n, np.int64), fric_mode=np.zeros(1, np.int64),
+        friction_force=np.zeros((n, 3)), waves_off=np.zeros(1, np.int64), point1=np.zeros((1, 3)))
 
 
 def new_attachment_state(natt: int) -> AttachmentState:
     R = np.zeros((natt, 3, 3))
     R[:] = np.eye(3)
     return AttachmentState(p=np.zeros((natt, 3)), R=R, v=np.zeros((natt, 3)), w=np.zeros((natt, 3)),
-                           a=np.zeros((natt, 3)), alpha=np.zeros((natt, 3)), scratch=np.zeros((16, 3)))
+                           a=np.zeros((natt, 3)), alpha=np.zeros((natt, 3)), time=np.zeros(1), scratch=np.zeros((16, 3)))

@@ -26,7 +26,8 @@ from ..loads.gravity import gravity_forces
 from ..loads.hydro import buoyancy_forces, morison_forces, submergence
 from ..loads.point import point_loads
 from ..loads.sde import sde_forces_into
-from ..loads.seabed import seabed_forces
+from ..loads.seabed import commit_friction, seabed_forces
+from ..sea.kernel import sea_kinematics_into
 
 
 @njit(cache=True)
@@ -94,7 +95,7 @@ def poses(km, att, q, qd, ref, ws):
 
 
 @njit(cache=True)
-def accumulate_forces(km, ws, scale):
+def accumulate_forces(km, att, ws, scale):
     """Zero the accumulators and add every load module the scene contains."""
     n = ws.F.shape[0]
     for i in range(n):
@@ -104,16 +105,33 @@ def accumulate_forces(km, ws, scale):
     sde_forces_into(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, km.sde_stiffness,
                     km.sde_damping, ws.R, ws.rbase, ws.roff, ws.v, ws.w, ws.F, ws.M, ws.eps, ws.sigma, ws.sde_point,
                     ws.v3, ws.m33)
-    local_loads(km, ws, scale)
+    local_loads(km, att, ws, scale)
 
 
 @njit(cache=True)
-def local_loads(km, ws, scale):
+def local_loads(km, att, ws, scale):
     """Every load that acts on one RFE alone (all but the SDEs), added to ws.F, ws.M."""
     if km.gravity != 0.0:
         gravity_forces(km.rfe_mass, km.rfe_kind, km.gravity, scale, ws.F)
     if km.has_water:
+        if km.has_sea:
+            water_kinematics(km, att, ws)
+        else:
+            for i in range(ws.surface_z.shape[0]):
+                ws.surface_z[i] = km.water_level
         submergence(km.rfe_length, km.rfe_disp_area, ws.R, ws.r, ws.surface_z, ws.sub_frac, ws.sub_point)
+        if km.has_sea:
+            # an RFE cut by the surface: water kinematics at the centroid of its wet part
+            for i in range(ws.sub_frac.shape[0]):
+                if 0.0 < ws.sub_frac[i] < 1.0:
+                    for k in range(3):
+                        ws.point1[0, k] = ws.sub_point[i, k]
+                    if ws.waves_off[0] == 0:
+                        sea_kinematics_into(km.sea, att.time[0], ws.point1, ws.tmp3[0, 0:1],
+                                            ws.water_vel[i:i + 1], ws.water_acc[i:i + 1])
+                    else:
+                        sea_kinematics_into(km.sea_still, 0.0, ws.point1, ws.tmp3[0, 0:1],
+                                            ws.water_vel[i:i + 1], ws.water_acc[i:i + 1])
         buoyancy_forces(km.rfe_length, km.rfe_disp_area, km.rfe_kind, km.water_density, km.gravity, scale,
                         ws.r, ws.sub_frac, ws.sub_point, ws.F, ws.M)
         if km.has_morison:
@@ -121,11 +139,23 @@ def local_loads(km, ws, scale):
                            km.rfe_cat, km.water_density, ws.R, ws.r, ws.v, ws.w, ws.sub_frac, ws.sub_point,
                            ws.water_vel, ws.water_acc, ws.F, ws.M, ws.Ma, ws.Ja)
     if km.has_seabed:
-        seabed_forces(km.rfe_length, km.rfe_contact_radius, km.rfe_seabed_c, km.seabed_z, km.seabed_k,
-                      ws.R, ws.r, ws.v, ws.w, ws.F, ws.M, ws.contact_force, ws.contact_length)
+        seabed_forces(km.rfe_length, km.rfe_contact_radius, km.rfe_seabed_c, km.bed_s, km.bed_z, km.bed_dir,
+                      km.seabed_k, km.seabed_mu, km.seabed_kt, ws.R, ws.r, ws.v, ws.w, ws.F, ws.M,
+                      ws.contact_force, ws.contact_length, ws.fric_anchor, ws.fric_anchored, ws.fric_anchor_trial,
+                      ws.fric_anchored_trial, ws.fric_mode, ws.friction_force, ws.v3[31])
     if km.has_loads:
         point_loads(km.load_rfe, km.load_arm, km.load_force, km.load_moment, km.load_local, scale,
                     ws.R, ws.F, ws.M, ws.tmp3)
+
+
+@njit(cache=True)
+def water_kinematics(km, att, ws):
+    """Free surface, water velocity and acceleration at every RFE centre (waves and
+    current, rfesim.sea); with ``ws.waves_off`` (statics) still water plus current."""
+    if ws.waves_off[0] == 0:
+        sea_kinematics_into(km.sea, att.time[0], ws.r, ws.surface_z, ws.water_vel, ws.water_acc)
+    else:
+        sea_kinematics_into(km.sea_still, 0.0, ws.r, ws.surface_z, ws.water_vel, ws.water_acc)
 
 
 @njit(cache=True)
@@ -137,7 +167,7 @@ def evaluate_frozen_sde(km, att, q, qd, ref, ws, scale, Fsde, Msde):
         for k in range(3):
             ws.F[i, k] = Fsde[i, k]
             ws.M[i, k] = Msde[i, k]
-    local_loads(km, ws, scale)
+    local_loads(km, att, ws, scale)
     project(km, att, ws)
 
 
@@ -265,8 +295,16 @@ def project(km, att, ws):
 def evaluate(km, att, q, qd, ref, ws, scale):
     """One evaluation of the equations of motion: fills ws (poses, forces, Mgen, fgen)."""
     poses(km, att, q, qd, ref, ws)
-    accumulate_forces(km, ws, scale)
+    accumulate_forces(km, att, ws, scale)
     project(km, att, ws)
+
+
+@njit(cache=True)
+def commit_history(km, ws):
+    """Accept the trial history of the last evaluation (seabed friction anchors) as the
+    state after an accepted step: called by every integrator once per step."""
+    if km.has_friction:
+        commit_friction(ws.fric_anchor, ws.fric_anchored, ws.fric_anchor_trial, ws.fric_anchored_trial)
 
 
 @njit(cache=True)

@@ -17,6 +17,7 @@ import numpy as np
 from ..errors import ScenarioError
 from ..kinematics import frame_from_tangent, minimal_rotation
 from ..vessel import VesselMotion, make_vessel_motion
+from ..sea.kernel import sea_spec
 from .arrays import (KIND_CLAMPED, KIND_FREE, KIND_PINNED, AttachmentState, KernelModel, Reference,
                      new_attachment_state)
 from .sections import Section, section_from_type
@@ -294,7 +295,7 @@ def compile_scenario(sc, start: str | None = None) -> Model:
     """Build the frozen model arrays and the initial state of a validated scenario."""
     env = sc.environment
     attachment_names = ["fixed"] + list(sc.vessels)
-    motions: list[VesselMotion | None] = [None] + [make_vessel_motion(v) for v in sc.vessels.values()]
+    motions: list[VesselMotion | None] = [None] + [make_vessel_motion(v, env) for v in sc.vessels.values()]
     att0 = new_attachment_state(len(attachment_names))
     for j, motion in enumerate(motions):
         if motion is not None:
@@ -385,7 +386,9 @@ def compile_scenario(sc, start: str | None = None) -> Model:
             if d >= L * (1.0 - 1e-9) or start == "straight" or env.gravity == 0.0:
                 curve = _straight(A, chord, L, stretch=d / L)
             else:
-                curve = _catenary_curve(A, B, L, _submerged_weight(sec, sc), sec.EA, seabed_z,
+                low = A if A[2] <= B[2] else B
+                curve = _catenary_curve(A, B, L, _submerged_weight(sec, sc), sec.EA,
+                                        env.seabed_z_at(float(low[0]), float(low[1])),
                                         0.5 * sec.outer_diameter, seabed.normal_stiffness if seabed else 0.0)
                 if curve is None:
                     curve = _sagged_curve(A, B, L)
@@ -494,9 +497,21 @@ def compile_scenario(sc, start: str | None = None) -> Model:
     f = lambda key, shape, dt=float: (np.asarray(rfe[key], dtype=dt).reshape(shape))  # noqa: E731
     n = n_total
     has_water = water is not None and any(li.section.outer_diameter > 0 for li in lines)
-    has_morison = has_water and any(li.section.drag_normal > 0 or li.section.drag_axial > 0
-                                    or li.section.added_mass_normal > 0 or li.section.added_mass_axial > 0
-                                    for li in lines)
+    sea = sea_spec(env)
+    sea_still = sea._replace(has_waves=False, amplitude=sea.amplitude[:0].copy(), omega=sea.omega[:0].copy(),
+                             wavenumber=sea.wavenumber[:0].copy(), phase=sea.phase[:0].copy(),
+                             cos_direction=sea.cos_direction[:0].copy(), sin_direction=sea.sin_direction[:0].copy(),
+                             ramp=0.0)
+    # waves act through Froude-Krylov inertia even without drag or added mass
+    has_morison = has_water and (sea.has_waves or any(
+        li.section.drag_normal > 0 or li.section.drag_axial > 0 or li.section.added_mass_normal > 0
+        or li.section.added_mass_axial > 0 for li in lines))
+    if seabed is not None:
+        ps, pz, pdir = seabed.profile_table(seabed_z)
+        bed_s, bed_z = np.asarray(ps, float), np.asarray(pz, float)
+        bed_dir = np.array([math.cos(math.radians(pdir)), math.sin(math.radians(pdir))])
+    else:
+        bed_s, bed_z, bed_dir = np.array([-1.0, 1.0]), np.array([-1e30, -1e30]), np.array([1.0, 0.0])
     km = KernelModel(
         rfe_mass=f("mass", (n,)), rfe_inertia=f("inertia", (n, 3)), rfe_length=f("length", (n,)),
         rfe_kind=f("kind", (n,), np.int64), rfe_attach=f("attach", (n,), np.int64),
@@ -519,8 +534,13 @@ def compile_scenario(sc, start: str | None = None) -> Model:
         water_level=float(water.surface_level) if water is not None else 0.0,
         seabed_z=float(seabed_z) if seabed_z is not None else -1e30,
         seabed_k=float(seabed.normal_stiffness) if seabed is not None else 0.0,
+        bed_s=bed_s, bed_z=bed_z, bed_dir=bed_dir,
+        seabed_mu=np.array([seabed.mu_axial, seabed.mu_lateral] if seabed is not None else [0.0, 0.0]),
+        seabed_kt=float((seabed.friction_stiffness or seabed.normal_stiffness) if seabed is not None else 0.0),
         has_water=bool(has_water), has_morison=bool(has_morison), has_seabed=seabed is not None,
         has_loads=len(loads["rfe"]) > 0,
+        has_friction=seabed is not None and (seabed.mu_axial > 0.0 or seabed.mu_lateral > 0.0),
+        has_sea=bool(has_water and (sea.has_waves or sea.has_current)), sea=sea, sea_still=sea_still,
     )
     dof_mask = np.ones((n, 6), dtype=bool)
     dof_mask[km.rfe_kind == KIND_PINNED, :3] = False

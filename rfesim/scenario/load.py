@@ -446,11 +446,14 @@ def _read_file(path: Path) -> tuple[str, str]:
     return text, "json" if path.suffix.lower() == ".json" else "auto"
 
 
-def load_scenario(source: str | os.PathLike | dict | Scenario, overrides: dict[str, Any] | None = None) -> Scenario:
+def load_scenario(source: str | os.PathLike | dict | Scenario, overrides: dict[str, Any] | None = None,
+                  base_dir: str | os.PathLike | None = None) -> Scenario:
     """Load a scenario from a JSON/YAML file path, JSON/YAML text, a dict or a Scenario.
 
     ``overrides`` maps dotted paths to values (``{"lines.pipe.elements": 40}``) applied
-    before validation, as a base file + load case.
+    before validation, as a base file + load case. Relative data-file paths in the
+    scenario (``file`` of a csv or rao vessel motion) are taken from ``base_dir``: by
+    default the scenario file's folder, or the current directory for text and dicts.
     """
     if isinstance(source, Scenario):
         if not overrides:
@@ -468,6 +471,8 @@ def load_scenario(source: str | os.PathLike | dict | Scenario, overrides: dict[s
             data = parse_text(source)
         else:
             data = parse_text(*_read_file(Path(source)))
+            if base_dir is None:
+                base_dir = Path(source).parent
     else:
         raise ScenarioError([("", f"a scenario must be a file path, JSON/YAML text or a mapping, "
                                   f"got {type(source).__name__}")])
@@ -475,4 +480,7 @@ def load_scenario(source: str | os.PathLike | dict | Scenario, overrides: dict[s
         if not isinstance(data, dict):
             raise ScenarioError([("", "a scenario must be a mapping")])
         data = apply_overrides(data, overrides)
+    if base_dir is not None:
+        from .files import resolve_data_files
+        data = resolve_data_files(data, base_dir)
     return validate_dict(data)

@@ -15,7 +15,7 @@ import types
 import typing
 from typing import Annotated, Any, Literal, Union
 
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, field_validator, model_validator
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, PrivateAttr, field_validator, model_validator
 
 
 class FieldError(ValueError):
@@ -115,19 +115,178 @@ NonNegativeFloat = Annotated[float, Field(ge=0.0)]
 
 # --------------------------------------------------------------------------- environment
 
+CurrentRow = Annotated[list[float], _fixed_length_numbers(2, "[z, speed]"), Field(min_length=2, max_length=2)]
+FactorRow = Annotated[list[float], _fixed_length_numbers(2, "[t, factor]"), Field(min_length=2, max_length=2)]
+ElevationRow = Annotated[list[float], _fixed_length_numbers(2, "[t, eta]"), Field(min_length=2, max_length=2)]
+Vector2 = Annotated[list[float], _fixed_length_numbers(2, "[x, y]"), Field(min_length=2, max_length=2)]
+
+_TOWARD = "from global x toward global y (about z): 0 = along +x, 90 = along +y, 180 = along -x"
+
+
+class Current(_Strict):
+    """Current: a horizontal speed profile over z flowing toward ``direction_deg``
+    (rfesim.sea.current)."""
+
+    profile: list[CurrentRow] = Field(
+        ..., min_length=1,
+        description="Rows [z (m, absolute, at or below the still water surface), speed (m/s)], in any order; "
+                    "linear in z between rows, constant above the highest and below the lowest row",
+        json_schema_extra={"units": "m, m/s"})
+    direction_deg: float = _units("deg", f"Direction the current flows TOWARD, {_TOWARD}", default=0.0)
+    time_factor: list[FactorRow] | None = Field(
+        None, min_length=1,
+        description="Optional rows [t (s), factor (-)] multiplying the profile, linear in t, constant beyond "
+                    "the ends", json_schema_extra={"units": "s, 1"})
+
+    @model_validator(mode="after")
+    def _tables(self):
+        seen: dict[float, int] = {}
+        for i, (z, _) in enumerate(self.profile):
+            if z in seen:
+                raise FieldError(f"profile.{i}", f"z = {z} m is given twice (rows {seen[z]} and {i})")
+            seen[z] = i
+        rows = self.time_factor or []
+        for i in range(1, len(rows)):
+            if not rows[i][0] > rows[i - 1][0]:
+                raise FieldError(f"time_factor.{i}", f"time {rows[i][0]} s does not increase "
+                                                     f"(previous {rows[i - 1][0]} s)")
+        return self
+
+
+class _Waves(_Strict):
+    """Settings shared by every wave kind (rfesim.sea.waves)."""
+
+    direction_deg: float = _units("deg", f"Direction the waves travel TOWARD, {_TOWARD}", default=0.0)
+    stretching: Literal["wheeler", "none", "vertical", "linear"] = Field(
+        "wheeler", description="Kinematics up to the instantaneous surface: wheeler (Airy profile stretched "
+                               "over [-h, eta]), none (Airy expressions at the actual z), vertical (constant "
+                               "above still water), linear (Taylor extrapolation above still water)")
+    ramp_duration: float = _units("s", "The waves are ramped in with 0.5*(1-cos(pi*t/T)) over this time "
+                                  "(an RAO vessel motion follows the same ramp)", default=0.0, ge=0.0)
+    deep_water: bool = Field(False, description="Deep-water dispersion and kinematics (k = omega^2/g, exp(k z)) "
+                                                "even with a finite depth; needed when no depth is given")
+
+
+class AiryWaves(_Waves):
+    """A regular linear wave: eta = H/2 cos(omega t - k (x cos b + y sin b) + phase)."""
+
+    kind: Literal["airy"]
+    height: float = _units("m", "Wave height H, crest to trough (amplitude H/2)", gt=0.0)
+    period: float = _units("s", "Wave period", gt=0.0)
+    phase_deg: float = _units("deg", "Phase: eta = H/2*cos(2*pi*t/period - k*(x*cos(b) + y*sin(b)) + phase)",
+                              default=0.0)
+
+
+class _SpectrumWaves(_Waves):
+    hs: float = _units("m", "Significant wave height (4 sqrt(m0))", gt=0.0)
+    tp: float = _units("s", "Spectral peak period", gt=0.0)
+    seed: int = Field(0, ge=0, le=2 ** 63 - 1, description="Seed of the random frequencies and phases "
+                                                          "(numpy default_rng): the same seed, the same sea")
+    components: int = Field(200, ge=1, le=20000, description="Number of wave components")
+    discretisation: Literal["geometric", "equal-spacing", "equal-energy"] = Field(
+        "geometric", description="Frequency bins: geometric (constant d_omega/omega), equal-spacing or "
+                                 "equal-energy; each component has the energy of its bin and a random "
+                                 "frequency inside it")
+    omega_min: float | None = _units("rad/s", "Lowest frequency (default 0.5*2*pi/tp)", default=None, gt=0.0)
+    omega_max: float | None = _units("rad/s", "Highest frequency (default 10*2*pi/tp)", default=None, gt=0.0)
+
+    @model_validator(mode="after")
+    def _range(self):
+        wp = 2.0 * math.pi / self.tp
+        lo = self.omega_min if self.omega_min is not None else 0.5 * wp
+        hi = self.omega_max if self.omega_max is not None else 10.0 * wp
+        if not hi > lo:
+            raise FieldError("omega_max", f"{hi:.6g} rad/s must exceed omega_min {lo:.6g} rad/s")
+        if not lo < wp < hi:
+            raise FieldError("omega_min" if lo >= wp else "omega_max",
+                             f"the range [{lo:.6g}, {hi:.6g}] rad/s must contain the peak 2*pi/tp = {wp:.6g} rad/s")
+        return self
+
+
+class JonswapWaves(_SpectrumWaves):
+    """JONSWAP spectrum (DNV-RP-C205 form), random phases."""
+
+    kind: Literal["jonswap"]
+    gamma: float | None = Field(None, ge=1.0, le=10.0, description="Peak enhancement factor [-] (default: the "
+                                                                   "DNV-RP-C205 rule from tp/sqrt(hs))")
+    sigma_a: float = Field(0.07, gt=0.0, le=1.0, description="Spectral width below the peak [-]")
+    sigma_b: float = Field(0.09, gt=0.0, le=1.0, description="Spectral width above the peak [-]")
+
+
+class PiersonMoskowitzWaves(_SpectrumWaves):
+    """Pierson-Moskowitz spectrum (JONSWAP with gamma = 1), random phases."""
+
+    kind: Literal["pierson-moskowitz"]
+
+
+class TimeSeriesWaves(_Waves):
+    """A recorded (or designed) elevation time series at one point, split into its Fourier
+    components, which then travel as long-crested linear waves."""
+
+    kind: Literal["time-series"]
+    rows: list[ElevationRow] = Field(..., min_length=4, description="Rows [t (s), eta (m)] at equal time steps: "
+                                     "the elevation above still water at origin (repeats with the record length)",
+                                     json_schema_extra={"units": "s, m"})
+    origin: Vector2 = _units("m", "Point [x, y] where the record was taken", default=[0.0, 0.0])
+    omega_max: float | None = _units("rad/s", "Drop the components above this frequency", default=None, gt=0.0)
+
+    @model_validator(mode="after")
+    def _steps(self):
+        t = [r[0] for r in self.rows]
+        dt = t[1] - t[0]
+        for i in range(1, len(t)):
+            if not t[i] > t[i - 1]:
+                raise FieldError(f"rows.{i}", f"time {t[i]} s does not increase (previous {t[i - 1]} s)")
+            if abs((t[i] - t[i - 1]) - dt) > 1e-6 * dt:
+                raise FieldError(f"rows.{i}", f"time step {t[i] - t[i - 1]:.9g} s differs from the first step "
+                                              f"{dt:.9g} s: the record must be sampled at equal steps")
+        return self
+
+
+Waves = Annotated[Union[AiryWaves, JonswapWaves, PiersonMoskowitzWaves, TimeSeriesWaves], Field(discriminator="kind")]
+
+
 class Water(_Strict):
-    """Sea water: density, depth and still-water level."""
+    """Sea water: density, depth, still-water level, current and waves."""
 
     density: float = _units("kg/m^3", "Mass density of sea water", default=1025.0, gt=0.0)
     depth: float | None = _units("m", "Water depth below the still surface (seabed at surface_level - depth)",
                                  default=None, gt=0.0)
     surface_level: float = _units("m", "z of the still water surface", default=0.0)
+    current: Current | None = Field(None, description="Current profile; omit for none")
+    waves: Waves | None = Field(None, description="Waves: kind airy, jonswap, pierson-moskowitz or time-series; "
+                                                  "omit for still water")
+
+    @model_validator(mode="after")
+    def _current_in_water(self):
+        if self.current is not None:
+            for i, (z, _) in enumerate(self.current.profile):
+                if z > self.surface_level + 1e-9 * max(1.0, abs(self.surface_level)):
+                    raise FieldError(f"current.profile.{i}", f"z = {z} m is above the still water surface "
+                                                             f"(z = {self.surface_level} m): profile heights are "
+                                                             f"absolute z, negative below the surface")
+        return self
+
+
+ProfilePoint = Annotated[list[float], _fixed_length_numbers(2, "[distance, z]"), Field(min_length=2, max_length=2)]
 
 
 class Seabed(_Strict):
-    """Flat horizontal seabed: a normal spring-damper per unit length of line."""
+    """Seabed: a flat plane, a sloped plane or a 2-D profile, with a normal spring-damper and
+    Coulomb friction (spring-slider stick/slip) per unit length of line in contact."""
 
-    z: float | None = _units("m", "z of the seabed plane (default: surface_level - water.depth)", default=None)
+    z: float | None = _units("m", "z of the seabed at the global origin (default: surface_level - water.depth)",
+                             default=None)
+    slope_deg: float = _units("deg", "Inclination of a plane seabed (0: horizontal)", default=0.0, gt=-60.0, lt=60.0)
+    slope_direction_deg: float = _units("deg", "Direction (from global x, about z) in which a sloped seabed rises",
+                                        default=0.0)
+    profile: list[ProfilePoint] | None = Field(
+        None, min_length=2,
+        description="2-D seabed profile: rows [horizontal distance (m) along profile_direction_deg from the "
+                    "global origin, seabed z (m)], distances increasing; linear between rows, the end slopes "
+                    "continue beyond the table", json_schema_extra={"units": "m"})
+    profile_direction_deg: float = _units("deg", "Direction of the profile's distance axis (from global x)",
+                                          default=0.0)
     normal_stiffness: float = _units("N/m/m", "Normal contact stiffness per unit length of line",
                                      default=1.0e5, gt=0.0)
     damping_ratio: float = Field(0.2, ge=0.0, le=10.0,
@@ -135,8 +294,51 @@ class Seabed(_Strict):
                                              "mass per length on the seabed spring [-]",
                                  json_schema_extra={"units": "1"})
     friction: float = Field(0.0, ge=0.0, le=5.0,
-                            description="Coulomb friction coefficient (axial and lateral) [-]",
+                            description="Coulomb friction coefficient, axial and lateral [-]",
                             json_schema_extra={"units": "1"})
+    friction_axial: float | None = Field(None, ge=0.0, le=5.0,
+                                         description="Axial friction coefficient (default: friction) [-]",
+                                         json_schema_extra={"units": "1"})
+    friction_lateral: float | None = Field(None, ge=0.0, le=5.0,
+                                           description="Lateral friction coefficient (default: friction) [-]",
+                                           json_schema_extra={"units": "1"})
+    friction_stiffness: float | None = _units(
+        "N/m/m", "Tangential stiffness of the stick spring per unit length in contact: a sticking line moves "
+                 "friction_force / (stiffness * length) before it slides (default: normal_stiffness)",
+        default=None, gt=0.0)
+
+    @model_validator(mode="after")
+    def _geometry(self):
+        if self.profile is not None:
+            if self.slope_deg != 0.0:
+                raise FieldError("profile", "give either a slope or a profile, not both")
+            if self.z is not None:
+                raise FieldError("z", "a profile gives the seabed z itself; leave z out")
+            for i in range(1, len(self.profile)):
+                if not self.profile[i][0] > self.profile[i - 1][0]:
+                    raise FieldError(f"profile.{i}", f"distance {self.profile[i][0]} m does not increase "
+                                                     f"(previous {self.profile[i - 1][0]} m)")
+            for i in range(1, len(self.profile)):
+                d = self.profile[i][0] - self.profile[i - 1][0]
+                if abs(self.profile[i][1] - self.profile[i - 1][1]) > math.tan(math.radians(60.0)) * d:
+                    raise FieldError(f"profile.{i}", "the profile is steeper than 60 degrees here")
+        return self
+
+    @property
+    def mu_axial(self) -> float:
+        return self.friction if self.friction_axial is None else self.friction_axial
+
+    @property
+    def mu_lateral(self) -> float:
+        return self.friction if self.friction_lateral is None else self.friction_lateral
+
+    def profile_table(self, z_origin: float | None) -> tuple[list[float], list[float], float]:
+        """The seabed as (distances, z values, direction_deg): a profile, or the plane through
+        z_origin with the given slope (two points; the end slopes continue)."""
+        if self.profile is not None:
+            return [p[0] for p in self.profile], [p[1] for p in self.profile], self.profile_direction_deg
+        g = math.tan(math.radians(self.slope_deg))
+        return [-1.0, 1.0], [z_origin - g, z_origin + g], self.slope_direction_deg
 
 
 class Environment(_Strict):
@@ -146,6 +348,12 @@ class Environment(_Strict):
 
     @model_validator(mode="after")
     def _seabed_level(self):
+        if self.seabed is not None and self.seabed.profile is not None:
+            if self.water is not None:
+                for i, (_, zp) in enumerate(self.seabed.profile):
+                    if zp >= self.water.surface_level:
+                        raise FieldError(f"seabed.profile.{i}", f"z = {zp} m is not below the water surface")
+            return self
         if self.seabed is not None and self.seabed.z is None:
             if self.water is None or self.water.depth is None:
                 raise FieldError("seabed.z", "give the seabed level z or a water depth")
@@ -159,13 +367,60 @@ class Environment(_Strict):
             raise FieldError("seabed.z", "the seabed must lie below the water surface")
         return self
 
+    @model_validator(mode="after")
+    def _waves_fit_the_water(self):
+        waves = self.water.waves if self.water is not None else None
+        if waves is None:
+            return self
+        depth = self.water.depth
+        if depth is None and self.seabed is not None:
+            depth = self.water.surface_level - self.seabed_z()
+        if depth is None and not waves.deep_water:
+            raise FieldError("water.depth", "waves need the water depth (give water.depth or a seabed), or set "
+                                            "water.waves.deep_water: true for deep-water waves")
+        if self.gravity <= 0.0:
+            raise FieldError("gravity", "waves need gravity (> 0)")
+        from ..sea.waves import breaking_steepness, sea_state_steepness_limit, wavelength
+        h = None if waves.deep_water else depth
+        if waves.kind == "airy":
+            length = wavelength(waves.period, h, self.gravity)
+            limit = breaking_steepness(waves.period, h, self.gravity)
+            if waves.height / length > limit:
+                raise FieldError("water.waves.height",
+                                 f"{waves.height} m on a {length:.4g} m long wave (H/L = {waves.height / length:.4g}) "
+                                 f"is steeper than the breaking limit H/L = tanh(kh)/7 = {limit:.4g}")
+        elif waves.kind in ("jonswap", "pierson-moskowitz"):
+            steepness = 2.0 * math.pi * waves.hs / (self.gravity * waves.tp ** 2)
+            limit = sea_state_steepness_limit(waves.tp)
+            if steepness > limit:
+                raise FieldError("water.waves.hs",
+                                 f"{waves.hs} m at tp = {waves.tp} s is steeper (2*pi*hs/(g*tp^2) = {steepness:.4g}) "
+                                 f"than a sea state can be (DNV-RP-C205 limit {limit:.4g}): lower hs or raise tp")
+        return self
+
     def seabed_z(self) -> float | None:
         """The z of the seabed plane, or None without a seabed."""
         if self.seabed is None:
             return None
+        if self.seabed.profile is not None:
+            return self.seabed_z_at(0.0, 0.0)
         if self.seabed.z is not None:
             return self.seabed.z
         return self.water.surface_level - self.water.depth
+
+    def seabed_z_at(self, x: float, y: float) -> float | None:
+        """The z of the seabed under the horizontal position (x, y), or None without a seabed."""
+        if self.seabed is None:
+            return None
+        sb = self.seabed
+        z0 = None if sb.profile is not None else (sb.z if sb.z is not None
+                                                   else self.water.surface_level - self.water.depth)
+        ds, zs, direction = sb.profile_table(z0)
+        s = x * math.cos(math.radians(direction)) + y * math.sin(math.radians(direction))
+        j = 0
+        while j < len(ds) - 2 and s > ds[j + 1]:
+            j += 1
+        return zs[j] + (zs[j + 1] - zs[j]) / (ds[j + 1] - ds[j]) * (s - ds[j])
 
 
 # --------------------------------------------------------------------------- vessels
@@ -218,7 +473,137 @@ class TableMotion(_Strict):
         return self
 
 
-VesselMotion = Annotated[Union[FixedMotion, HarmonicMotion, TableMotion], Field(discriminator="kind")]
+class RaoDof(_Strict):
+    """Displacement RAO of one degree of freedom: one row per frequency (or period), one
+    value per heading."""
+
+    amplitude: list[list[float]] = Field(..., min_length=1, description="RAO amplitude [m/m for surge, sway, "
+                                         "heave; deg/m for roll, pitch, yaw], rows per frequency, columns per "
+                                         "heading", json_schema_extra={"units": "m/m or deg/m"})
+    phase_deg: list[list[float]] = Field(..., min_length=1, description="Phase LAG of the motion behind the wave "
+                                         "elevation at the vessel origin [deg], same layout as amplitude",
+                                         json_schema_extra={"units": "deg"})
+
+
+class RaoTable(_Strict):
+    """Displacement RAOs: motion_k(t) = sum_j a_j |RAO_k(omega_j, beta_j)| cos(omega_j t - k_j.x_v + phi_j -
+    phase_k), relative to the wave elevation a_j cos(omega_j t - k_j.x_v + phi_j) at the vessel origin x_v."""
+
+    description: str = Field("", max_length=10000, description="Free text: the vessel, loading condition, source")
+    periods: list[float] | None = _units("s", "Wave periods of the table rows (or give frequencies)", default=None)
+    frequencies: list[float] | None = _units("rad/s", "Wave frequencies of the table rows (or give periods)",
+                                             default=None)
+    headings_deg: list[float] = Field(..., min_length=1, description="Relative wave headings of the columns "
+                                      "[deg]: wave direction (toward) minus vessel heading; 0 = waves travel "
+                                      "along the vessel x axis (following seas), 90 = toward port (from "
+                                      "starboard), 180 = head seas", json_schema_extra={"units": "deg"})
+    symmetric: bool = Field(False, description="Port-starboard symmetric vessel: headings only in [0, 180]; "
+                                               "heading b > 180 uses 360 - b with sway, roll and yaw reversed")
+    surge: RaoDof | None = None
+    sway: RaoDof | None = None
+    heave: RaoDof | None = None
+    roll: RaoDof | None = None
+    pitch: RaoDof | None = None
+    yaw: RaoDof | None = None
+
+    @model_validator(mode="after")
+    def _layout(self):
+        if (self.periods is None) == (self.frequencies is None):
+            raise FieldError("periods", "give either periods or frequencies (one per table row)")
+        name = "periods" if self.periods is not None else "frequencies"
+        rows = self.periods if self.periods is not None else self.frequencies
+        if not rows:
+            raise FieldError(name, "needs at least one value")
+        for i, v in enumerate(rows):
+            if not v > 0.0:
+                raise FieldError(f"{name}.{i}", f"must be positive, got {v}")
+        if len(rows) > 1:
+            step = [rows[i] - rows[i - 1] for i in range(1, len(rows))]
+            if not (all(s > 0 for s in step) or all(s < 0 for s in step)):
+                raise FieldError(name, "must be strictly increasing or strictly decreasing")
+        h = self.headings_deg
+        for i in range(1, len(h)):
+            if not h[i] > h[i - 1]:
+                raise FieldError(f"headings_deg.{i}", f"{h[i]} deg does not increase (previous {h[i - 1]} deg)")
+        if h[-1] - h[0] > 360.0:
+            raise FieldError("headings_deg", "must span at most 360 deg")
+        if self.symmetric and (h[0] < 0.0 or h[-1] > 180.0):
+            raise FieldError("headings_deg", "a symmetric table has headings in [0, 180] deg")
+        given = [d for d in DOF_NAMES if getattr(self, d) is not None]
+        if not given:
+            raise FieldError("heave", "give the RAOs of at least one degree of freedom (surge ... yaw)")
+        for d in given:
+            dof = getattr(self, d)
+            for part in ("amplitude", "phase_deg"):
+                table = getattr(dof, part)
+                if len(table) != len(rows):
+                    raise FieldError(f"{d}.{part}", f"has {len(table)} rows, expected one per {name[:-1]} "
+                                                    f"({len(rows)})")
+                for i, row in enumerate(table):
+                    if len(row) != len(h):
+                        raise FieldError(f"{d}.{part}.{i}", f"has {len(row)} values, expected one per heading "
+                                                            f"({len(h)})")
+                    if part == "amplitude" and any(v < 0.0 for v in row):
+                        raise FieldError(f"{d}.{part}.{i}", "amplitudes must not be negative (use the phase)")
+        return self
+
+
+class RaoMotion(_Strict):
+    """Vessel motion from displacement RAOs and the scene's waves (rfesim.sea.rao)."""
+
+    kind: Literal["rao"]
+    raos: RaoTable | None = Field(None, description="The RAO table inline (or give file)")
+    file: str | None = Field(None, description="A JSON or YAML file with the RAO table (instead of raos); "
+                                               "relative paths are taken from the scenario file's folder")
+    _table: Any = PrivateAttr(default=None)
+
+    @model_validator(mode="after")
+    def _source(self):
+        if (self.raos is None) == (self.file is None):
+            raise FieldError("raos", "give the RAO table inline (raos) or a file, not both")
+        if self.file is not None:
+            from ..sea.rao import read_rao_file
+            try:
+                self._table = read_rao_file(self.file)
+            except ValueError as exc:
+                raise FieldError("file", str(exc)) from None
+        return self
+
+    def table(self) -> RaoTable:
+        return self.raos if self.raos is not None else self._table
+
+
+class CsvMotion(_Strict):
+    """A CSV file of time vs the six displacements: columns t (s), surge, sway, heave (m),
+    roll, pitch, yaw (deg); an optional header row names them (in any order); '#' starts
+    a comment line."""
+
+    kind: Literal["csv"]
+    file: str = Field(..., description="The CSV file; relative paths are taken from the scenario file's folder")
+    interpolation: Literal["cubic", "linear"] = "cubic"
+    ramp_duration: float = _units("s", "Ramp-in time of the motion", default=0.0, ge=0.0)
+    _rows: Any = PrivateAttr(default=None)
+
+    @model_validator(mode="after")
+    def _read(self):
+        from ..sea.motion_csv import read_motion_csv
+        try:
+            rows = read_motion_csv(self.file)
+        except ValueError as exc:
+            raise FieldError("file", str(exc)) from None
+        if self.interpolation == "cubic" and rows.shape[0] < 4:
+            raise FieldError("file", f"{self.file}: cubic interpolation needs at least 4 rows, got "
+                                     f"{rows.shape[0]} (or use interpolation 'linear')")
+        self._rows = rows
+        return self
+
+    def rows(self):
+        """(n, 7) array: t, surge, sway, heave (m), roll, pitch, yaw (deg)."""
+        return self._rows
+
+
+VesselMotion = Annotated[Union[FixedMotion, HarmonicMotion, TableMotion, RaoMotion, CsvMotion],
+                         Field(discriminator="kind")]
 
 
 class Vessel(_Strict):
@@ -237,7 +622,90 @@ class ElasticMaterial(_Strict):
     kind: Literal["elastic"] = "elastic"
 
 
-Material = Annotated[Union[ElasticMaterial], Field(discriminator="kind")]
+StrainStressRow = Annotated[list[float], _fixed_length_numbers(2, "[strain, stress]"),
+                            Field(min_length=2, max_length=2)]
+
+
+class ElastoplasticMaterial(_Strict):
+    """Elasto-plastic pipe steel (section 8.4.2, rfesim.materials): the SDE bending moment
+    follows the fibre-integrated moment-curvature of the pipe wall with kinematic
+    hardening. Needs a pipe geometry. Laws: ``bilinear`` (yield_stress, hardening_ratio;
+    0 is elastic-perfectly plastic), ``ramberg-osgood`` (eps = sigma/E + ro_offset *
+    (sigma/yield_stress)^ro_n), ``table`` (rows [strain, stress], the first row the
+    yield point on the elastic line, slopes not increasing; the last slope continues)."""
+
+    kind: Literal["elastoplastic"]
+    law: Literal["bilinear", "ramberg-osgood", "table"] = Field("bilinear", description="Stress-strain law")
+    yield_stress: float | None = _units("Pa", "Yield stress (ramberg-osgood: stress at the plastic strain "
+                                        "ro_offset; table: the first row's stress)", default=None)
+    hardening_ratio: float | None = Field(None, description="Tangent modulus after yield over Young's modulus "
+                                          "E_t/E of the bilinear law, in [0, 1); default 0 [-]",
+                                          json_schema_extra={"units": "1"})
+    ro_n: float | None = Field(None, description="Ramberg-Osgood exponent n > 1 [-]",
+                               json_schema_extra={"units": "1"})
+    ro_offset: float | None = Field(None, description="Ramberg-Osgood plastic strain at the yield stress, "
+                                    "default 0.002 [-]", json_schema_extra={"units": "1"})
+    table: list[StrainStressRow] | None = Field(None, description="Rows [strain (-), stress (Pa)] of the "
+                                                "monotonic curve", json_schema_extra={"units": "[1, Pa]"})
+
+    @model_validator(mode="after")
+    def _law(self):
+        used = {"bilinear": ("yield_stress", "hardening_ratio"),
+                "ramberg-osgood": ("yield_stress", "ro_n", "ro_offset"),
+                "table": ("table", "yield_stress")}[self.law]
+        for name in ("hardening_ratio", "ro_n", "ro_offset", "table"):
+            if getattr(self, name) is not None and name not in used:
+                raise FieldError(name, f"is not used by law '{self.law}' (give law: "
+                                       f"{'bilinear' if name == 'hardening_ratio' else 'ramberg-osgood' if name.startswith('ro_') else 'table'})")
+        if self.law == "table":
+            self._check_table()
+        elif self.yield_stress is None:
+            raise FieldError("yield_stress", f"law '{self.law}' needs a yield stress (Pa)")
+        if self.yield_stress is not None and not self.yield_stress > 0.0:
+            raise FieldError("yield_stress", f"must be greater than 0 Pa, got {self.yield_stress}")
+        if self.law == "bilinear":
+            if self.hardening_ratio is None:
+                self.hardening_ratio = 0.0
+            if not 0.0 <= self.hardening_ratio < 1.0:
+                raise FieldError("hardening_ratio", f"must be in [0, 1) (E_t/E; 0: perfectly plastic), "
+                                                    f"got {self.hardening_ratio}")
+        if self.law == "ramberg-osgood":
+            if self.ro_n is None:
+                raise FieldError("ro_n", "law 'ramberg-osgood' needs the exponent ro_n (> 1)")
+            if not self.ro_n > 1.0:
+                raise FieldError("ro_n", f"must be greater than 1, got {self.ro_n}")
+            if self.ro_offset is None:
+                self.ro_offset = 0.002
+            if not 0.0 < self.ro_offset < 0.1:
+                raise FieldError("ro_offset", f"must be in (0, 0.1), got {self.ro_offset}")
+        return self
+
+    def _check_table(self):
+        rows = self.table
+        if not rows:
+            raise FieldError("table", "law 'table' needs at least one row [strain, stress]")
+        if rows[0][0] <= 0.0 or rows[0][1] <= 0.0:
+            raise FieldError("table.0", "the first row is the yield point: strain and stress must be greater than 0")
+        if self.yield_stress is not None and abs(self.yield_stress - rows[0][1]) > 1e-9 * rows[0][1]:
+            raise FieldError("yield_stress", f"{self.yield_stress} Pa differs from the first table row's stress "
+                                             f"{rows[0][1]} Pa (the yield point); give one of them")
+        slope = rows[0][1] / rows[0][0]
+        for j in range(1, len(rows)):
+            (e0, s0), (e1, s1) = rows[j - 1], rows[j]
+            if not e1 > e0:
+                raise FieldError(f"table.{j}", f"strain {e1} does not increase (previous {e0})")
+            if s1 < s0:
+                raise FieldError(f"table.{j}", f"stress {s1} Pa decreases (previous {s0} Pa): softening is not "
+                                               f"supported")
+            new = (s1 - s0) / (e1 - e0)
+            if new > slope * (1.0 + 1e-9):
+                raise FieldError(f"table.{j}", f"slope {new:.6g} Pa is steeper than the previous segment's "
+                                               f"{slope:.6g} Pa: the curve must be concave")
+            slope = new
+        self.yield_stress = rows[0][1]
+
+
+Material = Annotated[Union[ElasticMaterial, ElastoplasticMaterial], Field(discriminator="kind")]
 
 
 class StructuralDamping(_Strict):
@@ -336,7 +804,25 @@ class LineType(_Strict):
                                                      "properties include the contents in mass_per_length")
         if self.damping is not None and (self.damping.axial_ratio or self.damping.bending_ratio) is not None:
             pass
+        if self.material.kind == "elastoplastic":
+            self._check_elastoplastic()
         return self
+
+    def _check_elastoplastic(self):
+        """An elastoplastic material needs a pipe wall; a table's yield point lies on the elastic line."""
+        if self.wall_thickness is None:
+            raise FieldError("material", "an elastoplastic material needs a pipe geometry (outer_diameter, "
+                                         "wall_thickness, youngs_modulus), not direct section properties")
+        mat = self.material
+        if mat.law == "table":
+            strain, stress = mat.table[0]
+            if abs(stress / strain - self.youngs_modulus) > 0.01 * self.youngs_modulus:
+                raise FieldError("material.table.0", f"the first row is the yield point and must lie on the elastic "
+                                                     f"line: stress/strain = {stress / strain:.6g} Pa but "
+                                                     f"youngs_modulus = {self.youngs_modulus:.6g} Pa (> 1 % apart)")
+        elif mat.yield_stress >= 0.1 * self.youngs_modulus:
+            raise FieldError("material.yield_stress", f"{mat.yield_stress} Pa is not below a tenth of youngs_modulus "
+                                                      f"{self.youngs_modulus} Pa: not a metal (check the units, Pa)")
 
 
 # --------------------------------------------------------------------------- lines
@@ -427,6 +913,9 @@ class StaticsSettings(_Strict):
     max_iterations: int = Field(400, ge=1, le=100000, description="Newton iterations over all load steps")
     load_steps: int = Field(1, ge=1, le=1000, description="Initial number of load steps (halved adaptively "
                                                           "when Newton fails)")
+    seabed_friction: Literal["none", "mobilised"] = Field(
+        "none", description="Seabed friction in statics: none, or fully mobilised axial friction on the grounded "
+                            "length pointing towards end A (the line was pulled towards end B as it was laid)")
     start: Literal["auto", "straight", "catenary"] = Field(
         "auto", description="Initial shape: auto = catenary for lines with both ends placed and slack, "
                             "straight otherwise")
@@ -499,6 +988,15 @@ class Scenario(_Strict):
     line_types: dict[str, LineType] = Field(default_factory=dict)
     lines: dict[str, Line] = Field(default_factory=dict)
     analysis: Analysis = Field(default_factory=Analysis)
+
+    @model_validator(mode="after")
+    def _rao_needs_waves(self):
+        water = self.environment.water
+        for name, vessel in self.vessels.items():
+            if vessel.motion.kind == "rao" and (water is None or water.waves is None):
+                raise FieldError(f"vessels.{name}.motion", "an RAO motion needs waves in the scene "
+                                                           "(environment.water.waves)")
+        return self
 
     @classmethod
     def model_validate(cls, obj, *args, **kwargs):  # noqa: D102 - converts errors to ScenarioError

@@ -60,6 +60,11 @@ def highest_frequency(system: System, state: State, iterations: int = 60) -> flo
 def stable_rk4_step(system: System, state: State, safety: float) -> float:
     """Default RK4 step: safety * 2.8 / omega_max (RK4 reaches 2*sqrt(2) on the imaginary axis)."""
     w = highest_frequency(system, state)
+    km = system.km
+    if km.has_seabed:
+        # any RFE may touch down, and a sticking one rides on the friction spring too
+        k = max(km.seabed_k, km.seabed_kt if km.has_friction else 0.0)
+        w = max(w, 1.1 * float(np.sqrt(k * km.rfe_length / np.maximum(km.rfe_mass, 1e-300)).max()))
     if w <= 0.0:
         return 0.01
     # SDE damping moves eigenvalues off the imaginary axis; keep inside the region
@@ -101,6 +106,9 @@ class Recorder:
                 **{ch: np.zeros((nt, 3)) for ch in ("end_a_force", "end_b_force", "end_a_moment", "end_b_moment",
                                                      "end_a_direction", "end_b_direction")},
                 "seabed_force": np.zeros((nt, li.nrfe)),
+                "seabed_friction": np.zeros((nt, li.nrfe, 3)),
+                "touchdown_position": np.full((nt, 3), np.nan),
+                "touchdown_arc_length": np.full(nt, np.nan),
             }
         self.vessel_names = list(model.scenario.vessels)
         self.vessel_pos = np.zeros((nt, len(self.vessel_names), 3))
@@ -138,6 +146,11 @@ class Recorder:
             d["end_a_moment"][k] = -self._react[ia, 3:]
             d["end_b_moment"][k] = -self._react[ib, 3:]
             d["seabed_force"][k] = ws.contact_force[li.rfe_start:li.rfe_stop]
+            d["seabed_friction"][k] = ws.friction_force[li.rfe_start:li.rfe_stop]
+            if km.has_seabed:
+                td = touchdown(km, ws, li)
+                if td is not None:
+                    d["touchdown_arc_length"][k], d["touchdown_position"][k] = td
             d["end_a_direction"][k] = ws.R[ia, :, 0]
             d["end_b_direction"][k] = ws.R[ib, :, 0]
         for j, name in enumerate(self.vessel_names):
@@ -160,6 +173,29 @@ class Recorder:
         vessels = {name: VesselResults(name=name, position=self.vessel_pos[:nt, j], rotation=self.vessel_rot[:nt, j])
                    for j, name in enumerate(self.vessel_names)}
         return Results(time=self.time[:nt].copy(), lines=lines, vessels=vessels, **kw)
+
+
+def touchdown(km, ws, li):
+    """(arc length from end A, position) of the touchdown point of a line: going from end B
+    towards end A, the end of the first RFE in seabed contact where its contact begins
+    (the contact of an RFE is a contiguous part of it, so its length places the point)."""
+    lengths = km.rfe_length[li.rfe_start:li.rfe_stop]
+    contact = ws.contact_length[li.rfe_start:li.rfe_stop]
+    idx = np.nonzero(contact > 0.0)[0]
+    if idx.size == 0:
+        return None
+    j = int(idx[-1])
+    i = li.rfe_start + j
+    s_lo = float(np.sum(lengths[:j]))
+    L = lengths[j]
+    lc = min(float(contact[j]), L)
+    # the contact part of an RFE starts at its lower end: from the A-side end when that is
+    # lower (touchdown lc along the RFE), else it reaches the B-side end
+    t = ws.R[i, :, 0]
+    a_side_lower = t[2] > 0.0
+    off = (lc - 0.5 * L) if (a_side_lower and lc < L) else 0.5 * L
+    s = s_lo + 0.5 * L + off
+    return s, ws.r[i] + off * t
 
 
 class Counters(dict):
@@ -189,8 +225,10 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
     km, vs, att, ws = system.km, system.vs, system.att, system.ws
     mask = system.mask
     n = system.n
-    # initial true acceleration
+    # initial true acceleration (friction: stick/slip from the anchors statics left, if any)
+    system.set_friction_mode(0)
     st.qdd[:] = system.accelerations(st)
+    system.commit_history()
     if integ.kind == "generalized-alpha":
         h = float(integ.time_step)
     elif integ.kind == "rk4":
@@ -245,6 +283,7 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
             t_target = t_start + k_out * out_dt
             nsteps = int(round((t_target - st.t) / h))
             saved = st.copy()
+            saved_history = system.history()
             status = ga_advance(km, vs, att, ws, st.q, st.qd, st.qdd, st.aux, st.ref, st.t, h, nsteps, am, af, beta,
                                 gamma, tol, integ.max_iterations, integ.jacobian_reuse, mask, system.length_scale,
                                 force_ref, system.J, system.Fac, system.Q0, system.V0, system.r, system.dq,
@@ -253,6 +292,7 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
             if status != 0:
                 # redo this output interval step by step, halving a failing step down to h/64
                 st = saved
+                system.set_history(saved_history)
                 stats[:] = 0
                 flags[0] = 0
                 flags[2] = 0
@@ -260,9 +300,11 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
                 for j in range(nsteps):
                     t_step0 = saved.t + j * h
                     ok = False
+                    step_history = system.history()
                     for level in range(7):
                         sub = 2 ** level
                         trial = st.copy()
+                        system.set_history(step_history)
                         trial.t = t_step0
                         flags[0] = 0
                         s2 = 0

@@ -12,7 +12,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ..model.assemble import evaluate, rebase, solve_accelerations
+from ..model.assemble import commit_history, evaluate, rebase, solve_accelerations
 from .jacobian import jacobian_analytic
 from .residual import residual_norm, residual_q  # noqa: F401  (re-exported)
 from ..vessel_kernel import attachment_kinematics
@@ -198,6 +198,7 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
             fail[2] = Q_NEWTON
             flags[0] = 0
             return 1
+        commit_history(km, ws)
         inv = 1.0 / cq
         for i in range(n):
             for k in range(6):
@@ -252,6 +253,9 @@ def rk4_advance(km, vs, att, ws, q, qd, qdd, ref, t0, h, nsteps, mask, k_q, k_v,
                         qs[i, k] = q[i, k] + c * k_q[st - 1, i, k]
                         vs_buf[i, k] = qd[i, k] + c * k_v[st - 1, i, k]
             explicit_acceleration(km, vs, att, ws, ts, qs, vs_buf, ref, acc)
+            if st == 0:
+                # the friction force of the accepted state equals that of its return-mapped anchors
+                commit_history(km, ws)
             for i in range(n):
                 for k in range(6):
                     k_q[st, i, k] = vs_buf[i, k]
@@ -267,6 +271,7 @@ def rk4_advance(km, vs, att, ws, q, qd, qdd, ref, t0, h, nsteps, mask, k_q, k_v,
         stats[0] += 1
         stats[1] += 4
     explicit_acceleration(km, vs, att, ws, t0 + nsteps * h, q, qd, ref, qdd)
+    commit_history(km, ws)
     return 0
 
 
@@ -339,6 +344,7 @@ def dp_advance(km, vs, att, ws, q, qd, qdd, ref, t0, t_end, h_in, h_max, rtol, a
         if not math.isfinite(err):
             err = 1e10
         if err <= 1.0:
+            commit_history(km, ws)      # the last stage was evaluated at the accepted state
             t += h
             for i in range(n):
                 for k in range(6):

@@ -47,9 +47,13 @@ def modal_analysis(system: System, state: State, nmodes: int) -> ModalResults:
     dummy = np.zeros_like(st.q)
     rebase(st.q, dummy, st.ref, system.km.rfe_kind, 0.0, dummy, dummy, False)
     system.set_time(st.t)
-    K = system.static_jacobian_accurate(st.q, st.ref).copy()
-    system.evaluate(st)
-    Mblk = system.ws.Mgen.copy()
+    system.ws.waves_off[0] = 1          # about the static state: still water plus current
+    try:
+        K = system.static_jacobian_accurate(st.q, st.ref).copy()
+        system.evaluate(st)
+        Mblk = system.ws.Mgen.copy()
+    finally:
+        system.ws.waves_off[0] = 0
     mask = system.mask.ravel()
     active = np.flatnonzero(mask)
     nact = active.size

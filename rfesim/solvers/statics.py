@@ -159,8 +159,33 @@ def _deformation_direction(system: System, st: State, dq: np.ndarray, lam: float
 
 
 def solve_statics(system: System, state: State | None = None, *, tolerance: float = 1e-8, max_iterations: int = 400,
-                  load_steps: int = 1, progress=None) -> tuple[State, StaticsInfo]:
-    """Static equilibrium of the scene at the state's time (vessels at their pose then)."""
+                  load_steps: int = 1, progress=None, seabed_friction: str = "none") -> tuple[State, StaticsInfo]:
+    """Static equilibrium of the scene at the state's time (vessels at their pose then).
+
+    ``seabed_friction``: ``"none"`` (friction plays no part in statics) or ``"mobilised"``
+    (full axial friction on the grounded length, pointing towards end A: the line was
+    pulled towards end B as it was laid, as MoorPy assumes). Either way the friction
+    anchors are left so that a following dynamic run starts with the same forces."""
+    model = system.model
+    mobilised = seabed_friction == "mobilised"
+    system.set_friction_mode(1 if mobilised else 2)
+    system.ws.waves_off[0] = 1          # statics: still water plus current
+    try:
+        st, info = _solve(system, state, tolerance, max_iterations, load_steps, progress)
+        if model.km.has_friction:
+            # anchors of the final state: at the mobilised forces, or none (set at first touch)
+            system.evaluate(st)
+            system.commit_history()
+            if not mobilised:
+                system.ws.fric_anchored[:] = 0
+    finally:
+        system.set_friction_mode(0)
+        system.ws.waves_off[0] = 0
+    return st, info
+
+
+def _solve(system: System, state: State | None, tolerance: float, max_iterations: int, load_steps: int,
+           progress) -> tuple[State, StaticsInfo]:
     model = system.model
     st = (state or model.initial).copy()
     st.qd[:] = 0.0

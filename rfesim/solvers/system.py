@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..model.arrays import new_attachment_state, new_workspace
-from ..model.assemble import evaluate, solve_accelerations
+from ..model.assemble import commit_history, evaluate, solve_accelerations
 from ..model.compile import Model, State
 from ..vessel_kernel import attachment_kinematics, vessel_spec
 from .kernels import jacobian_fd, jacobian_fd_general, residual_q
@@ -31,6 +31,25 @@ class System:
         nsde = max(model.nsde, 1)
         self.Ks, self.Kds = z(nsde, 12, 12), z(nsde, 12, 12)
         self.T, self.Fsde, self.Msde = z(n, 6, 6), z(n, 3), z(n, 3)
+
+    # ------------------------------------------------------------------ history
+    def history(self) -> tuple:
+        """A copy of the committed history (seabed friction anchors), to roll a step back."""
+        ws = self.ws
+        return ws.fric_anchor.copy(), ws.fric_anchored.copy()
+
+    def set_history(self, saved: tuple) -> None:
+        ws = self.ws
+        ws.fric_anchor[:] = saved[0]
+        ws.fric_anchored[:] = saved[1]
+
+    def commit_history(self) -> None:
+        """Accept the trial history written by the last evaluation."""
+        commit_history(self.km, self.ws)
+
+    def set_friction_mode(self, mode: int) -> None:
+        """Seabed friction: 0 stick/slip, 1 fully mobilised towards end A (statics), 2 off."""
+        self.ws.fric_mode[0] = mode
 
     # ------------------------------------------------------------------ evaluations
     def set_time(self, t: float) -> None:

@@ -137,3 +137,26 @@ def test_sweep_grid_summary_and_any_executor():
     assert rows[0]["max_top_tension"] < rows[1]["max_top_tension"]
     with pytest.raises(rfesim.ScenarioError, match="load case"):
         run_sweep(riser(), {"lines.riser.elements": [0]}, pool)
+
+
+def test_relative_data_files_come_from_the_data_directory_not_the_working_directory(tmp_path, monkeypatch):
+    """A CSV vessel motion named relatively is read from <data_dir>/files; a file of the
+    same name in the service's working directory is never read."""
+    settings = Settings(data_dir=tmp_path / "data")
+    files = tmp_path / "data" / "files"
+    files.mkdir(parents=True)
+    rows = "\n".join(f"{t},0,0,{0.1 * t},0,0,0" for t in range(6))
+    (files / "motion.csv").write_text("t,surge,sway,heave,roll,pitch,yaw\n" + rows + "\n")
+    cwd = tmp_path / "cwd"
+    cwd.mkdir()
+    (cwd / "secret.csv").write_text("t,surge,sway,heave,roll,pitch,yaw\n" + rows + "\n")
+    monkeypatch.chdir(cwd)
+    scenario = riser()
+    scenario["vessels"]["ship"]["motion"] = {"kind": "csv", "file": "motion.csv"}
+    stored, sc = validate.prepare_job(scenario, settings, None)
+    assert stored["vessels"]["ship"]["motion"]["file"] == str((files / "motion.csv").resolve())
+    assert sc.vessels["ship"].motion.rows()[-1, 3] == pytest.approx(0.5)
+    scenario["vessels"]["ship"]["motion"]["file"] = "secret.csv"
+    with pytest.raises(validate.Invalid) as err:
+        validate.prepare_job(scenario, settings, None)
+    assert err.value.errors[0][0][:4] == ["vessels", "ship", "motion", "file"]

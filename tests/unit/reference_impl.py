@@ -522,3 +522,60 @@ def block_tridiagonal_dense(blocks):
         if i < n - 1:
             dense[rows, 6 * (i + 1):6 * (i + 2)] = blocks[i, 2]
     return dense
+
+
+# =============================================================================== seabed (general)
+
+def seabed_plane_under(profile_s, profile_z, direction, x, y):
+    """Height and unit normal of the tangent plane of a piecewise-linear seabed profile
+    under (x, y): linear interpolation, end slopes continued (np.interp clamps, so the
+    segment is chosen by hand)."""
+    s = x * direction[0] + y * direction[1]
+    j = int(np.clip(np.searchsorted(profile_s, s) - 1, 0, len(profile_s) - 2))
+    slope = (profile_z[j + 1] - profile_z[j]) / (profile_s[j + 1] - profile_s[j])
+    z = profile_z[j] + slope * (s - profile_s[j])
+    gradient = slope * np.asarray(direction)
+    normal = np.array([-gradient[0], -gradient[1], 1.0])
+    return z, normal / np.linalg.norm(normal)
+
+
+def seabed_on_plane_by_quadrature(length, contact_radius, seabed_damping, plane_point, normal, stiffness, rotation,
+                                  centre, velocity, angular_velocity, points=20001):
+    """Normal seabed reaction of a straight RFE on a plane (point, unit normal) by numerical
+    integration: penetration p(s) = a - n.(P(s) - P0); spring integral at its centroid; the
+    damper on the contact length; never tensile. Returns (force, moment, normal force, contact length)."""
+    tangent = rotation[:, 0]
+    s = np.linspace(-0.5 * length, 0.5 * length, points)
+    P = centre[None, :] + s[:, None] * tangent[None, :]
+    penetration = contact_radius - (P - plane_point) @ normal
+    spring = stiffness * np.maximum(penetration, 0.0)
+    spring_force = np.trapezoid(spring, s)
+    if spring_force <= 0.0:
+        return np.zeros(3), np.zeros(3), 0.0, 0.0
+    centroid_s = np.trapezoid(spring * s, s) / spring_force
+    left, right = penetration[0], penetration[-1]
+    contact_length = length if (left > 0 and right > 0) else length * max(left, right) / abs(left - right)
+    arm = centroid_s * tangent
+    normal_velocity = (velocity + np.cross(angular_velocity, arm)) @ normal
+    normal_force = max(0.0, spring_force - seabed_damping * contact_length * normal_velocity)
+    force = normal_force * normal
+    return force, np.cross(arm, force), normal_force, contact_length
+
+
+def seabed_friction_spring_slider(normal, tangent, centre, anchor, stick_stiffness, contact_length, normal_force,
+                                  mu_axial, mu_lateral):
+    """Coulomb friction by a spring-slider: stick spring -k l (I - n n^T)(r - anchor), split into
+    axial (tangent projected on the seabed) and lateral parts, scaled back onto the ellipse
+    (f_a/mu_a)^2 + (f_l/mu_l)^2 = N^2 when outside; returns (force, new anchor)."""
+    P = np.eye(3) - np.outer(normal, normal)
+    axial = P @ tangent
+    axial /= np.linalg.norm(axial)
+    lateral = np.cross(normal, axial)
+    spring = -stick_stiffness * contact_length * (P @ (centre - anchor))
+    fa = spring @ axial if mu_axial > 0 else 0.0
+    fl = spring @ lateral if mu_lateral > 0 else 0.0
+    ratio = np.hypot(fa / mu_axial if mu_axial > 0 else 0.0, fl / mu_lateral if mu_lateral > 0 else 0.0)
+    if ratio > normal_force:
+        fa, fl = fa * normal_force / ratio, fl * normal_force / ratio
+    force = fa * axial + fl * lateral
+    return force, centre + force / (stick_stiffness * contact_length)

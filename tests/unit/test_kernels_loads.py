@@ -212,6 +212,24 @@ def test_morison_drag_directions():
 
 # ------------------------------------------------------------------ seabed
 
+def call_seabed(length, radius, damping, seabed_z, seabed_k, R, r, v, w, F, M, contact_force, contact_length,
+                mu=(0.0, 0.0), kt=0.0, bed=None, anchor=None, anchored=None, mode=2):
+    """The seabed kernel on a flat seabed at seabed_z (or the profile ``bed`` = (s, z, dir))
+    with friction off unless given; returns the trial anchors and the friction forces."""
+    n = length.shape[0]
+    bed_s, bed_z, bed_dir = bed if bed is not None else (np.array([-1.0, 1.0]), np.array([seabed_z, seabed_z]),
+                                                          np.array([1.0, 0.0]))
+    anchor = np.zeros((n, 3)) if anchor is None else anchor
+    anchored = np.zeros(n, np.int64) if anchored is None else anchored
+    anchor_trial = np.full((n, 3), np.nan)
+    anchored_trial = np.full(n, -1, np.int64)
+    friction = np.full((n, 3), np.nan)
+    seabed_forces(length, radius, damping, bed_s, bed_z, bed_dir, seabed_k, np.asarray(mu, float), kt, R, r, v, w,
+                  F, M, contact_force, contact_length, anchor, anchored, anchor_trial, anchored_trial,
+                  np.array([mode], np.int64), friction, np.zeros(3))
+    return anchor_trial, anchored_trial, friction
+
+
 def element_near_seabed(rng, case, seabed_z, contact_radius):
     length = rng.uniform(0.5, 5.0)
     R = ref.random_rotation(rng)
@@ -248,7 +266,7 @@ def test_seabed_against_quadrature(seed, damped):
     F, M = F0.copy(), M0.copy()
     contact_force = np.full(n, np.nan)
     contact_length = np.full(n, np.nan)
-    seabed_forces(length, radius, damping, seabed_z, seabed_k, R, r, v, w, F, M, contact_force, contact_length)
+    call_seabed(length, radius, damping, seabed_z, seabed_k, R, r, v, w, F, M, contact_force, contact_length)
     for i, case in enumerate(cases):
         force, moment, normal, contact = ref.seabed_contact_by_quadrature(
             length[i], radius[i], damping[i], seabed_z, seabed_k, R[i], r[i], v[i], w[i])
@@ -277,8 +295,8 @@ def test_seabed_force_is_never_tensile():
     M = np.zeros((1, 3))
     contact_force = np.zeros(1)
     contact_length = np.zeros(1)
-    seabed_forces(np.array([2.0]), np.array([0.2]), np.array([1e4]), -100.0, 1e3, R, r,
-                  np.array([[0.0, 0.0, 10.0]]), np.zeros((1, 3)), F, M, contact_force, contact_length)
+    call_seabed(np.array([2.0]), np.array([0.2]), np.array([1e4]), -100.0, 1e3, R, r,
+                np.array([[0.0, 0.0, 10.0]]), np.zeros((1, 3)), F, M, contact_force, contact_length)
     np.testing.assert_array_equal(F, 0.0)
     np.testing.assert_array_equal(M, 0.0)
     assert contact_force[0] == 0.0

@@ -54,3 +54,26 @@ def test_P1_matches_the_analytic_elastic_catenary_profile():
     pos = line.position[0]
     assert np.abs(pos[:, 0] - x).max() < 0.4
     assert np.abs(pos[:, 2] - z).max() < 0.4
+
+
+@pytest.mark.parametrize("n", [100, 200])
+def test_P1_catenary_with_axial_seabed_friction(n):
+    """VALIDATION.md P1 with axial seabed friction 0.1, fully mobilised towards the anchor
+    (the line was pulled towards the fairlead as it was laid): anchor tension
+    H - mu w L_grounded = 80418.6 N; the fairlead is unchanged."""
+    res = rfesim.statics(catenary_line(n, 800.0, friction=0.1))
+    line = res.line("line")
+    assert -line.end_b_force[0][0] == pytest.approx(96643.4, rel=1e-3)
+    assert -line.end_b_force[0][2] == pytest.approx(237751.8, rel=1e-3)
+    assert line.end_a_force[0][0] == pytest.approx(80418.6, rel=1e-3)
+    # the friction force on the grounded length: mu times the seabed reaction, pointing to the anchor
+    friction = line.seabed_friction[0]
+    assert friction[:, 0] == pytest.approx(-0.1 * line.seabed_force[0], rel=1e-6, abs=1e-9)
+    assert np.abs(friction[:, 1:]).max() < 1e-6 * np.abs(friction[:, 0]).max()
+    # tension rises linearly along the grounded part from the anchor
+    s_sde = line.sde_arc_length
+    grounded = s_sde < 202.810 - 10.0
+    expected = 80418.6 + 0.1 * 800.0 * s_sde[grounded]
+    assert line.tension[0][grounded] == pytest.approx(expected, rel=2e-3)
+    # the touchdown point sits at the end of the grounded length
+    assert line.touchdown_arc_length[0] == pytest.approx(202.810, abs=500.0 / n)

@@ -1,0 +1,226 @@
+"""Compiled sea kinematics: the waves and current of a scene packed for numba kernels.
+
+``sea_spec(environment)`` packs the wave components (:mod:`rfesim.sea.waves`) and the
+current profile (:mod:`rfesim.sea.current`) into a :class:`SeaSpec` of arrays and floats;
+``sea_kinematics_into(ss, t, points, eta, vel, acc)`` fills, at each point,
+
+* ``eta``: the absolute z of the free surface above the point's (x, y):
+  surface_level + r(t) sum a cos(theta);
+* ``vel``: the water particle velocity, waves plus current;
+* ``acc``: the local wave particle acceleration du/dt (the current is steady in space;
+  its time factor is slow and not differentiated), including the ramp-rate term r'(t) u.
+
+Stretching of the wave kinematics (z' = height above still water of the point, eta the
+local elevation; above the instantaneous surface every method uses the value AT the
+surface, z' -> eta):
+
+* ``wheeler`` (code 1, default): the Airy expressions at z_s = h (z' - eta) / (h + eta)
+  (deep water: z' - eta), which maps the wetted column [-h, eta] onto [-h, 0];
+* ``none`` (0): the Airy expressions at the actual z' (exponential growth above z' = 0);
+* ``vertical`` (2): held at their still-water-level value above z' = 0;
+* ``linear`` (3): linear (Taylor) extrapolation above z' = 0, u(z') = u(0) + z' du/dz(0).
+
+Under every method the acceleration is the Airy local acceleration at the same
+(stretched) height: the term of d z_s/dt in the Wheeler mapping is left out, as usual.
+Points below the seabed take the seabed value. The current is evaluated at min(z, surface).
+"""
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+
+from .current import current_profile
+from .waves import STRETCHING_CODES, wave_components, water_depth
+
+
+class SeaSpec(NamedTuple):
+    has_waves: bool
+    amplitude: np.ndarray       # (nc,) m, wave component amplitudes
+    omega: np.ndarray           # (nc,) rad/s
+    wavenumber: np.ndarray      # (nc,) 1/m
+    phase: np.ndarray           # (nc,) rad
+    cos_direction: np.ndarray   # (nc,) cos of the direction of travel (toward) from global x
+    sin_direction: np.ndarray   # (nc,)
+    depth: float                # m, still water depth (inf: deep water)
+    surface_level: float        # m, z of the still water surface
+    stretching: int             # 0 none, 1 wheeler, 2 vertical, 3 linear
+    ramp: float                 # s, cosine ramp-in of the waves (0: none)
+    has_current: bool
+    current_z: np.ndarray       # (m,) m, absolute z of the profile points, ascending
+    current_speed: np.ndarray   # (m,) m/s
+    current_cos: float          # cos of the current direction (toward) from global x
+    current_sin: float
+    current_time: np.ndarray    # (p,) s, time-factor table (empty: factor 1)
+    current_factor: np.ndarray  # (p,) -
+
+
+def pack_sea(waves, current, surface_level: float) -> SeaSpec:
+    """A SeaSpec from :class:`WaveComponents` and :class:`CurrentProfile` objects."""
+    nc = waves.amplitude.size
+    has_current = current.z.size > 0
+    return SeaSpec(
+        has_waves=bool(nc > 0),
+        amplitude=np.ascontiguousarray(waves.amplitude, dtype=np.float64),
+        omega=np.ascontiguousarray(waves.omega, dtype=np.float64),
+        wavenumber=np.ascontiguousarray(waves.wavenumber, dtype=np.float64),
+        phase=np.ascontiguousarray(waves.phase, dtype=np.float64),
+        cos_direction=np.ascontiguousarray(np.cos(waves.direction), dtype=np.float64),
+        sin_direction=np.ascontiguousarray(np.sin(waves.direction), dtype=np.float64),
+        depth=float(waves.depth),
+        surface_level=float(surface_level),
+        stretching=int(STRETCHING_CODES[waves.stretching]),
+        ramp=float(waves.ramp_duration),
+        has_current=bool(has_current),
+        current_z=np.ascontiguousarray(current.z, dtype=np.float64),
+        current_speed=np.ascontiguousarray(current.speed, dtype=np.float64),
+        current_cos=math.cos(current.direction) if has_current else 1.0,
+        current_sin=math.sin(current.direction) if has_current else 0.0,
+        current_time=np.ascontiguousarray(current.time, dtype=np.float64),
+        current_factor=np.ascontiguousarray(current.factor, dtype=np.float64),
+    )
+
+
+def sea_spec(environment) -> SeaSpec:
+    """Pack the waves and current of a scenario ``Environment`` (an empty spec without
+    water, waves or current: still water at ``surface_level``)."""
+    from .current import no_current
+    from .waves import no_waves
+    water = getattr(environment, "water", None)
+    if water is None:
+        return pack_sea(no_waves(), no_current(), 0.0)
+    waves = wave_components(water.waves, water_depth(environment), environment.gravity) \
+        if water.waves is not None else no_waves()
+    return pack_sea(waves, current_profile(water.current), water.surface_level)
+
+
+@njit(cache=True)
+def interp_clamped(xs, ys, x):
+    """Linear interpolation in ascending ``xs``, held constant beyond the ends."""
+    n = xs.shape[0]
+    if x <= xs[0]:
+        return ys[0]
+    if x >= xs[n - 1]:
+        return ys[n - 1]
+    lo = 0
+    hi = n - 1
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if xs[mid] <= x:
+            lo = mid
+        else:
+            hi = mid
+    f = (x - xs[lo]) / (xs[hi] - xs[lo])
+    return ys[lo] + f * (ys[hi] - ys[lo])
+
+
+@njit(cache=True)
+def sea_kinematics_into(ss, t, points, eta, vel, acc):
+    """Free-surface z, water velocity and wave acceleration at ``points`` (n, 3) at time t."""
+    n = points.shape[0]
+    nc = ss.amplitude.shape[0]
+    waves = ss.has_waves and nc > 0
+    h = ss.depth
+    deep = math.isinf(h)
+    code = ss.stretching
+    # cosine ramp-in r(t) and its rate
+    r = 1.0
+    rd = 0.0
+    if ss.ramp > 0.0 and t < ss.ramp:
+        if t <= 0.0:
+            r = 0.0
+        else:
+            a = math.pi / ss.ramp
+            r = 0.5 * (1.0 - math.cos(a * t))
+            rd = 0.5 * a * math.sin(a * t)
+    factor = 1.0
+    if ss.has_current and ss.current_time.shape[0] > 0:
+        factor = interp_clamped(ss.current_time, ss.current_factor, t)
+    cth = np.empty(nc)
+    sth = np.empty(nc)
+    for i in range(n):
+        x = points[i, 0]
+        y = points[i, 1]
+        zr = points[i, 2] - ss.surface_level
+        e = 0.0
+        vx = 0.0
+        vy = 0.0
+        vz = 0.0
+        ax = 0.0
+        ay = 0.0
+        az = 0.0
+        if waves:
+            for j in range(nc):
+                th = ss.omega[j] * t - ss.wavenumber[j] * (x * ss.cos_direction[j] + y * ss.sin_direction[j]) \
+                    + ss.phase[j]
+                c = math.cos(th)
+                cth[j] = c
+                sth[j] = math.sin(th)
+                e += ss.amplitude[j] * c
+            e *= r
+            zc = min(zr, e)                 # above the surface: the value at the surface
+            above = 0.0                     # height above still water for linear extrapolation
+            if code == 1:
+                if deep:
+                    ze = zc - e
+                else:
+                    ze = h * (zc - e) / max(h + e, 1e-9 * h)
+            elif code == 2:
+                ze = min(zc, 0.0)
+            elif code == 3:
+                if zc > 0.0:
+                    ze = 0.0
+                    above = zc
+                else:
+                    ze = zc
+            else:
+                ze = zc
+            if not deep and ze < -h:
+                ze = -h
+            for j in range(nc):
+                k = ss.wavenumber[j]
+                # C = cosh(k(z+h))/sinh(kh), S = sinh(k(z+h))/sinh(kh), free of overflow
+                if deep:
+                    C = math.exp(k * ze)
+                    S = C
+                else:
+                    denom = -math.expm1(-2.0 * k * h)
+                    ep = math.exp(k * ze)
+                    em = math.exp(-k * (ze + 2.0 * h))
+                    C = (ep + em) / denom
+                    S = (ep - em) / denom
+                if above > 0.0:
+                    C, S = C + above * k * S, S + above * k * C
+                aw = ss.amplitude[j] * ss.omega[j]
+                aww = aw * ss.omega[j]
+                c = cth[j]
+                s = sth[j]
+                uh = aw * C * c
+                duh = -aww * C * s
+                vx += uh * ss.cos_direction[j]
+                vy += uh * ss.sin_direction[j]
+                vz -= aw * S * s
+                ax += duh * ss.cos_direction[j]
+                ay += duh * ss.sin_direction[j]
+                az -= aww * S * c
+            ax = r * ax + rd * vx
+            ay = r * ay + rd * vy
+            az = r * az + rd * vz
+            vx *= r
+            vy *= r
+            vz *= r
+        surface = ss.surface_level + e
+        eta[i] = surface
+        if ss.has_current:
+            zcur = min(points[i, 2], surface)
+            u = factor * interp_clamped(ss.current_z, ss.current_speed, zcur)
+            vx += u * ss.current_cos
+            vy += u * ss.current_sin
+        vel[i, 0] = vx
+        vel[i, 1] = vy
+        vel[i, 2] = vz
+        acc[i, 0] = ax
+        acc[i, 1] = ay
+        acc[i, 2] = az

@@ -1,0 +1,103 @@
+"""Vessel motion from a CSV time series of the six displacements.
+
+Format: comma-separated (or whitespace-separated) columns t [s], surge, sway, heave [m],
+roll, pitch, yaw [deg] (the same as the ``table`` motion); blank lines and lines starting
+with ``#`` are skipped; an optional first row of names (``t`` or ``time``, then the six
+degrees of freedom in any order, units in brackets allowed: ``heave [m]``) says which
+column is which. Times must increase. The result is the ordinary table motion
+(:class:`rfesim.vessel.TableVessel`): cubic spline or linear, first/last row held.
+"""
+from __future__ import annotations
+
+import re
+from pathlib import Path
+from types import SimpleNamespace
+
+import numpy as np
+
+COLUMNS = ("t", "surge", "sway", "heave", "roll", "pitch", "yaw")
+
+
+def _cells(line: str) -> list[str]:
+    if "," in line:
+        return [c.strip() for c in line.split(",")]
+    return line.split()
+
+
+def _column_name(cell: str) -> str:
+    name = re.sub(r"[\[(].*?[\])]", "", cell).strip().lower()
+    return "t" if name == "time" else name
+
+
+def read_motion_csv(path) -> np.ndarray:
+    """(n, 7) array [t, surge, sway, heave, roll, pitch, yaw] (m, deg) from a CSV file;
+    ValueError with the file name and line for anything wrong."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8-sig")
+    except FileNotFoundError:
+        raise ValueError(f"file not found: {path}") from None
+    except IsADirectoryError:
+        raise ValueError(f"{path} is a directory, not a CSV file") from None
+    except UnicodeDecodeError:
+        raise ValueError(f"{path} is not UTF-8 text") from None
+    except OSError as exc:
+        raise ValueError(f"cannot read {path}: {exc.strerror or exc}") from None
+    order = list(range(7))
+    rows: list[list[float]] = []
+    header_seen = False
+    for lineno, raw in enumerate(text.splitlines(), 1):
+        line = raw.strip()
+        if not line or line.startswith("#"):
+            continue
+        cells = _cells(line)
+        try:
+            values = [float(c) for c in cells]
+        except ValueError:
+            if rows or header_seen:
+                bad = next(c for c in cells if not _is_number(c))
+                raise ValueError(f"{path}, line {lineno}: {bad!r} is not a number") from None
+            header_seen = True
+            names = [_column_name(c) for c in cells]
+            unknown = [c for c, n in zip(cells, names) if n not in COLUMNS]
+            if unknown:
+                raise ValueError(f"{path}, line {lineno}: unknown column {unknown[0]!r} (columns are "
+                                 f"{', '.join(COLUMNS)})") from None
+            missing = [n for n in COLUMNS if n not in names]
+            if missing or len(names) != 7:
+                what = f"missing {', '.join(missing)}" if missing else "a column is given twice"
+                raise ValueError(f"{path}, line {lineno}: the header must name the 7 columns "
+                                 f"{', '.join(COLUMNS)} ({what})") from None
+            order = [names.index(n) for n in COLUMNS]
+            continue
+        if len(values) != 7:
+            raise ValueError(f"{path}, line {lineno}: {len(values)} columns, expected 7 "
+                             f"({', '.join(COLUMNS)})")
+        if not all(np.isfinite(values)):
+            raise ValueError(f"{path}, line {lineno}: values must be finite numbers")
+        rows.append([values[k] for k in order])
+    if len(rows) < 2:
+        raise ValueError(f"{path}: needs at least 2 rows of data, got {len(rows)}")
+    data = np.asarray(rows, dtype=float)
+    steps = np.diff(data[:, 0])
+    if np.any(steps <= 0.0):
+        i = int(np.argmax(steps <= 0.0)) + 1
+        raise ValueError(f"{path}: time {data[i, 0]} s in data row {i + 1} does not increase "
+                         f"(previous {data[i - 1, 0]} s)")
+    return data
+
+
+def _is_number(cell: str) -> bool:
+    try:
+        float(cell)
+        return True
+    except ValueError:
+        return False
+
+
+def csv_vessel(vessel):
+    """The :class:`rfesim.vessel.TableVessel` of a vessel with a ``csv`` motion."""
+    from ..vessel import TableVessel
+    m = vessel.motion
+    spec = SimpleNamespace(rows=m.rows(), interpolation=m.interpolation, ramp_duration=m.ramp_duration)
+    return TableVessel(vessel.position, vessel.heading_deg, spec)

@@ -1,0 +1,118 @@
+"""Seabed friction in dynamics: the stick/slip law stops a sliding pipe at the Coulomb
+distance and then holds it still (no creep)."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import rfesim
+from rfesim.model.compile import compile_scenario
+from rfesim.solvers.dynamics import run_dynamics
+from rfesim.solvers.system import System
+
+G = 9.81
+
+
+def sliding_pipe(mu, integrator, kt=1e8, k=1e7, mass=100.0, duration=1.0):
+    """A 2 m stiff pipe lying on a flat seabed in air at its static penetration."""
+    return rfesim.Scenario.model_validate({
+        "environment": {"gravity": G, "seabed": {"z": 0.0, "normal_stiffness": k, "damping_ratio": 1.0,
+                                                 "friction": mu, "friction_stiffness": kt}},
+        "line_types": {"pipe": {"EA": 1e9, "EIy": 1e7, "GJ": 1e7, "mass_per_length": mass}},
+        "lines": {"pipe": {"type": "pipe", "length": 2.0, "elements": 2,
+                           "end_a": {"attach": "free", "position": [0, 0, -mass * G / k], "direction": [1, 0, 0]},
+                           "end_b": {"attach": "free"}}},
+        "analysis": {"statics": {"enabled": False},
+                     "dynamics": {"duration": duration, "integrator": integrator, "output_interval": 0.01}},
+    })
+
+
+def slide(sc, v0):
+    model = compile_scenario(sc)
+    system = System(model)
+    st = model.initial.copy()
+    st.qd[:, 0] = v0
+    st.qd[:, 1] = 0.5 * v0          # an oblique push: the pipe slides along the initial velocity
+    _, rec, _ = run_dynamics(system, st, sc.analysis.dynamics)
+    res = rec.results()
+    return res.time, res.line("pipe").position.mean(axis=1)
+
+
+@pytest.mark.parametrize("integrator", [{"kind": "generalized-alpha", "time_step": 1e-3, "rho_inf": 0.8},
+                                        {"kind": "rk4"}])
+def test_sliding_pipe_stops_at_the_coulomb_distance_and_stays(integrator):
+    mu, v0 = 0.4, 1.0
+    speed = v0 * np.hypot(1.0, 0.5)
+    t, centre = slide(sliding_pipe(mu, integrator), v0)
+    travel = np.linalg.norm(centre[:, :2] - centre[0, :2], axis=1)
+    expected = speed ** 2 / (2.0 * mu * G)                # 0.15928 m
+    stop_time = speed / (mu * G)                          # 0.2849 s
+    assert travel[-1] == pytest.approx(expected, rel=1e-2)
+    # the direction of travel is the direction of the push
+    d = centre[-1, :2] - centre[0, :2]
+    assert d[1] / d[0] == pytest.approx(0.5, rel=1e-3)
+    # still from shortly after the stop to the end: no creep
+    after = t > stop_time + 0.05
+    assert np.ptp(travel[after]) < 1e-5
+    # while sliding it decelerates at mu g: travel(t) = v t - mu g t^2 / 2
+    during = t < 0.8 * stop_time
+    np.testing.assert_allclose(travel[during], speed * t[during] - 0.5 * mu * G * t[during] ** 2,
+                               atol=2e-3)
+
+
+def test_without_friction_the_pipe_keeps_sliding():
+    t, centre = slide(sliding_pipe(0.0, {"kind": "generalized-alpha", "time_step": 1e-3}, duration=0.3), 1.0)
+    assert centre[-1, 0] - centre[0, 0] == pytest.approx(0.3, rel=1e-3)
+
+
+# --------------------------------------------------------------------------- laid pipe in a side current
+
+RHO, CD, D, MU_LAT = 1025.0, 1.0, 0.3239, 0.5
+
+
+def laid_pipe_in_current(speed, duration=20.0):
+    """A 20 m 12-inch steel pipe (P2 section: submerged weight 356.25 N/m) lying free on a
+    flat seabed at 100 m under a uniform current across it (toward +y), ramped in over 5 s
+    (a sudden current would overshoot the stick spring past the friction limit)."""
+    k = 1e5
+    w_sub = 356.2532
+    return rfesim.Scenario.model_validate({
+        "environment": {"gravity": G,
+                        "water": {"density": RHO, "depth": 100.0,
+                                  "current": {"profile": [[0.0, speed]], "direction_deg": 90.0,
+                                              "time_factor": [[0.0, 0.0], [5.0, 1.0]]}},
+                        "seabed": {"normal_stiffness": k, "damping_ratio": 1.0, "friction": MU_LAT,
+                                   "friction_stiffness": 1e6}},
+        "line_types": {"pipe": {"outer_diameter": D, "wall_thickness": 0.0159, "youngs_modulus": 2.07e11,
+                                "density": 7850.0, "drag_normal": CD, "drag_axial": 0.0}},
+        "lines": {"pipe": {"type": "pipe", "length": 20.0, "elements": 10,
+                           "end_a": {"attach": "free", "position": [0, 0, -100.0 + 0.5 * D - w_sub / k],
+                                     "direction": [1, 0, 0]},
+                           "end_b": {"attach": "free"}}},
+        "analysis": {"statics": {"enabled": False},
+                     "dynamics": {"duration": duration, "output_interval": 0.1,
+                                  "integrator": {"kind": "generalized-alpha", "time_step": 0.01}}},
+    })
+
+
+def test_laid_pipe_holds_still_below_the_friction_limit_and_slides_above():
+    """Lateral drag 1/2 rho C_D D U^2 against the friction limit mu w_sub (U_crit = 1.036 m/s):
+    at U = 0.9 m/s the pipe sticks (moves only the stick-spring deflection); at U = 1.3 m/s
+    it slides at the speed where drag on the relative velocity equals the friction limit."""
+    w_sub = 356.2532
+    u_crit = np.sqrt(MU_LAT * w_sub / (0.5 * RHO * CD * D))
+    assert u_crit == pytest.approx(1.036, abs=1e-3)
+    res = rfesim.simulate(laid_pipe_in_current(0.9))
+    y = res.line("pipe").position[:, :, 1].mean(axis=1)
+    drag = 0.5 * RHO * CD * D * 0.9 ** 2
+    assert abs(y[-1] - y[0]) == pytest.approx(drag / 1e6, rel=0.02)    # the stick deflection, no sliding
+    assert abs(y[-1] - y[-50]) < 1e-6                     # and no creep
+    res = rfesim.simulate(laid_pipe_in_current(1.3))
+    y = res.line("pipe").position[:, :, 1].mean(axis=1)
+    t = res.time
+    speed = np.polyfit(t[t > 10.0], y[t > 10.0], 1)[0]
+    assert speed == pytest.approx(1.3 - u_crit, rel=0.02)
+    # the friction force on the sliding pipe is at its limit mu N, against the motion
+    fr = res.line("pipe").seabed_friction[-1]
+    normal = res.line("pipe").seabed_force[-1]
+    assert fr[:, 1].sum() == pytest.approx(-MU_LAT * normal.sum(), rel=1e-6)
