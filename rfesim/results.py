@@ -24,6 +24,9 @@ CHANNELS: dict[str, tuple[str, str]] = {
     "end_b_moment": ("N*m", "Moment of the line on its end-B attachment (global)"),
     "seabed_force": ("N", "Seabed normal force on each RFE"),
     "seabed_friction": ("N", "Seabed friction force on each RFE (global)"),
+    "von_mises_stress": ("Pa", "Equivalent (von Mises) stress at the outer fibre where axial and bending stress add "
+                               "(eqs. 8.97-8.98; elasto-plastic pipe lines, NaN otherwise)"),
+    "utilisation": ("1", "von_mises_stress over the yield stress (eq. 8.98; 1 = yielding; NaN: no yield stress)"),
     "touchdown_position": ("m", "Touchdown point: where seabed contact begins, seen from end B (NaN: no contact)"),
     "touchdown_arc_length": ("m", "Arc length from end A of the touchdown point (NaN: no contact)"),
     "end_a_direction": ("1", "Unit tangent of the line at end A (axis of the end RFE, global)"),
@@ -38,7 +41,8 @@ CHANNELS: dict[str, tuple[str, str]] = {
 
 LINE_CHANNELS = ("position", "tension", "shear_force", "bend_moment", "torque", "curvature", "end_a_force",
                  "end_b_force", "end_a_moment", "end_b_moment", "seabed_force", "end_a_direction",
-                 "end_b_direction", "seabed_friction", "touchdown_position", "touchdown_arc_length")
+                 "end_b_direction", "seabed_friction", "touchdown_position", "touchdown_arc_length",
+                 "von_mises_stress", "utilisation")
 
 
 @dataclass
@@ -62,6 +66,8 @@ class LineResults:
     seabed_friction: np.ndarray = None      # (nt, nrfe, 3) N
     touchdown_position: np.ndarray = None   # (nt, 3) m, NaN without contact
     touchdown_arc_length: np.ndarray = None  # (nt,) m, NaN without contact
+    von_mises_stress: np.ndarray = None     # (nt, nsde) Pa, NaN for lines without a yield stress
+    utilisation: np.ndarray = None          # (nt, nsde) -, NaN for lines without a yield stress
 
     @property
     def top_tension(self) -> np.ndarray:
@@ -196,6 +202,8 @@ def _write_netcdf(res: Results, path: str) -> None:
             _var(g, "seabed_friction", ("time", "rfe", "xyz"), lr.seabed_friction)
             _var(g, "touchdown_position", ("time", "xyz"), lr.touchdown_position)
             _var(g, "touchdown_arc_length", ("time",), lr.touchdown_arc_length)
+            _var(g, "von_mises_stress", ("time", "sde"), lr.von_mises_stress)
+            _var(g, "utilisation", ("time", "sde"), lr.utilisation)
         if res.vessels:
             vg = f.create_group("vessels")
             for name, vr in res.vessels.items():

@@ -8,9 +8,24 @@
 
 The absolute formulation (section 8.4) is `rfesim.model` / `rfesim.solvers`.
 """
-from .chain import (BaseMotion, Chain, ChainModel, ChainResult, ChainStatics, Joint, JointForce, Prescribed,
-                    accelerations, chain_energy, chain_modes, chain_statics, compile_chain, equations, point_motion,
-                    simulate_chain)
+from .chain import (
+                    BaseMotion,
+                    Chain,
+                    ChainModel,
+                    ChainResult,
+                    ChainStatics,
+                    Joint,
+                    JointForce,
+                    Prescribed,
+                    accelerations,
+                    chain_energy,
+                    chain_modes,
+                    chain_statics,
+                    compile_chain,
+                    equations,
+                    point_motion,
+                    simulate_chain,
+)
 from .classical import ClassicalLink, linear_matrices, linear_modes
 from .links import BeamProperties, RigidLink
 from .modified import ModifiedLink

@@ -21,8 +21,8 @@ the velocity terms like the base motion (eq. 8.12's base terms).
 """
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable
 
 import numpy as np
 import scipy.linalg
@@ -31,7 +31,15 @@ from . import tree
 from .classical import rechain
 from .dynamics import evaluate_kernel, solve_free
 from .links import Link
-from .transforms import FIXED, JOINT_COORDS, PRISMATIC, REVOLUTE, SPHERICAL, base_matrices, homogeneous
+from .transforms import (
+    FIXED,
+    JOINT_COORDS,
+    PRISMATIC,
+    REVOLUTE,
+    SPHERICAL,
+    base_matrices,
+    homogeneous,
+)
 
 _AXES = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0)}
 _KINDS = {"fixed": FIXED, "revolute": REVOLUTE, "prismatic": PRISMATIC, "spherical": SPHERICAL}
@@ -178,7 +186,7 @@ class Chain:
         self.loads: list[_Load] = []
 
     def add(self, name: str, link: Link, joint: Joint | None = None, parent: str | None = None,
-            at: float | None = None) -> "Chain":
+            at: float | None = None) -> Chain:
         """Append a link joined to `parent` (None: the base) at arc length `at` of the parent
         (default: its tip)."""
         names = [e.name for e in self.links]
@@ -197,7 +205,7 @@ class Chain:
         self.loads.append(_Load(link, float(s), np.asarray(offset, float), force, moment))
         return self
 
-    def compile(self) -> "ChainModel":
+    def compile(self) -> ChainModel:
         return compile_chain(self)
 
 
@@ -671,7 +679,7 @@ def simulate_chain(model: ChainModel | Chain, t_end: float, dt: float, q0=None, 
     q = np.zeros(nq) if q0 is None else np.array(q0, float)
     qd = np.zeros(nq) if qd0 is None else np.array(qd0, float)
     fr = model.free
-    nsteps = int(round(t_end / dt))
+    nsteps = round(t_end / dt)
     ts, qs, qds, qdds = [], [], [], []
 
     def rhs(t, yq, yv):

@@ -26,9 +26,23 @@ import numpy as np
 import scipy.sparse as sp
 from numba import njit
 
-from .links import BeamProperties, BodySpec, Link, SdeSpec, body_placement, check_dofs, rfe_lengths, \
-    sde_translational_stiffness
-from .transforms import FIXED, FREE_LINEAR, FREE_ZYX, joint_matrices_into, pseudo_inertia
+from .links import (
+    BeamProperties,
+    BodySpec,
+    Link,
+    SdeSpec,
+    body_placement,
+    check_dofs,
+    rfe_lengths,
+    sde_translational_stiffness,
+)
+from .transforms import (
+    FIXED,
+    FREE_LINEAR,
+    FREE_ZYX,
+    joint_matrices_into,
+    pseudo_inertia,
+)
 
 CLASSICAL_DOFS = ("x", "y", "z", "rx", "ry", "rz")
 COORD_NAMES = ("x", "y", "z", "phi_x", "phi_y", "phi_z")

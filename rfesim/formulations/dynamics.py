@@ -6,11 +6,17 @@ solve run here in one numba call.
 """
 from __future__ import annotations
 
-import numpy as np
 from numba import njit
 
 from .classical import sde_forces
-from .tree import composite_pass, forward_pass, generalized_bias, ltl_factor, ltl_solve, mass_matrix
+from .tree import (
+    composite_pass,
+    forward_pass,
+    generalized_bias,
+    ltl_factor,
+    ltl_solve,
+    mass_matrix,
+)
 
 
 @njit(cache=True)

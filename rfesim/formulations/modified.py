@@ -19,7 +19,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from .links import BeamProperties, BodySpec, Link, body_placement, check_dofs, rfe_lengths
+from .links import (
+    BeamProperties,
+    BodySpec,
+    Link,
+    body_placement,
+    check_dofs,
+    rfe_lengths,
+)
 from .transforms import FIXED, SPHERICAL, pseudo_inertia
 
 MODIFIED_DOFS = ("rx", "ry", "rz")

@@ -25,6 +25,7 @@ from numba import njit
 
 from ..kinematics import (cross_into, matmul_into, matTmul_into, matTvec_into, matvec_into,
                           relative_rotation_terms)
+from ..materials.sde_plastic import plastic_bending_into
 
 
 @njit(cache=True)
@@ -148,3 +149,62 @@ def sde_elastic_energy(sde_stiffness, eps):
         for k in range(6):
             e += 0.5 * sde_stiffness[s, k] * eps[s, k] * eps[s, k]
     return e
+
+
+@njit(cache=True)
+def plastic_sde_correction(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiffness, sde_length, sde_plastic,
+                           plastic_params, hist, hist_trial, R, rbase, roff, eps, sigma, M, k_tangent, out5, v3,
+                           m33):
+    """Elasto-plastic bending of the SDEs marked in ``sde_plastic`` (section 8.4.2, eqs.
+    8.97-8.98 and Figs. 8.15-8.16), after ``sde_forces_into`` has applied the elastic law.
+
+    The curvature of SDE s is theta_{y,z} / Delta; the bending moment follows the law with
+    memory of ``rfesim.materials.sde_plastic`` from the COMMITTED history (``hist``), its
+    new state goes to ``hist_trial``. The difference from the elastic moment C_phi theta is
+    applied like the SDE moment itself (through J_r^-T, eq. 8.90.2), so the result is exactly
+    what the SDE kernel would give with the plastic moment; sigma is corrected too.
+    ``k_tangent`` (nsde, 6) receives the stiffness with the consistent bending tangent
+    (dM/dkappa / Delta) for the analytic Jacobian; M is the moment accumulator."""
+    pa = v3[0]
+    pb = v3[1]
+    g = v3[2]
+    th = v3[4]
+    dm = v3[5]
+    tmp = v3[6]
+    mg = v3[7]
+    Rrel = m33[0]
+    Rh = m33[1]
+    Rp = m33[2]
+    Jri = m33[3]
+    Jrh = m33[4]
+    for s in range(sde_left.shape[0]):
+        for k in range(6):
+            k_tangent[s, k] = sde_stiffness[s, k]
+        if sde_plastic[s] == 0:
+            continue
+        d = sde_length[s]
+        ty = eps[s, 4]
+        tz = eps[s, 5]
+        plastic_bending_into(plastic_params, hist, s, ty / d, tz / d, out5, hist_trial)
+        dm[0] = 0.0
+        dm[1] = out5[0] - sde_stiffness[s, 4] * ty
+        dm[2] = out5[1] - sde_stiffness[s, 5] * tz
+        sigma[s, 4] += dm[1]
+        sigma[s, 5] += dm[2]
+        k_tangent[s, 4] = out5[2] / d
+        k_tangent[s, 5] = out5[4] / d
+        a = sde_left[s]
+        b = sde_right[s]
+        sde_geometry(a, b, sde_arm_left[s], sde_arm_right[s], R, rbase, roff, pa, pb, g, Rrel, th, Rh, Rp, Jri, Jrh)
+        matTvec_into(Jri, dm, tmp)
+        matvec_into(R[b], tmp, mg)
+        for k in range(3):
+            M[b, k] -= mg[k]
+            M[a, k] += mg[k]
+
+
+@njit(cache=True)
+def commit_plastic(hist, hist_trial):
+    for s in range(hist.shape[0]):
+        for k in range(hist.shape[1]):
+            hist[s, k] = hist_trial[s, k]

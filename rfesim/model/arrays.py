@@ -48,6 +48,18 @@ class KernelModel(NamedTuple):
     load_force: np.ndarray          # (nload, 3) N
     load_moment: np.ndarray         # (nload, 3) N*m
     load_local: np.ndarray          # (nload,) int64, 1: given in the RFE frame (follower)
+    # --- rollers of supports (rfesim.loads.rollers); nr = 0 without supports
+    roller_attach: np.ndarray       # (nr,) int64, attachment index (0: fixed)
+    roller_point: np.ndarray        # (nr, 3) m, centre of the roller's contact line in the attachment frame
+    roller_axis: np.ndarray         # (nr, 3) unit roller axis in the attachment frame
+    roller_half_width: np.ndarray   # (nr,) m, half length of the contact line
+    roller_radius: np.ndarray       # (nr,) m
+    roller_k: np.ndarray            # (nr,) N/m, contact stiffness
+    roller_c: np.ndarray            # (nr,) N*s/m, contact damping
+    roller_mu: np.ndarray           # (nr,) friction coefficient along the roller axis
+    roller_kt: np.ndarray           # (nr,) N/m, stick-spring stiffness of the friction
+    roller_lo: np.ndarray           # (nr,) int64, first RFE of the roller's line
+    roller_hi: np.ndarray           # (nr,) int64, one past its last RFE
     # --- environment
     gravity: float                  # m/s^2
     water_density: float            # kg/m^3
@@ -65,6 +77,11 @@ class KernelModel(NamedTuple):
     has_seabed: bool
     has_loads: bool
     has_friction: bool
+    has_rollers: bool
+    has_roller_friction: bool
+    sde_plastic: np.ndarray         # (nsde,) int64, 1: elasto-plastic bending (section 8.4.2)
+    plastic_params: np.ndarray      # (nsde, np) rows of rfesim.materials.sde_plastic.plastic_bending_into
+    has_plastic: bool
     has_sea: bool                   # waves or current: water kinematics evaluated at the RFEs
     sea: object                     # rfesim.sea.kernel.SeaSpec (wave components, current profile)
     sea_still: object               # the same without waves (statics: still water plus current)
@@ -108,6 +125,18 @@ class Workspace(NamedTuple):
     fric_anchored_trial: np.ndarray  # (n,) int64
     fric_mode: np.ndarray            # (1,) int64: 0 stick/slip, 1 mobilised towards end A (statics), 2 off
     friction_force: np.ndarray       # (n, 3) N, seabed friction force on each RFE
+    plastic_hist: np.ndarray         # (nsde, nh) committed plastic state of the SDEs
+    plastic_hist_trial: np.ndarray   # (nsde, nh)
+    k_tangent: np.ndarray            # (nsde, 6) SDE stiffness with the plastic bending tangent
+    out5: np.ndarray                 # (5,) scratch of the plastic law
+    roller_hint: np.ndarray          # (nr,) int64, RFE nearest to each roller at the last evaluation (-1: none)
+    roller_force: np.ndarray         # (nr, 3) N, force of the line on each roller (global)
+    roller_normal: np.ndarray        # (nr,) N, total normal force of each roller
+    roller_anchor: np.ndarray        # (nr,) m, committed friction anchor along the roller axis
+    roller_anchored: np.ndarray      # (nr,) int64
+    roller_anchor_trial: np.ndarray  # (nr,) m
+    roller_anchored_trial: np.ndarray  # (nr,) int64
+    roller_scratch: np.ndarray       # (32,) scratch of the roller kernel
     waves_off: np.ndarray            # (1,) int64, 1: still water plus current (statics), 0: waves on
     point1: np.ndarray               # (1, 3) m, scratch point for one-point sea kinematics
 
@@ -134,7 +163,7 @@ class AttachmentState(NamedTuple):
     scratch: np.ndarray  # (16, 3) work space of the compiled kinematics
 
 
-def new_workspace(n: int, nsde: int) -> Workspace:
+def new_workspace(n: int, nsde: int, nh: int = 1, nroller: int = 0) -> Workspace:
     return Workspace(
         R=np.zeros((n, 3, 3)), r=np.zeros((n, 3)), rbase=np.zeros((n, 3)), roff=np.zeros((n, 3)), v=np.zeros((n, 3)), w=np.zeros((n, 3)),
         wb=np.zeros((n, 3)), E=np.zeros((n, 3, 3)), Edot=np.zeros((n, 3)), F=np.zeros((n, 3)),
@@ -146,7 +175,11 @@ def new_workspace(n: int, nsde: int) -> Workspace:
         v3=np.zeros((32, 3)), m33=np.zeros((16, 3, 3)),
         fric_anchor=np.zeros((n, 3)), fric_anchored=np.zeros(n, np.int64), fric_anchor_trial=np.zeros((n, 3)),
         fric_anchored_trial=np.zeros(n, np.int64), fric_mode=np.zeros(1, np.int64),
-        friction_force=np.zeros((n, 3)), waves_off=np.zeros(1, np.int64), point1=np.zeros((1, 3)))
+        friction_force=np.zeros((n, 3)), plastic_hist=np.zeros((nsde, nh)), plastic_hist_trial=np.zeros((nsde, nh)),
+        k_tangent=np.zeros((nsde, 6)), out5=np.zeros(5), roller_hint=np.full(nroller, -1, np.int64),
+        roller_force=np.zeros((nroller, 3)), roller_normal=np.zeros(nroller), roller_anchor=np.zeros(nroller),
+        roller_anchored=np.zeros(nroller, np.int64), roller_anchor_trial=np.zeros(nroller),
+        roller_anchored_trial=np.zeros(nroller, np.int64), roller_scratch=np.zeros(32), waves_off=np.zeros(1, np.int64), point1=np.zeros((1, 3)))
 
 
 def new_attachment_state(natt: int) -> AttachmentState:

@@ -25,7 +25,7 @@ from ..kinematics import (cross_into, euler_rate_derivative_into, euler_rate_mat
 from ..loads.gravity import gravity_forces
 from ..loads.hydro import buoyancy_forces, morison_forces, submergence
 from ..loads.point import point_loads
-from ..loads.sde import sde_forces_into
+from ..loads.sde import sde_forces_into, commit_plastic, plastic_sde_correction
 from ..loads.seabed import commit_friction, seabed_forces
 from ..sea.kernel import sea_kinematics_into
 
@@ -105,7 +105,17 @@ def accumulate_forces(km, att, ws, scale):
     sde_forces_into(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, km.sde_stiffness,
                     km.sde_damping, ws.R, ws.rbase, ws.roff, ws.v, ws.w, ws.F, ws.M, ws.eps, ws.sigma, ws.sde_point,
                     ws.v3, ws.m33)
+    if km.has_plastic:
+        plastic_forces(km, ws, ws.M)
     local_loads(km, att, ws, scale)
+
+
+@njit(cache=True)
+def plastic_forces(km, ws, M):
+    """The elasto-plastic bending correction of the SDEs (after the elastic SDE forces)."""
+    plastic_sde_correction(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, km.sde_stiffness,
+                           km.sde_length, km.sde_plastic, km.plastic_params, ws.plastic_hist, ws.plastic_hist_trial,
+                           ws.R, ws.rbase, ws.roff, ws.eps, ws.sigma, M, ws.k_tangent, ws.out5, ws.v3, ws.m33)
 
 
 @njit(cache=True)
@@ -305,6 +315,8 @@ def commit_history(km, ws):
     state after an accepted step: called by every integrator once per step."""
     if km.has_friction:
         commit_friction(ws.fric_anchor, ws.fric_anchored, ws.fric_anchor_trial, ws.fric_anchored_trial)
+    if km.has_plastic:
+        commit_plastic(ws.plastic_hist, ws.plastic_hist_trial)
 
 
 @njit(cache=True)

@@ -21,6 +21,7 @@ from ..sea.kernel import sea_spec
 from .arrays import (KIND_CLAMPED, KIND_FREE, KIND_PINNED, AttachmentState, KernelModel, Reference,
                      new_attachment_state)
 from .sections import Section, section_from_type
+from .supports import compile_supports, resting_points, supported_start
 
 log = logging.getLogger("rfesim")
 
@@ -90,6 +91,8 @@ class Model:
     dof_mask: np.ndarray                    # (n, 6) bool, True for coordinates that move
     initial: State
     line_index: dict[str, int] = field(default_factory=dict)
+    plastic_history_width: int = 1          # columns of the SDEs' plastic history
+    supports: list = field(default_factory=list)   # rfesim.model.supports.SupportInfo, one per support
 
     @property
     def n(self) -> int:
@@ -313,6 +316,8 @@ def compile_scenario(sc, start: str | None = None) -> Model:
     loads = {k: [] for k in ("rfe", "arm", "force", "moment", "local")}
     q0_blocks, R0_blocks, X0_blocks = [], [], []
     lines: list[LineInfo] = []
+    plastic_rows: list[np.ndarray] = []
+    plastic_flags: list[int] = []
     n_total = 0
     nsde_total = 0
     problems: list[tuple[str, str]] = []
@@ -400,6 +405,11 @@ def compile_scenario(sc, start: str | None = None) -> Model:
         else:
             problems.append((f"{base}.end_a.position", "give the position of at least one end"))
             continue
+        rest = resting_points(sc, lname, 0.5 * sec.outer_diameter, attachment_names, att0) \
+            if (A is not None and start != "straight") else None
+        if rest is not None:
+            # over rollers: through their resting points, then a catenary to end B
+            curve = _supported_curve(A, B, L, rest, sec, sc)
         joints = curve.joints(lengths, B if (A is not None and B is not None) else None)
         if A is None:
             # only end B is placed: the curve was built ending at B; march from its start
@@ -455,6 +465,15 @@ def compile_scenario(sc, start: str | None = None) -> Model:
             rfe["seabed_c"].append(c_len)
         # --- SDEs
         coef = _sde_coefficients(sec, dx, shear_model)
+        material = getattr(lt, "material", None)
+        if material is not None and getattr(material, "kind", "elastic") == "elastoplastic":
+            from ..materials.sde_plastic import plastic_params
+            prow = plastic_params(material, sec).params
+            plastic_rows.extend([prow] * nseg)
+            plastic_flags.extend([1] * nseg)
+        else:
+            plastic_rows.extend([np.zeros(2)] * nseg)
+            plastic_flags.extend([0] * nseg)
         damp = _sde_damping(lt.damping, sec, dx, coef, masses, inertia, ends)
         for j in range(nseg):
             sde["left"].append(n_total + j)
@@ -512,7 +531,18 @@ def compile_scenario(sc, start: str | None = None) -> Model:
         bed_dir = np.array([math.cos(math.radians(pdir)), math.sin(math.radians(pdir))])
     else:
         bed_s, bed_z, bed_dir = np.array([-1.0, 1.0]), np.array([-1e30, -1e30]), np.array([1.0, 0.0])
+    if any(plastic_flags):
+        from ..materials.sde_plastic import pack_params
+        plastic_params_arr, hist0 = pack_params(plastic_rows)
+        plastic_width = hist0.shape[1]
+    else:
+        plastic_params_arr, plastic_width = np.zeros((len(plastic_flags), 2)), 1
+    roller_arrays, support_infos = compile_supports(sc, attachment_names, lines)
     km = KernelModel(
+        **roller_arrays,
+        has_rollers=bool(roller_arrays["roller_attach"].shape[0] > 0),
+        has_roller_friction=bool(roller_arrays["roller_attach"].shape[0] > 0
+                                 and float(roller_arrays["roller_mu"].max()) > 0.0),
         rfe_mass=f("mass", (n,)), rfe_inertia=f("inertia", (n, 3)), rfe_length=f("length", (n,)),
         rfe_kind=f("kind", (n,), np.int64), rfe_attach=f("attach", (n,), np.int64),
         rfe_attach_offset=f("attach_offset", (n, 3)), rfe_pin_arm=f("pin_arm", (n, 3)),
@@ -540,6 +570,8 @@ def compile_scenario(sc, start: str | None = None) -> Model:
         has_water=bool(has_water), has_morison=bool(has_morison), has_seabed=seabed is not None,
         has_loads=len(loads["rfe"]) > 0,
         has_friction=seabed is not None and (seabed.mu_axial > 0.0 or seabed.mu_lateral > 0.0),
+        sde_plastic=np.asarray(plastic_flags, np.int64), plastic_params=plastic_params_arr,
+        has_plastic=bool(any(plastic_flags)),
         has_sea=bool(has_water and (sea.has_waves or sea.has_current)), sea=sea, sea_still=sea_still,
     )
     dof_mask = np.ones((n, 6), dtype=bool)
@@ -549,8 +581,32 @@ def compile_scenario(sc, start: str | None = None) -> Model:
     ref = Reference(R=np.concatenate(R0_blocks, axis=0), X=np.concatenate(X0_blocks, axis=0))
     initial = State(t=0.0, q=q0, qd=np.zeros((n, 6)), qdd=np.zeros((n, 6)), ref=ref, aux=np.zeros((n, 6)))
     model = Model(scenario=sc, km=km, lines=lines, attachment_names=attachment_names, motions=motions,
+                  plastic_history_width=int(plastic_width), supports=support_infos,
                   dof_mask=dof_mask, initial=initial, line_index={li.name: k for k, li in enumerate(lines)})
     return model
+
+
+def _supported_curve(A: np.ndarray, B: np.ndarray | None, L: float, rest: np.ndarray, sec: Section, sc) -> _Curve:
+    """Initial shape of a line over rollers: A, the resting points on the rollers, then
+    the catenary to end B with the remaining length (rfesim.model.supports)."""
+    env = sc.environment
+    seabed = env.seabed
+
+    def tail(G, Bp, remaining):
+        d = float(np.linalg.norm(Bp - G))
+        if d >= remaining * (1.0 - 1e-9):
+            c = _straight(G, Bp - G, remaining, stretch=d / remaining)
+        else:
+            low = G if G[2] <= Bp[2] else Bp
+            c = _catenary_curve(G, Bp, remaining, _submerged_weight(sec, sc), sec.EA,
+                                env.seabed_z_at(float(low[0]), float(low[1])), 0.5 * sec.outer_diameter,
+                                seabed.normal_stiffness if seabed else 0.0)
+            if c is None:
+                c = _sagged_curve(G, Bp, remaining)
+        return c.s, c.X
+
+    s, X = supported_start(A, B, L, rest, tail)
+    return _Curve(s, X)
 
 
 def _sagged_curve(A: np.ndarray, B: np.ndarray, L: float) -> _Curve:

@@ -281,6 +281,18 @@ def check_references(sc: Scenario) -> list[tuple[str, str]]:
                                                  f"{100 * (d / line.length - 1):.3g} %"))
         if line.end_a.attach == "free" and line.end_a.position is None and line.end_b.attach == "free":
             errors.append((f"{base}.end_a.position", "a line with two free ends needs the position of end A"))
+    for sname, sup in sc.supports.items():
+        base = f"supports.{sname}"
+        if sup.line not in sc.lines:
+            known = ", ".join(sorted(sc.lines)) or "none defined"
+            errors.append((f"{base}.line", f"unknown line '{sup.line}' (lines: {known})"))
+        elif sc.line_types.get(sc.lines[sup.line].type) is not None and \
+                sc.line_types[sc.lines[sup.line].type].outer_diameter is None:
+            errors.append((f"{base}.line", f"line '{sup.line}' has no outer_diameter (its type "
+                                           f"'{sc.lines[sup.line].type}'): roller contact needs the pipe radius"))
+        if sup.attach != "fixed" and sup.attach not in vessel_names:
+            known = ", ".join(["fixed"] + sorted(vessel_names))
+            errors.append((f"{base}.attach", f"unknown attachment '{sup.attach}' (use one of: {known})"))
     an = sc.analysis
     if an.dynamics.enabled and an.dynamics.duration > 0 and an.dynamics.output_interval is not None:
         if an.dynamics.output_interval > an.dynamics.duration:

@@ -875,8 +875,12 @@ class Line(_Strict):
     type: str = Field(..., description="Name of a line type")
     length: float = _units("m", "Unstretched length", gt=0.0, le=1.0e7)
     elements: int = Field(..., ge=1, le=100000, description="Number of SDEs (primary division into equal segments)")
-    formulation: Literal["absolute"] = Field("absolute", description="RFE formulation (section 8.4 absolute "
-                                             "coordinates)")
+    formulation: Literal["absolute", "classical", "classical-linear", "modified", "planar"] = Field(
+        "absolute", description="RFE formulation: absolute coordinates (section 8.4, sea loads, seabed), "
+                                "classical (8.1, eq. 8.7), classical-linear (eq. 8.8), modified (8.2, joint "
+                                "coordinates, no axial/shear flexibility) or planar (8.3, vertical plane)")
+    dofs: list[str] | None = Field(None, description="classical/modified only: the free RFE coordinates "
+                                   "(classical: x, y, z, rx, ry, rz; modified: rx, ry, rz); default all")
     shear_stiffness: Literal["fem", "kruszewski"] | None = Field(
         None, description='"fem" (eq. 8.89, default) or "kruszewski" (eq. 8.88). By default a nearly flexible '
                           'line (12EI/dx^3 < 1e-6 GA/dx) uses kruszewski so its elements stay connected')
@@ -902,6 +906,90 @@ class Line(_Strict):
             if not isinstance(load.at, str) and not (0.0 <= load.at <= self.length):
                 raise FieldError(f"loads.{i}.at", f"arc length {load.at} m is outside the line [0, {self.length}] m")
         return self
+
+
+# --------------------------------------------------------------------------- supports
+
+def _nonzero(vector, field: str) -> None:
+    if math.sqrt(sum(c * c for c in vector)) < 1e-12:
+        raise FieldError(field, "must not be the zero vector")
+
+
+class Roller(_Strict):
+    """One roller: a segment of its axis in the support's frame, on which the pipe rests
+    (penetration = pipe outer radius + roller radius - distance between the pipe axis and
+    this segment, rfesim.loads.rollers)."""
+
+    position: Vector3 = _units("m", "Centre of the roller's contact line (a point on the roller axis), in the "
+                               "frame of the support's attachment")
+    axis: Vector3 = Field(..., description="Direction of the roller axis (any length, not zero), in the frame of "
+                          "the support's attachment [-]", json_schema_extra={"units": "1"})
+    width: float = _units("m", "Length of the contact line along the axis (the pipe touches within +-width/2 of "
+                          "position)", ge=0.0)
+    radius: float = _units("m", "Roller radius (0: the contact line itself)", default=0.0, ge=0.0)
+
+    @model_validator(mode="after")
+    def _axis(self):
+        _nonzero(self.axis, "axis")
+        return self
+
+
+class _Support(_Strict):
+    attach: str = Field("fixed", description='"fixed" (global frame) or a vessel name: the rollers move with it')
+    line: str = Field(..., description="Name of the line that runs over the rollers")
+    stiffness: float = _units("N/m", "Contact stiffness of each roller", gt=0.0)
+    damping: float = _units("N*s/m", "Contact damping of each roller (acts only while pressed)", default=0.0,
+                            ge=0.0)
+    friction: float = Field(0.0, ge=0.0, le=10.0, description="Coulomb friction coefficient along the roller "
+                            "axes (the rollers turn freely along the pipe); dynamics only [-]")
+    friction_stiffness: float | None = _units("N/m", "Stick-spring stiffness of the friction (default: the "
+                                              "contact stiffness)", default=None, gt=0.0)
+
+
+class RollerSupport(_Support):
+    """Rollers listed one by one (a V-roller is two rollers with inclined axes)."""
+
+    kind: Literal["rollers"]
+    rollers: list[Roller] = Field(..., min_length=1, max_length=100000)
+
+
+class StingerSupport(_Support):
+    """Rollers along a rigid arc: the arc is the line of the roller axes (the bottoms of
+    V-rollers), starting at ``start`` with tangent ``direction`` and curving towards -z of
+    the attachment frame with ``radius``; a roller station every ``spacing`` along it,
+    from ``start`` to ``length``. Each station has one roller across the arc (axis
+    horizontal, normal to the arc plane) or, with ``v_angle_deg`` > 0, two rollers whose
+    axes rise by that angle on either side (a V)."""
+
+    kind: Literal["stinger"]
+    start: Vector3 = _units("m", "First roller station (attachment frame)")
+    direction: Vector3 = Field(..., description="Tangent of the arc at start, pointing along the lay direction "
+                               "(attachment frame; not vertical) [-]", json_schema_extra={"units": "1"})
+    radius: float = _units("m", "Radius of the arc of roller axes", gt=0.0)
+    length: float = _units("m", "Arc length of the stinger from start", gt=0.0, le=1.0e4)
+    spacing: float = _units("m", "Distance between roller stations along the arc", gt=0.0)
+    roller_width: float = _units("m", "Contact length of each roller", gt=0.0)
+    roller_radius: float = _units("m", "Roller radius", default=0.0, ge=0.0)
+    v_angle_deg: float = _units("deg", "Rise of each half of a V-roller from horizontal (0: one flat roller per "
+                                "station)", default=0.0, ge=0.0, lt=80.0)
+
+    @model_validator(mode="after")
+    def _geometry(self):
+        _nonzero(self.direction, "direction")
+        n = math.sqrt(sum(c * c for c in self.direction))
+        if abs(self.direction[2]) / n > 1.0 - 1e-9:
+            raise FieldError("direction", "must not be vertical: the arc bends towards -z in the plane of the "
+                                          "direction and z")
+        if self.spacing > self.length:
+            raise FieldError("spacing", f"{self.spacing} m is longer than the stinger ({self.length} m)")
+        if self.length / self.spacing > 10000:
+            raise FieldError("spacing", f"{self.spacing} m on {self.length} m makes more than 10000 stations")
+        if self.length > math.pi * self.radius:
+            raise FieldError("length", f"{self.length} m is more than half the circle of radius {self.radius} m")
+        return self
+
+
+Support = Annotated[Union[RollerSupport, StingerSupport], Field(discriminator="kind")]
 
 
 # --------------------------------------------------------------------------- analysis
@@ -977,6 +1065,9 @@ class Analysis(_Strict):
 
 # --------------------------------------------------------------------------- scenario
 
+from .chains import ChainSpec, check_formulations  # noqa: E402 - chains.py builds on the models above
+
+
 class Scenario(_Strict):
     """A complete scene: environment, vessels, line types, lines and analysis settings."""
 
@@ -987,7 +1078,16 @@ class Scenario(_Strict):
     vessels: dict[str, Vessel] = Field(default_factory=dict)
     line_types: dict[str, LineType] = Field(default_factory=dict)
     lines: dict[str, Line] = Field(default_factory=dict)
+    supports: dict[str, Support] = Field(default_factory=dict, description="Guiding structures "
+                                         "(rollers, stinger) that lines rest on")
     analysis: Analysis = Field(default_factory=Analysis)
+    chains: dict[str, ChainSpec] = Field(default_factory=dict, description="Kinematic chains of rigid and "
+                                         "flexible links (rfesim.scenario.chains)")
+
+    @model_validator(mode="after")
+    def _formulations(self):
+        check_formulations(self)
+        return self
 
     @model_validator(mode="after")
     def _rao_needs_waves(self):

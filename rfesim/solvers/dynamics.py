@@ -109,6 +109,8 @@ class Recorder:
                 "seabed_friction": np.zeros((nt, li.nrfe, 3)),
                 "touchdown_position": np.full((nt, 3), np.nan),
                 "touchdown_arc_length": np.full(nt, np.nan),
+                "von_mises_stress": np.full((nt, li.elements), np.nan),
+                "utilisation": np.full((nt, li.elements), np.nan),
             }
         self.vessel_names = list(model.scenario.vessels)
         self.vessel_pos = np.zeros((nt, len(self.vessel_names), 3))
@@ -117,6 +119,15 @@ class Recorder:
         self._ch = {ch: np.zeros(nsde) for ch in ("tension", "shear_force", "bend_moment", "torque", "curvature")}
         self._react = np.zeros((model.n, 6))
         self._pts = {li.name: np.zeros((li.elements + 2, 3)) for li in model.lines}
+        # stress outputs (eqs. 8.97-8.98) of elasto-plastic pipe lines
+        self._stress_geometry = {}
+        for li in model.lines:
+            lt = model.scenario.line_types[model.scenario.lines[li.name].type]
+            material = getattr(lt, "material", None)
+            if material is not None and getattr(material, "kind", "") == "elastoplastic":
+                from ..materials.sde_plastic import plastic_params
+                row = plastic_params(material, li.section).stress_geometry
+                self._stress_geometry[li.name] = np.tile(row, (li.elements, 1))
 
     def record(self, state: State, qdd: np.ndarray) -> None:
         from ..kinematics import rotation_to_zyx
@@ -147,6 +158,12 @@ class Recorder:
             d["end_b_moment"][k] = -self._react[ib, 3:]
             d["seabed_force"][k] = ws.contact_force[li.rfe_start:li.rfe_stop]
             d["seabed_friction"][k] = ws.friction_force[li.rfe_start:li.rfe_stop]
+            if li.name in self._stress_geometry:
+                from ..materials.sde_plastic import pipe_stress_into
+                out = np.zeros((li.elements, 7))
+                pipe_stress_into(ws.sigma[li.sde_start:li.sde_stop], self._stress_geometry[li.name], out)
+                d["von_mises_stress"][k] = out[:, 5]
+                d["utilisation"][k] = out[:, 6]
             if km.has_seabed:
                 td = touchdown(km, ws, li)
                 if td is not None:

@@ -25,6 +25,7 @@ from numba import njit
 from ..kinematics import cross_into, matmul_into, matvec_into
 from ..loads.sde import sde_forces_into
 from ..loads.sde_tangent import sde_tangent
+from ..model.assemble import plastic_forces
 from .residual import residual_general, residual_q
 
 
@@ -78,8 +79,13 @@ def jacobian_analytic(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd
     sde_forces_into(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, km.sde_stiffness,
                     km.sde_damping, ws.R, ws.rbase, ws.roff, ws.v, ws.w, Fsde, Msde, ws.eps, ws.sigma, ws.sde_point,
                     ws.v3, ws.m33)
-    sde_tangent(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, km.sde_stiffness, km.sde_damping,
-                ws.R, ws.rbase, ws.roff, ws.sigma, Ks, Kds)
+    if km.has_plastic:
+        plastic_forces(km, ws, Msde)
+        sde_tangent(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, ws.k_tangent, km.sde_damping,
+                    ws.R, ws.rbase, ws.roff, ws.sigma, Ks, Kds)
+    else:
+        sde_tangent(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, km.sde_stiffness, km.sde_damping,
+                    ws.R, ws.rbase, ws.roff, ws.sigma, Ks, Kds)
     _maps(km, att, ws, T)
     cK = 1.0 if mode == 0 else cq
     cD = 0.0 if mode == 0 else cv

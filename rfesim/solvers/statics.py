@@ -172,8 +172,9 @@ def solve_statics(system: System, state: State | None = None, *, tolerance: floa
     system.ws.waves_off[0] = 1          # statics: still water plus current
     try:
         st, info = _solve(system, state, tolerance, max_iterations, load_steps, progress)
-        if model.km.has_friction:
-            # anchors of the final state: at the mobilised forces, or none (set at first touch)
+        if model.km.has_friction or model.km.has_plastic:
+            # history of the final state: plastic state of the SDEs, friction anchors at the
+            # mobilised forces or none (set at first touch)
             system.evaluate(st)
             system.commit_history()
             if not mobilised:

@@ -17,7 +17,7 @@ class System:
         n, nsde = model.n, model.nsde
         self.km = km
         self.n = n
-        self.ws = new_workspace(n, nsde)
+        self.ws = new_workspace(n, nsde, model.plastic_history_width)
         self.vs = vessel_spec(model.motions)
         self.att = new_attachment_state(len(model.attachment_names))
         self.mask = model.dof_mask
@@ -36,12 +36,13 @@ class System:
     def history(self) -> tuple:
         """A copy of the committed history (seabed friction anchors), to roll a step back."""
         ws = self.ws
-        return ws.fric_anchor.copy(), ws.fric_anchored.copy()
+        return ws.fric_anchor.copy(), ws.fric_anchored.copy(), ws.plastic_hist.copy()
 
     def set_history(self, saved: tuple) -> None:
         ws = self.ws
         ws.fric_anchor[:] = saved[0]
         ws.fric_anchored[:] = saved[1]
+        ws.plastic_hist[:] = saved[2]
 
     def commit_history(self) -> None:
         """Accept the trial history written by the last evaluation."""

@@ -2,16 +2,32 @@
 the trace-form reference (eqs. 8.7-8.20, 8.31, 8.43), elastic terms (8.21-8.29, 8.35, 8.49)."""
 from __future__ import annotations
 
+import formulations_reference as ref
 import numpy as np
 import pytest
 
-import formulations_reference as ref
-from rfesim.formulations import (BaseMotion, BeamProperties, Chain, ClassicalLink, Joint, ModifiedLink, RigidLink,
-                                 equations, linear_matrices, point_motion)
+from rfesim.formulations import (
+    BaseMotion,
+    BeamProperties,
+    Chain,
+    ClassicalLink,
+    Joint,
+    ModifiedLink,
+    RigidLink,
+    equations,
+    linear_matrices,
+    point_motion,
+    tree,
+)
 from rfesim.formulations import chain as chain_mod
-from rfesim.formulations import tree
-from rfesim.formulations.transforms import (FREE_LINEAR, FREE_ZYX, REVOLUTE, SPHERICAL, joint_motion_into,
-                                            pseudo_inertia)
+from rfesim.formulations.transforms import (
+    FREE_LINEAR,
+    FREE_ZYX,
+    REVOLUTE,
+    SPHERICAL,
+    joint_motion_into,
+    pseudo_inertia,
+)
 
 ROUNDOFF = 1e-12
 SEEDS = [0, 1, 2]
@@ -55,7 +71,7 @@ def test_second_derivatives_are_derivatives_of_the_first(kind):
     n = {FREE_ZYX: 6, SPHERICAL: 3, REVOLUTE: 1}[kind]
     q = rng.uniform(-1.2, 1.2, n)
     axis = np.array([0.3, -0.5, 0.8]) / np.linalg.norm([0.3, -0.5, 0.8])
-    _, dM, d2M = motion(kind, q, axis)
+    _, _dM, d2M = motion(kind, q, axis)
     h = 1e-5
     for l in range(n):
         qp, qm = q.copy(), q.copy()
@@ -69,7 +85,7 @@ def test_second_derivatives_are_derivatives_of_the_first(kind):
 
 def test_linear_matrix_is_eq_8_8_and_first_order_of_eq_8_7():
     q = np.array([0.1, -0.2, 0.3, 1e-4, -2e-4, 3e-4])
-    M, dM, d2M = motion(FREE_LINEAR, q)
+    M, _dM, d2M = motion(FREE_LINEAR, q)
     x, y, z, px, py, pz = q
     expected = np.array([[1, -pz, py, x], [pz, 1, -px, y], [-py, px, 1, z], [0, 0, 0, 1]])
     assert np.abs(M - expected).max() == 0.0
@@ -104,8 +120,8 @@ def test_pseudo_inertia_gives_rigid_body_kinetic_energy():
 
 # ----------------------------------------------------------------------------- models
 def props(**kw):
-    base = dict(EA=3e4, EIy=40.0, EIz=60.0, GJ=30.0, mass_per_length=2.0, rotary_inertia=0.01, polar_inertia=0.02,
-                damping=0.0)
+    base = {"EA": 3e4, "EIy": 40.0, "EIz": 60.0, "GJ": 30.0, "mass_per_length": 2.0, "rotary_inertia": 0.01, "polar_inertia": 0.02,
+                "damping": 0.0}
     base.update(kw)
     return BeamProperties(**base)
 
@@ -163,7 +179,7 @@ def test_composite_assembly_equals_trace_form_reference(name, seed):
     assert np.abs(data.A - A).max() < ROUNDOFF * scaleA
     h_ref = e + G - Q
     assert np.abs(data.h - h_ref).max() < 1e-11 * max(1.0, np.abs(h_ref).max())
-    TA, TAd, TAdd = model.base(t)
+    _TA, _TAd, _TAdd = model.base(t)
     assert tree.kinetic_energy(model.inertia, data.Td) == pytest.approx(kinetic, rel=1e-12)
 
 

@@ -7,9 +7,24 @@ import numpy as np
 import pytest
 
 from rfesim.bench.cases import B4_RATIOS, BETA_L, CHAIN_C, MATTIASSON, PENDULUM
-from rfesim.formulations import (BaseMotion, BeamProperties, Chain, ClassicalLink, Joint, JointForce, ModifiedLink,
-                                 Prescribed, RigidLink, accelerations, chain_energy, chain_modes, chain_statics,
-                                 equations, linear_modes, point_motion, simulate_chain)
+from rfesim.formulations import (
+    BaseMotion,
+    BeamProperties,
+    Chain,
+    ClassicalLink,
+    Joint,
+    JointForce,
+    ModifiedLink,
+    Prescribed,
+    RigidLink,
+    accelerations,
+    chain_modes,
+    chain_statics,
+    equations,
+    linear_modes,
+    point_motion,
+    simulate_chain,
+)
 from rfesim.formulations.chain import ChainData
 
 G = 9.81
@@ -83,7 +98,7 @@ def test_R1_tip_moment(formulation):
 def test_linear_classical_reproduces_nonlinear_for_small_loads_only():
     """Same cantilever, linear (eq. 8.8) vs nonlinear (eq. 8.7): agree to 1e-7 at w/L ~ 3e-5,
     differ by more than 1 % at w/L ~ 0.3."""
-    L, EI, n = 10.0, 1e6, 8
+    _L, _EI, n = 10.0, 1e6, 8
     for P, agree in ((1.0, True), (1.0e5, False)):
         lin, _ = cantilever("classical-linear", n, force=(0.0, P, 0.0))
         non, _ = cantilever("classical", n, force=(0.0, P, 0.0), load_steps=4)
@@ -316,7 +331,7 @@ def test_joint_torque_drive_accelerates_as_torque_over_inertia():
 
 
 # ----------------------------------------------------------------------------- geometric stiffening
-KANE = dict(L=10.0, EI=7e10 * 2e-7, mu=3000.0 * 4e-4, rate=6.0, ramp=15.0)
+KANE = {"L": 10.0, "EI": 7e10 * 2e-7, "mu": 3000.0 * 4e-4, "rate": 6.0, "ramp": 15.0}
 
 
 def kane_spin_up(formulation, n, dt, t_end, EA=7e10 * 4e-4 * 1e-2):

@@ -1,0 +1,196 @@
+"""Supports (rollers, stinger) of a scenario -> the roller arrays of the kernel model, and
+the initial shape of a line that runs over them.
+
+A stinger is an arc of roller axes in its attachment frame: from ``start`` with unit
+tangent T, bending with radius R towards N0, the part of -z normal to T. At arc length s
+(theta = s / R) the station is ``start + R sin(theta) T + R (1 - cos(theta)) N0``, its
+tangent ``cos(theta) T + sin(theta) N0`` and the outward normal (towards the pipe)
+``o = sin(theta) T - cos(theta) N0``. A flat station has one roller with axis
+B = T x N0 across the arc; a V station has two with axes ``cos(v) (+-B) + sin(v) o``,
+each starting at the V bottom. A pipe of radius a resting on a station has its axis at
+the station + o (a + rho) / cos(v).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import ScenarioError
+
+
+@dataclass
+class SupportInfo:
+    """Where a support's rollers sit in the model arrays."""
+
+    name: str
+    line: str
+    attach: str
+    roller_start: int
+    roller_stop: int
+    position: np.ndarray      # (nr, 3) m, roller contact-line centres in the attachment frame
+    axis: np.ndarray          # (nr, 3) unit roller axes in the attachment frame
+
+    @property
+    def nroller(self) -> int:
+        return self.roller_stop - self.roller_start
+
+
+@dataclass
+class RollerSet:
+    """Rollers of one support in its attachment frame, with the resting points of the
+    pipe axis (``guide + (a + rho) * lift * up``) used for the initial shape."""
+
+    point: np.ndarray         # (m, 3)
+    axis: np.ndarray          # (m, 3) unit
+    half_width: np.ndarray    # (m,)
+    radius: np.ndarray        # (m,)
+    guide: np.ndarray         # (m, 3) station point (V bottom, or the roller centre)
+    up: np.ndarray            # (m, 3) unit direction from the roller towards the pipe
+    lift: np.ndarray          # (m,) 1 / cos(v)
+
+
+def stinger_frame(direction) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """T (tangent), N0 (towards the centre of the arc, downwards), B = T x N0."""
+    T = np.asarray(direction, float)
+    T = T / np.linalg.norm(T)
+    z = np.array([0.0, 0.0, 1.0])
+    N0 = -(z - (z @ T) * T)
+    N0 /= np.linalg.norm(N0)
+    return T, N0, np.cross(T, N0)
+
+
+def roller_set(sup) -> RollerSet:
+    if sup.kind == "rollers":
+        pts, axes, hw, rad, up = [], [], [], [], []
+        for r in sup.rollers:
+            a = np.asarray(r.axis, float)
+            a /= np.linalg.norm(a)
+            u = np.array([0.0, 0.0, 1.0]) - a[2] * a
+            nu = np.linalg.norm(u)
+            u = u / nu if nu > 1e-9 else np.cross(a, [1.0, 0.0, 0.0]) / np.linalg.norm(np.cross(a, [1.0, 0.0, 0.0]))
+            pts.append(r.position)
+            axes.append(a)
+            hw.append(0.5 * r.width)
+            rad.append(r.radius)
+            up.append(u)
+        m = len(pts)
+        P = np.asarray(pts, float)
+        return RollerSet(P, np.asarray(axes), np.asarray(hw), np.asarray(rad), P.copy(), np.asarray(up),
+                         np.ones(m))
+    T, N0, B = stinger_frame(sup.direction)
+    start = np.asarray(sup.start, float)
+    nst = int(math.floor(sup.length / sup.spacing + 1e-9)) + 1
+    v = math.radians(sup.v_angle_deg)
+    pts, axes, guide, up = [], [], [], []
+    for k in range(nst):
+        th = k * sup.spacing / sup.radius
+        p = start + sup.radius * math.sin(th) * T + sup.radius * (1.0 - math.cos(th)) * N0
+        o = math.sin(th) * T - math.cos(th) * N0
+        if v == 0.0:
+            pts.append(p)
+            axes.append(B)
+            guide.append(p)
+            up.append(o)
+        else:
+            for side in (1.0, -1.0):
+                a = math.cos(v) * side * B + math.sin(v) * o
+                pts.append(p + 0.5 * sup.roller_width * a)
+                axes.append(a)
+                guide.append(p)
+                up.append(o)
+    m = len(pts)
+    return RollerSet(np.asarray(pts), np.asarray(axes), np.full(m, 0.5 * sup.roller_width),
+                     np.full(m, sup.roller_radius), np.asarray(guide), np.asarray(up), np.full(m, 1.0 / math.cos(v)))
+
+
+def empty_roller_arrays() -> dict:
+    z3 = np.zeros((0, 3))
+    z = np.zeros(0)
+    zi = np.zeros(0, np.int64)
+    return dict(roller_attach=zi, roller_point=z3, roller_axis=z3.copy(), roller_half_width=z, roller_radius=z.copy(),
+                roller_k=z.copy(), roller_c=z.copy(), roller_mu=z.copy(), roller_kt=z.copy(), roller_lo=zi.copy(),
+                roller_hi=zi.copy())
+
+
+def compile_supports(sc, attachment_names: list[str], lines) -> tuple[dict, list[SupportInfo]]:
+    """Roller arrays of the kernel model and the supports' places in them."""
+    supports = getattr(sc, "supports", None) or {}
+    if not supports:
+        return empty_roller_arrays(), []
+    index = {li.name: li for li in lines}
+    cols = {k: [] for k in empty_roller_arrays()}
+    infos: list[SupportInfo] = []
+    problems = []
+    start = 0
+    for name, sup in supports.items():
+        li = index.get(sup.line)
+        if li is None:
+            problems.append((f"supports.{name}.line", f"unknown line '{sup.line}'"))
+            continue
+        rs = roller_set(sup)
+        m = rs.point.shape[0]
+        att = attachment_names.index(sup.attach)
+        cols["roller_attach"].append(np.full(m, att, np.int64))
+        cols["roller_point"].append(rs.point)
+        cols["roller_axis"].append(rs.axis)
+        cols["roller_half_width"].append(rs.half_width)
+        cols["roller_radius"].append(rs.radius)
+        cols["roller_k"].append(np.full(m, float(sup.stiffness)))
+        cols["roller_c"].append(np.full(m, float(sup.damping)))
+        cols["roller_mu"].append(np.full(m, float(sup.friction)))
+        cols["roller_kt"].append(np.full(m, float(sup.friction_stiffness or sup.stiffness)))
+        cols["roller_lo"].append(np.full(m, li.rfe_start, np.int64))
+        cols["roller_hi"].append(np.full(m, li.rfe_stop, np.int64))
+        infos.append(SupportInfo(name=name, line=sup.line, attach=sup.attach, roller_start=start,
+                                 roller_stop=start + m, position=rs.point.copy(), axis=rs.axis.copy()))
+        start += m
+    if problems:
+        raise ScenarioError(problems)
+    arrays = {k: np.concatenate(v) if v else empty_roller_arrays()[k] for k, v in cols.items()}
+    return arrays, infos
+
+
+def resting_points(sc, line_name: str, pipe_radius: float, attachment_names: list[str], att0) -> np.ndarray | None:
+    """Global points (at t = 0) where the axis of line ``line_name`` rests on its supports'
+    roller stations, one per station, or None when no support carries the line."""
+    pts = []
+    for sup in (getattr(sc, "supports", None) or {}).values():
+        if sup.line != line_name:
+            continue
+        rs = roller_set(sup)
+        a = attachment_names.index(sup.attach)
+        local = rs.guide + ((pipe_radius + rs.radius) * rs.lift)[:, None] * rs.up
+        glob = att0.p[a][None, :] + local @ att0.R[a].T
+        # one point per station (the two halves of a V share it)
+        keep = np.ones(glob.shape[0], bool)
+        keep[1:] = np.linalg.norm(np.diff(glob, axis=0), axis=1) > 1e-9
+        pts.append(glob[keep])
+    if not pts:
+        return None
+    return np.vstack(pts)
+
+
+def supported_start(A: np.ndarray, B: np.ndarray | None, length: float, rest: np.ndarray, tail):
+    """Polyline from end A through the resting points (ordered by distance from A), then
+    ``tail(G, B, remaining_length)`` -> (s, X) from the last resting point G to end B
+    (a catenary), or straight on along the last segment when B is free.
+    Returns (s, X) of the whole curve."""
+    order = np.argsort(np.linalg.norm(rest - A[None, :], axis=1))
+    X = np.vstack([A[None, :], rest[order]])
+    keep = np.ones(X.shape[0], bool)
+    keep[1:] = np.linalg.norm(np.diff(X, axis=0), axis=1) > 1e-9
+    X = X[keep]
+    s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(X, axis=0), axis=1))])
+    remaining = length - s[-1]
+    if remaining <= 0.0:
+        raise ScenarioError([("supports", f"the line is {length} m long but reaches the last roller only after "
+                                          f"{s[-1]:.6g} m: make it longer")])
+    tail_sx = tail(X[-1], B, remaining) if B is not None else None
+    if tail_sx is None:
+        d = X[-1] - X[-2] if X.shape[0] > 1 else np.array([0.0, 0.0, -1.0])
+        d = d / np.linalg.norm(d)
+        return np.append(s, s[-1] + remaining), np.vstack([X, X[-1] + remaining * d])
+    ts, tX = tail_sx
+    return np.concatenate([s, s[-1] + ts[1:]]), np.vstack([X, tX[1:]])
