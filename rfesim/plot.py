@@ -76,8 +76,25 @@ def plot_top_tension(res, line: str | None = None, ax=None):
     return ax
 
 
+def plot_range_graph(res, line: str, channel: str = "bend_moment", ax=None, scale: float = 1e-3,
+                     unit: str = "kN*m"):
+    """Range graph of a channel along a line: min, max and mean over the run vs arc length."""
+    ax = _new_axes(ax)
+    rg = res.line(line).range_graph(channel)
+    s = rg["arc_length"]
+    ax.fill_between(s, rg["min"] * scale, rg["max"] * scale, color="tab:blue", alpha=0.25, label="min - max")
+    ax.plot(s, rg["mean"] * scale, color="tab:blue", lw=1.2, label="mean")
+    ax.set_xlabel("arc length from end A [m]")
+    ax.set_ylabel(f"{channel} [{unit}]")
+    ax.set_title(f"{line}: range of {channel}")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize="x-small", loc="best")
+    return ax
+
+
 def plot_results(res, path: str | os.PathLike | None = None, line: str | None = None):
-    """A figure with the shapes of each line (or of ``line``) and their top tension vs time.
+    """A figure with the shapes of each line (or of ``line``), their range graphs of tension
+    and bending moment (runs with more than one time), and their top tension vs time.
 
     Saves to ``path`` when given; returns the matplotlib Figure.
     """
@@ -85,11 +102,16 @@ def plot_results(res, path: str | os.PathLike | None = None, line: str | None = 
     names = [line] if line is not None else list(res.lines)
     if line is not None:
         res.line(line)  # a clear KeyError for an unknown line
-    nrows = max(1, len(names)) + 1
+    ranges = len(res.time) > 1
+    per_line = 3 if ranges else 1
+    nrows = max(1, per_line * len(names)) + 1
     fig, axes = plt.subplots(nrows, 1, figsize=(8.0, 3.2 * nrows), squeeze=False)
     axes = axes[:, 0]
-    for name, ax in zip(names, axes[:-1]):
-        plot_line_shapes(res, name, ax=ax)
+    for j, name in enumerate(names):
+        plot_line_shapes(res, name, ax=axes[per_line * j])
+        if ranges:
+            plot_range_graph(res, name, "tension", ax=axes[per_line * j + 1], unit="kN")
+            plot_range_graph(res, name, "bend_moment", ax=axes[per_line * j + 2])
     if not names:
         axes[0].set_axis_off()
     plot_top_tension(res, line, ax=axes[-1])

@@ -36,6 +36,10 @@ CHANNELS: dict[str, tuple[str, str]] = {
     "vessel_position": ("m", "Position of the vessel origin (global)"),
     "vessel_rotation": ("deg", "Vessel roll, pitch, yaw (ZYX angles)"),
     "frequency": ("Hz", "Natural frequency"),
+    "roller_reaction": ("N", "Normal contact force of the line on each roller"),
+    "roller_force": ("N", "Force of the line on each roller, normal and friction (global)"),
+    "roller_position": ("m", "Centre of each roller's contact line in the frame of the support's attachment"),
+    "roller_axis": ("1", "Unit axis of each roller in the frame of the support's attachment"),
     "xyz": ("1", "Global axis (0: x, 1: y, 2: z)"),
 }
 
@@ -74,9 +78,89 @@ class LineResults:
         """Magnitude of the force at end B (N): the tension at the top of a riser."""
         return np.linalg.norm(self.end_b_force, axis=-1)
 
+    @property
+    def departure_angle(self) -> np.ndarray:
+        """(nt,) deg: angle of the line at end B below the horizontal (90: vertical)."""
+        d = np.asarray(self.end_b_direction)
+        return np.degrees(np.arctan2(np.abs(d[:, 2]), np.hypot(d[:, 0], d[:, 1])))
+
+    def bending_strain(self, outer_diameter: float) -> np.ndarray:
+        """(nt, nsde) outer-fibre bending strain kappa D / 2 (-)."""
+        return np.asarray(self.curvature) * 0.5 * outer_diameter
+
+    def range_graph(self, channel: str, t_from: float | None = None, time: np.ndarray | None = None) -> dict:
+        """Range graph of an SDE or RFE channel along the line: ``{"arc_length", "min", "max",
+        "mean"}`` over time (from ``t_from`` when the run's ``time`` is given).
+        For a channel per point (``position``), give ``channel="position_z"`` etc."""
+        if channel.startswith("position_"):
+            data = np.asarray(self.position)[..., "xyz".index(channel[-1])]
+            s = np.asarray(self.arc_length)
+        else:
+            data = getattr(self, channel, None)
+            data = None if data is None else np.asarray(data)
+            nsde = len(self.sde_arc_length)
+            if data is None or data.ndim != 2 or data.shape[1] not in (nsde, nsde + 1):
+                raise ValueError(f"{channel} is not a channel along the line (per SDE or per RFE)")
+            if data.shape[1] == nsde:
+                s = np.asarray(self.sde_arc_length)
+            else:       # per RFE: the RFE centres, between the SDEs (and the ends)
+                p = np.concatenate([[self.arc_length[0]], self.sde_arc_length, [self.arc_length[-1]]])
+                s = 0.5 * (p[:-1] + p[1:])
+        if t_from is not None and time is not None:
+            data = data[np.asarray(time) >= t_from]
+        if data.shape[0] == 0:
+            raise ValueError("no results in the requested time window")
+        return {"arc_length": s, "min": np.nanmin(data, axis=0), "max": np.nanmax(data, axis=0),
+                "mean": np.nanmean(data, axis=0)}
+
+    def sagbend_overbend(self, seabed_touchdown: bool = True) -> dict:
+        """Largest bending moment and curvature in the sag bend (between the touchdown point
+        and the inflection of the line's curvature nearest to it) and in the overbend (above
+        that inflection, towards end B), over the whole run. Without a touchdown point the
+        line is split at its lowest point."""
+        s = np.asarray(self.sde_arc_length)
+        moment = np.asarray(self.bend_moment)
+        curv = np.asarray(self.curvature)
+        td = np.asarray(self.touchdown_arc_length) if self.touchdown_arc_length is not None else None
+        z = np.asarray(self.position)[..., 2]
+        out = {"sagbend_moment": 0.0, "sagbend_curvature": 0.0, "overbend_moment": 0.0, "overbend_curvature": 0.0}
+        pts = np.asarray(self.arc_length)
+        for k in range(moment.shape[0]):
+            # the sag bend is concave up, the overbend concave down: sign of z'' along the line
+            zpp = np.gradient(np.gradient(z[k], pts), pts)
+            zpp_sde = np.interp(s, pts, zpp)
+            start = td[k] if (td is not None and np.isfinite(td[k])) else s[np.argmin(np.interp(s, pts, z[k]))]
+            sag = (s >= start) & (zpp_sde > 0)
+            over = (s >= start) & (zpp_sde < 0)
+            if sag.any():
+                out["sagbend_moment"] = max(out["sagbend_moment"], float(moment[k][sag].max()))
+                out["sagbend_curvature"] = max(out["sagbend_curvature"], float(curv[k][sag].max()))
+            if over.any():
+                out["overbend_moment"] = max(out["overbend_moment"], float(moment[k][over].max()))
+                out["overbend_curvature"] = max(out["overbend_curvature"], float(curv[k][over].max()))
+        return out
+
     def _truncate(self, nt: int) -> None:
         for name in LINE_CHANNELS:
             setattr(self, name, getattr(self, name)[:nt])
+
+
+@dataclass
+class SupportResults:
+    """Reactions of the rollers of one support (rollers or stinger)."""
+
+    name: str
+    line: str
+    attach: str
+    roller_position: np.ndarray       # (nroller, 3) m, attachment frame
+    roller_axis: np.ndarray           # (nroller, 3) unit, attachment frame
+    roller_reaction: np.ndarray       # (nt, nroller) N, normal force
+    roller_force: np.ndarray          # (nt, nroller, 3) N, force of the line on the roller (global)
+
+    @property
+    def reaction(self) -> np.ndarray:
+        """Normal force on each roller (nt, nroller), N."""
+        return self.roller_reaction
 
 
 @dataclass
@@ -95,6 +179,7 @@ class Results:
     lines: dict[str, LineResults]
     vessels: dict[str, VesselResults] = field(default_factory=dict)
     bodies: dict = field(default_factory=dict)
+    supports: dict[str, SupportResults] = field(default_factory=dict)
     status: int = 0
     message: str = ""
     counters: dict = field(default_factory=dict)
@@ -117,6 +202,13 @@ class Results:
             return self.bodies[name]
         except KeyError:
             raise KeyError(f"no body '{name}' in the results (bodies: {', '.join(self.bodies) or 'none'})") from None
+
+    def support(self, name: str) -> SupportResults:
+        try:
+            return self.supports[name]
+        except KeyError:
+            raise KeyError(f"no support '{name}' in the results (supports: {', '.join(self.supports) or 'none'})") \
+                from None
 
     def vessel(self, name: str) -> VesselResults:
         return self.vessels[name]
@@ -204,6 +296,19 @@ def _write_netcdf(res: Results, path: str) -> None:
             _var(g, "touchdown_arc_length", ("time",), lr.touchdown_arc_length)
             _var(g, "von_mises_stress", ("time", "sde"), lr.von_mises_stress)
             _var(g, "utilisation", ("time", "sde"), lr.utilisation)
+        if res.supports:
+            sg = f.create_group("supports")
+            for name, sr in res.supports.items():
+                g = sg.create_group(name)
+                g.attrs["line"] = sr.line
+                g.attrs["attach"] = sr.attach
+                g.dimensions = {"time": nt, "roller": sr.roller_position.shape[0], "xyz": 3}
+                _var(g, "time", ("time",), res.time)
+                _var(g, "xyz", ("xyz",), [0, 1, 2], dtype=np.int32)
+                _var(g, "roller_position", ("roller", "xyz"), sr.roller_position)
+                _var(g, "roller_axis", ("roller", "xyz"), sr.roller_axis)
+                _var(g, "roller_reaction", ("time", "roller"), sr.roller_reaction)
+                _var(g, "roller_force", ("time", "roller", "xyz"), sr.roller_force)
         if res.vessels:
             vg = f.create_group("vessels")
             for name, vr in res.vessels.items():
@@ -237,7 +342,13 @@ def open_results(path: str | os.PathLike) -> Results:
             if not lines:
                 time = g["time"][()]
             vessels[name] = VesselResults(name=name, position=g["position"][()], rotation=g["rotation"][()])
-        return Results(time=time, lines=lines, vessels=vessels, status=int(_scalar(attrs.get("status", 0))),
+        supports = {}
+        for name, g in f.get("supports", {}).items():
+            supports[name] = SupportResults(name=name, line=_s(g.attrs.get("line", "")),
+                                            attach=_s(g.attrs.get("attach", "")),
+                                            **{ch: g[ch][()] for ch in ("roller_position", "roller_axis",
+                                                                         "roller_reaction", "roller_force")})
+        return Results(time=time, lines=lines, vessels=vessels, supports=supports, status=int(_scalar(attrs.get("status", 0))),
                        message=_s(attrs.get("message", "")), counters=json.loads(_s(attrs.get("counters", "{}"))),
                        scenario_json=_s(attrs.get("scenario", "")), version=_s(attrs.get("rfesim_version", "")),
                        kind=_s(attrs.get("kind", "dynamics")))

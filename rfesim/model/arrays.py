@@ -139,6 +139,7 @@ class Workspace(NamedTuple):
     roller_scratch: np.ndarray       # (32,) scratch of the roller kernel
     waves_off: np.ndarray            # (1,) int64, 1: still water plus current (statics), 0: waves on
     point1: np.ndarray               # (1, 3) m, scratch point for one-point sea kinematics
+    sea_frozen: np.ndarray           # (1,) int64, 1: keep the water kinematics of the last evaluation
 
 
 class Reference(NamedTuple):
@@ -179,7 +180,7 @@ def new_workspace(n: int, nsde: int, nh: int = 1, nroller: int = 0) -> Workspace
         k_tangent=np.zeros((nsde, 6)), out5=np.zeros(5), roller_hint=np.full(nroller, -1, np.int64),
         roller_force=np.zeros((nroller, 3)), roller_normal=np.zeros(nroller), roller_anchor=np.zeros(nroller),
         roller_anchored=np.zeros(nroller, np.int64), roller_anchor_trial=np.zeros(nroller),
-        roller_anchored_trial=np.zeros(nroller, np.int64), roller_scratch=np.zeros(32), waves_off=np.zeros(1, np.int64), point1=np.zeros((1, 3)))
+        roller_anchored_trial=np.zeros(nroller, np.int64), roller_scratch=np.zeros(32), waves_off=np.zeros(1, np.int64), point1=np.zeros((1, 3)), sea_frozen=np.zeros(1, np.int64))
 
 
 def new_attachment_state(natt: int) -> AttachmentState:

@@ -26,6 +26,7 @@ from ..loads.gravity import gravity_forces
 from ..loads.hydro import buoyancy_forces, morison_forces, submergence
 from ..loads.point import point_loads
 from ..loads.sde import sde_forces_into, commit_plastic, plastic_sde_correction
+from ..loads.rollers import commit_roller_friction, roller_forces
 from ..loads.seabed import commit_friction, seabed_forces
 from ..sea.kernel import sea_kinematics_into
 
@@ -123,14 +124,17 @@ def local_loads(km, att, ws, scale):
     """Every load that acts on one RFE alone (all but the SDEs), added to ws.F, ws.M."""
     if km.gravity != 0.0:
         gravity_forces(km.rfe_mass, km.rfe_kind, km.gravity, scale, ws.F)
+    frozen = km.has_sea and ws.sea_frozen[0] != 0
     if km.has_water:
-        if km.has_sea:
+        if frozen:
+            pass                    # the kinematics of this step's first evaluation (see ga_advance)
+        elif km.has_sea:
             water_kinematics(km, att, ws)
         else:
             for i in range(ws.surface_z.shape[0]):
                 ws.surface_z[i] = km.water_level
         submergence(km.rfe_length, km.rfe_disp_area, ws.R, ws.r, ws.surface_z, ws.sub_frac, ws.sub_point)
-        if km.has_sea:
+        if km.has_sea and not frozen:
             # an RFE cut by the surface: water kinematics at the centroid of its wet part
             for i in range(ws.sub_frac.shape[0]):
                 if 0.0 < ws.sub_frac[i] < 1.0:
@@ -156,6 +160,13 @@ def local_loads(km, att, ws, scale):
     if km.has_loads:
         point_loads(km.load_rfe, km.load_arm, km.load_force, km.load_moment, km.load_local, scale,
                     ws.R, ws.F, ws.M, ws.tmp3)
+    if km.has_rollers:
+        roller_forces(km.roller_attach, km.roller_point, km.roller_axis, km.roller_half_width, km.roller_radius,
+                      km.roller_k, km.roller_c, km.roller_mu, km.roller_kt, km.roller_lo, km.roller_hi,
+                      km.rfe_length, km.rfe_contact_radius, att.p, att.R, att.v, att.w, ws.R, ws.r, ws.v, ws.w,
+                      ws.F, ws.M, ws.roller_hint, ws.roller_force, ws.roller_normal, ws.roller_anchor,
+                      ws.roller_anchored, ws.roller_anchor_trial, ws.roller_anchored_trial, ws.fric_mode,
+                      ws.roller_scratch)
 
 
 @njit(cache=True)
@@ -317,6 +328,8 @@ def commit_history(km, ws):
         commit_friction(ws.fric_anchor, ws.fric_anchored, ws.fric_anchor_trial, ws.fric_anchored_trial)
     if km.has_plastic:
         commit_plastic(ws.plastic_hist, ws.plastic_hist_trial)
+    if km.has_roller_friction:
+        commit_roller_friction(ws.roller_anchor, ws.roller_anchored, ws.roller_anchor_trial, ws.roller_anchored_trial)
 
 
 @njit(cache=True)

@@ -566,7 +566,7 @@ def compile_scenario(sc, start: str | None = None) -> Model:
         seabed_k=float(seabed.normal_stiffness) if seabed is not None else 0.0,
         bed_s=bed_s, bed_z=bed_z, bed_dir=bed_dir,
         seabed_mu=np.array([seabed.mu_axial, seabed.mu_lateral] if seabed is not None else [0.0, 0.0]),
-        seabed_kt=float((seabed.friction_stiffness or seabed.normal_stiffness) if seabed is not None else 0.0),
+        seabed_kt=float((seabed.friction_stiffness or 0.1 * seabed.normal_stiffness) if seabed is not None else 0.0),
         has_water=bool(has_water), has_morison=bool(has_morison), has_seabed=seabed is not None,
         has_loads=len(loads["rfe"]) > 0,
         has_friction=seabed is not None and (seabed.mu_axial > 0.0 or seabed.mu_lateral > 0.0),

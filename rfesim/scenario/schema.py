@@ -304,7 +304,9 @@ class Seabed(_Strict):
                                            json_schema_extra={"units": "1"})
     friction_stiffness: float | None = _units(
         "N/m/m", "Tangential stiffness of the stick spring per unit length in contact: a sticking line moves "
-                 "friction_force / (stiffness * length) before it slides (default: normal_stiffness)",
+                 "friction_force / (stiffness * length) before it slides, its mobilisation displacement "
+                 "(default: 0.1 * normal_stiffness; a stiffer spring holds the line closer but makes the "
+                 "implicit integrator's Newton iterations work harder at stick/slip changes)",
         default=None, gt=0.0)
 
     @model_validator(mode="after")

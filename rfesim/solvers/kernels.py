@@ -144,6 +144,10 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
             rn_prev = np.inf
             for it in range(maxit):
                 residual_q(km, att, q, ref, ws, 1.0, 1, Q0, V0, cq, cv, mask, qd_buf, A_buf, r)
+                if km.has_sea and attempt == 0 and it == 0:
+                    # water kinematics at the predictor, kept for this step's Newton iterations
+                    # and Jacobian (the predictor is within O(h^3) of the solution)
+                    ws.sea_frozen[0] = 1
                 rn = residual_norm(r, cq, mask, length_scale, force_ref)
                 stats[1] += 1
                 evals += 1
@@ -164,6 +168,7 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
                     stats[2] += 1
                     bad = bt_factor(J, Fac)
                     if bad >= 0:
+                        ws.sea_frozen[0] = 0
                         fail[0] = t1
                         fail[1] = bad
                         fail[2] = Q_JACOBIAN
@@ -192,6 +197,7 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
                 for k in range(6):
                     q[i, k] = Q0[i, k] + cq * qdd[i, k]
         flags[1] = evals
+        ws.sea_frozen[0] = 0
         if not converged:
             fail[0] = t1
             fail[1] = -1
