@@ -20,6 +20,11 @@ def _scenario(scenario) -> Scenario:
     return scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
 
 
+def _other_formulations(sc: Scenario) -> bool:
+    """Lines in the classical/modified/planar formulations or chains: rfesim.formulations.scene."""
+    return bool(sc.chains) or any(line.formulation != "absolute" for line in sc.lines.values())
+
+
 def _static_state(system: System, sc: Scenario, progress=None):
     s = sc.analysis.statics
     state, info = solve_statics(system, tolerance=s.tolerance, max_iterations=s.max_iterations,
@@ -30,6 +35,9 @@ def _static_state(system: System, sc: Scenario, progress=None):
 def statics(scenario, *, progress=None):
     """Static equilibrium of a scenario -> Results with one time point."""
     sc = _scenario(scenario)
+    if _other_formulations(sc):
+        from .formulations import scene
+        return scene.statics(sc, progress)
     system = System(compile_scenario(sc))
     wall0 = _time.perf_counter()
     state, info = _static_state(system, sc, progress)
@@ -49,6 +57,9 @@ def simulate(scenario, *, progress=None):
     ``results`` hold everything computed before.
     """
     sc = _scenario(scenario)
+    if _other_formulations(sc):
+        from .formulations import scene
+        return scene.simulate(sc, progress)
     model = compile_scenario(sc)
     system = System(model)
     an = sc.analysis
@@ -79,6 +90,9 @@ def simulate(scenario, *, progress=None):
 def modes(scenario, n: int | None = None) -> ModalResults:
     """Natural frequencies (Hz) and mode shapes about the static equilibrium."""
     sc = _scenario(scenario)
+    if _other_formulations(sc):
+        from .formulations import scene
+        return scene.modes(sc, n)
     system = System(compile_scenario(sc))
     state = system.model.initial
     if sc.analysis.statics.enabled:

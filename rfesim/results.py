@@ -12,6 +12,8 @@ import numpy as np
 # one table: every output variable's units and long name
 CHANNELS: dict[str, tuple[str, str]] = {
     "time": ("s", "Simulated time"),
+    "payout": ("m", "Length of line paid out by the tensioner since the start (negative: reeled in)"),
+    "grip_force": ("N", "Axial force with which the tensioner holds the line back"),
     "position": ("m", "Position of the line points (end A, every SDE, end B) in the global frame"),
     "tension": ("N", "Effective tension (axial SDE force)"),
     "shear_force": ("N", "Shear force magnitude at the SDE"),
@@ -41,7 +43,19 @@ CHANNELS: dict[str, tuple[str, str]] = {
     "roller_position": ("m", "Centre of each roller's contact line in the frame of the support's attachment"),
     "roller_axis": ("1", "Unit axis of each roller in the frame of the support's attachment"),
     "xyz": ("1", "Global axis (0: x, 1: y, 2: z)"),
+    "body_position": ("m", "Centre of mass of the body (global)"),
+    "body_velocity": ("m/s", "Velocity of the body's centre of mass (global)"),
+    "body_acceleration": ("m/s^2", "Acceleration of the body's centre of mass (global)"),
+    "body_rotation": ("deg", "Body roll, pitch, yaw (ZYX angles of the body axes, global)"),
+    "body_angular_velocity": ("rad/s", "Angular velocity of the body (global)"),
+    "connection_force": ("N", "Force of the line on the body at the attachment point (global)"),
+    "connection_tension": ("N", "Magnitude of the line's force on the body (the rope tension at the body)"),
+    "submerged_fraction": ("1", "Submerged fraction of the body's vertical extent"),
+    "buoyancy": ("N", "Buoyancy force on the body (rho g V times the submerged fraction)"),
 }
+
+BODY_CHANNELS = ("position", "velocity", "acceleration", "rotation", "angular_velocity", "connection_force",
+                 "connection_tension", "submerged_fraction", "buoyancy")
 
 LINE_CHANNELS = ("position", "tension", "shear_force", "bend_moment", "torque", "curvature", "end_a_force",
                  "end_b_force", "end_a_moment", "end_b_moment", "seabed_force", "end_a_direction",
@@ -146,6 +160,16 @@ class LineResults:
 
 
 @dataclass
+class TensionerResults:
+    """Paid-out length and held force of one tensioner."""
+
+    name: str
+    line: str
+    payout: np.ndarray                # (nt,) m, paid-out length (negative: reeled in)
+    grip_force: np.ndarray            # (nt,) N, axial force the tensioner holds the line back with
+
+
+@dataclass
 class SupportResults:
     """Reactions of the rollers of one support (rollers or stinger)."""
 
@@ -161,6 +185,28 @@ class SupportResults:
     def reaction(self) -> np.ndarray:
         """Normal force on each roller (nt, nroller), N."""
         return self.roller_reaction
+
+
+@dataclass
+class BodyResults:
+    """Motion of a rigid body and the force of its line on it."""
+
+    name: str
+    line: str                          # the line it hangs on (at end B)
+    position: np.ndarray               # (nt, 3) m, centre of mass
+    velocity: np.ndarray               # (nt, 3) m/s
+    acceleration: np.ndarray           # (nt, 3) m/s^2
+    rotation: np.ndarray               # (nt, 3) deg: roll, pitch, yaw
+    angular_velocity: np.ndarray       # (nt, 3) rad/s, global
+    connection_force: np.ndarray       # (nt, 3) N, force of the line on the body (global)
+    connection_tension: np.ndarray     # (nt,) N, its magnitude
+    submerged_fraction: np.ndarray     # (nt,) -
+    buoyancy: np.ndarray               # (nt,) N
+
+    @property
+    def tension(self) -> np.ndarray:
+        """(nt,) N: the rope tension at the body (magnitude of the connection force)."""
+        return self.connection_tension
 
 
 @dataclass
@@ -180,6 +226,7 @@ class Results:
     vessels: dict[str, VesselResults] = field(default_factory=dict)
     bodies: dict = field(default_factory=dict)
     supports: dict[str, SupportResults] = field(default_factory=dict)
+    tensioners: dict[str, TensionerResults] = field(default_factory=dict)
     status: int = 0
     message: str = ""
     counters: dict = field(default_factory=dict)
@@ -296,6 +343,15 @@ def _write_netcdf(res: Results, path: str) -> None:
             _var(g, "touchdown_arc_length", ("time",), lr.touchdown_arc_length)
             _var(g, "von_mises_stress", ("time", "sde"), lr.von_mises_stress)
             _var(g, "utilisation", ("time", "sde"), lr.utilisation)
+        if res.tensioners:
+            tg = f.create_group("tensioners")
+            for name, tr in res.tensioners.items():
+                g = tg.create_group(name)
+                g.attrs["line"] = tr.line
+                g.dimensions = {"time": nt}
+                _var(g, "time", ("time",), res.time)
+                _var(g, "payout", ("time",), tr.payout)
+                _var(g, "grip_force", ("time",), tr.grip_force)
         if res.supports:
             sg = f.create_group("supports")
             for name, sr in res.supports.items():
@@ -309,6 +365,19 @@ def _write_netcdf(res: Results, path: str) -> None:
                 _var(g, "roller_axis", ("roller", "xyz"), sr.roller_axis)
                 _var(g, "roller_reaction", ("time", "roller"), sr.roller_reaction)
                 _var(g, "roller_force", ("time", "roller", "xyz"), sr.roller_force)
+        if res.bodies:
+            bg = f.create_group("bodies")
+            for name, br in res.bodies.items():
+                g = bg.create_group(name)
+                g.attrs["line"] = br.line
+                g.dimensions = {"time": nt, "xyz": 3}
+                _var(g, "time", ("time",), res.time)
+                _var(g, "xyz", ("xyz",), [0, 1, 2], dtype=np.int32)
+                for ch in BODY_CHANNELS:
+                    data = getattr(br, ch)
+                    dims = ("time", "xyz") if np.ndim(data) == 2 else ("time",)
+                    _var(g, ch, dims, data, ch if ch in ("connection_force", "connection_tension",
+                                                         "submerged_fraction", "buoyancy") else f"body_{ch}")
         if res.vessels:
             vg = f.create_group("vessels")
             for name, vr in res.vessels.items():
@@ -342,13 +411,23 @@ def open_results(path: str | os.PathLike) -> Results:
             if not lines:
                 time = g["time"][()]
             vessels[name] = VesselResults(name=name, position=g["position"][()], rotation=g["rotation"][()])
+        bodies = {}
+        for name, g in f.get("bodies", {}).items():
+            if not lines:
+                time = g["time"][()]
+            bodies[name] = BodyResults(name=name, line=_s(g.attrs.get("line", "")),
+                                       **{ch: g[ch][()] for ch in BODY_CHANNELS})
+        tensioners = {name: TensionerResults(name=name, line=_s(g.attrs.get("line", "")), payout=g["payout"][()],
+                                             grip_force=g["grip_force"][()])
+                      for name, g in f.get("tensioners", {}).items()}
         supports = {}
         for name, g in f.get("supports", {}).items():
             supports[name] = SupportResults(name=name, line=_s(g.attrs.get("line", "")),
                                             attach=_s(g.attrs.get("attach", "")),
                                             **{ch: g[ch][()] for ch in ("roller_position", "roller_axis",
                                                                          "roller_reaction", "roller_force")})
-        return Results(time=time, lines=lines, vessels=vessels, supports=supports, status=int(_scalar(attrs.get("status", 0))),
+        return Results(time=time, lines=lines, vessels=vessels, supports=supports, bodies=bodies,
+                       tensioners=tensioners, status=int(_scalar(attrs.get("status", 0))),
                        message=_s(attrs.get("message", "")), counters=json.loads(_s(attrs.get("counters", "{}"))),
                        scenario_json=_s(attrs.get("scenario", "")), version=_s(attrs.get("rfesim_version", "")),
                        kind=_s(attrs.get("kind", "dynamics")))

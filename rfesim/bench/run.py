@@ -329,12 +329,13 @@ def main(argv=None) -> int:
     p = argparse.ArgumentParser(prog="rfesim bench", description=__doc__)
     p.add_argument("--quick", action="store_true", help="a small grid (a few minutes)")
     p.add_argument("--no-moordyn", action="store_true", help="skip the MoorDyn comparison")
-    p.add_argument("--only", choices=["h1", "scaling", "startup", "validation"], action="append",
+    p.add_argument("--only", choices=["h1", "h2", "scaling", "startup", "validation", "formulations"],
+                   action="append",
                    help="run only these parts (repeatable)")
     p.add_argument("--output", default=str(DOCS / "benchmarks.md"), help="report file (its core section is replaced)")
     p.add_argument("--validation", action="store_true", help="also write docs/validation.md")
     args = p.parse_args(argv)
-    parts = set(args.only or ["h1", "scaling", "startup"])
+    parts = set(args.only or ["h1", "h2", "scaling", "startup", "formulations"])
     if args.validation:
         parts.add("validation")
     if "validation" in parts:
@@ -345,6 +346,19 @@ def main(argv=None) -> int:
             return 0
     out_path = Path(args.output)
     (out_path.parent / "img").mkdir(parents=True, exist_ok=True)
+    if "h2" in parts:
+        # H2 (issue 3) has its own section and its own "h2" entry in benchmarks.json
+        from .run_h2 import run_h2_and_write
+        print(run_h2_and_write(args.quick, not args.no_moordyn, out_path))
+        if not parts & {"h1", "scaling", "startup"}:
+            return 0
+    if "formulations" in parts:
+        # issue 4: cost per step of each RFE formulation; its own section and benchmarks_formulations.json
+        from .formulations import run as run_formulations
+        from .formulations import write as write_formulations
+        print(write_formulations(run_formulations(args.quick, log), out_path, args.quick))
+        if not parts & {"h1", "scaling", "startup"}:
+            return 0
     h1 = run_h1(args.quick, not args.no_moordyn) if "h1" in parts else None
     scaling = run_scaling(args.quick) if "scaling" in parts else None
     startup = run_startup(ROOT / "scenarios" / "catenary_riser.json") if "startup" in parts else None
@@ -371,6 +385,9 @@ def main(argv=None) -> int:
 
     raw = {"h1": {k: _json(v) for k, v in (h1 or {}).items()},
            "scaling": scaling, "startup": startup, "quick": args.quick}
+    h2_previous = _previous(out_path.parent / "benchmarks.json").get("h2")
+    if h2_previous is not None:
+        raw["h2"] = h2_previous
     (out_path.parent / "benchmarks.json").write_text(json.dumps(raw, indent=1, default=float))
     print(text)
     return 0

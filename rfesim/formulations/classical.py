@@ -205,13 +205,12 @@ def linear_matrices(link: ClassicalLink):
     rows, cols, vals = [], [], []
     Sc = np.zeros(6 * n)
 
+    a_idx, c_idx = np.divmod(np.arange(36), 6)
+
     def add(bi, bj, block):
-        for a in range(6):
-            for c in range(6):
-                if block[a, c] != 0.0:
-                    rows.append(6 * bi + a)
-                    cols.append(6 * bj + c)
-                    vals.append(block[a, c])
+        rows.append(6 * bi + a_idx)
+        cols.append(6 * bj + c_idx)
+        vals.append(block.ravel())
 
     for sde in link.sdes():
         CT = np.diag(sde.stiffness[:3])
@@ -237,7 +236,10 @@ def linear_matrices(link: ClassicalLink):
             Sc[6 * idx["r"]:6 * idx["r"] + 6] += Br.T @ CT @ dr0
         if idx["l"] >= 0:
             Sc[6 * idx["l"]:6 * idx["l"] + 6] -= Bl.T @ CT @ dr0
-    K = sp.coo_matrix((vals, (rows, cols)), shape=(6 * n, 6 * n)).tocsc()
+    cat = (lambda parts: np.concatenate(parts)) if rows else (lambda parts: np.zeros(0))
+    K = sp.coo_matrix((cat(vals), (cat(rows).astype(np.int64), cat(cols).astype(np.int64))),
+                      shape=(6 * n, 6 * n)).tocsc()
+    K.eliminate_zeros()
     return mass, K, Sc
 
 

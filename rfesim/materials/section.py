@@ -29,7 +29,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
 
 from .stress_strain import StressStrainLaw
 
@@ -189,6 +188,7 @@ class FibreSection:
         hi = m / ei
         while moment_along(hi) > 0.0:
             hi *= 2.0
+        from scipy.optimize import brentq     # here: scipy.optimize costs 1 s of start-up
         s = brentq(moment_along, 0.0, hi, xtol=1e-16, rtol=1e-14)
         kap = k0 - s * n
         self.update(kap[0], kap[1])

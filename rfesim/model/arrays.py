@@ -82,9 +82,41 @@ class KernelModel(NamedTuple):
     sde_plastic: np.ndarray         # (nsde,) int64, 1: elasto-plastic bending (section 8.4.2)
     plastic_params: np.ndarray      # (nsde, np) rows of rfesim.materials.sde_plastic.plastic_bending_into
     has_plastic: bool
+    # --- tensioners (rfesim.loads.tensioner), one row per tensioner
+    tens_att: np.ndarray            # (nt,) int64 attachment
+    tens_point: np.ndarray          # (nt, 3) m, track entry in the attachment frame
+    tens_axis: np.ndarray           # (nt, 3) unit payout direction in the attachment frame
+    tens_length: np.ndarray         # (nt,) m
+    tens_kl: np.ndarray             # (nt,) N/m/m, lateral pad stiffness
+    tens_kg: np.ndarray             # (nt,) N/m/m, axial grip stiffness
+    tens_cap: np.ndarray            # (nt,) N, grip capacity
+    tens_line_lo: np.ndarray        # (nt,) int64, RFE range of the held line
+    tens_line_hi: np.ndarray        # (nt,) int64
+    tens_mode: np.ndarray           # (nt,) int64: 0 payout table, 1 constant tension
+    tens_table_t: np.ndarray        # (nt, K) s
+    tens_table_d: np.ndarray        # (nt, K) m
+    tens_table_v: np.ndarray        # (nt, K) m/s, monotone cubic slopes at the rows
+    tens_count: np.ndarray          # (nt,) int64 rows of the table
+    tens_set: np.ndarray            # (nt,) N, set tension
+    tens_band: np.ndarray           # (nt,) N, dead band
+    tens_gain: np.ndarray           # (nt,) N*s/m
+    tens_vmax: np.ndarray           # (nt,) m/s
+    has_tensioners: bool
     has_sea: bool                   # waves or current: water kinematics evaluated at the RFEs
     sea: object                     # rfesim.sea.kernel.SeaSpec (wave components, current profile)
     sea_still: object               # the same without waves (statics: still water plus current)
+    # --- ropes and rigid bodies (rfesim.loads.tension_only, rfesim.loads.bodies); nb = number of bodies
+    sde_tension_only: np.ndarray = np.zeros(0, np.int64)   # (nsde,) int64, 1: axial force max(0, .) (a rope)
+    has_tension_only: bool = False
+    body_rfe: np.ndarray = np.zeros(0, np.int64)     # (nb,) int64, the RFE that is the body
+    body_volume: np.ndarray = np.zeros(0)            # (nb,) m^3, displaced volume fully submerged
+    body_height: np.ndarray = np.zeros(0)            # (nb,) m, vertical extent (submerged fraction)
+    body_cob: np.ndarray = np.zeros((0, 3))          # (nb, 3) m, centre of buoyancy from the centre, body axes
+    body_drag: np.ndarray = np.zeros((0, 3))         # (nb, 3) m^2, cd * projected area per body axis
+    body_added_mass: np.ndarray = np.zeros((0, 3))   # (nb, 3) kg, added mass per body axis, fully submerged
+    body_added_inertia: np.ndarray = np.zeros((0, 3))  # (nb, 3) kg*m^2, added rotational inertia, body axes
+    body_slam: np.ndarray = np.zeros(0)              # (nb,) m^2, slamming coefficient * slamming area
+    has_bodies: bool = False
 
 
 class Workspace(NamedTuple):
@@ -129,6 +161,13 @@ class Workspace(NamedTuple):
     plastic_hist_trial: np.ndarray   # (nsde, nh)
     k_tangent: np.ndarray            # (nsde, 6) SDE stiffness with the plastic bending tangent
     out5: np.ndarray                 # (5,) scratch of the plastic law
+    grip_a: np.ndarray               # (n,) m, committed tensioner grip anchors (material coordinate)
+    grip_on: np.ndarray              # (n,) int64
+    grip_a_trial: np.ndarray         # (n,)
+    grip_on_trial: np.ndarray        # (n,) int64
+    tens_D: np.ndarray               # (ntens,) m, committed paid-out length of driven tensioners
+    tens_force: np.ndarray           # (ntens,) N, axial force each tensioner holds
+    tens_time: np.ndarray            # (2,) s: [time of the last commit, time of the last evaluation]
     roller_hint: np.ndarray          # (nr,) int64, RFE nearest to each roller at the last evaluation (-1: none)
     roller_force: np.ndarray         # (nr, 3) N, force of the line on each roller (global)
     roller_normal: np.ndarray        # (nr,) N, total normal force of each roller
@@ -164,7 +203,7 @@ class AttachmentState(NamedTuple):
     scratch: np.ndarray  # (16, 3) work space of the compiled kinematics
 
 
-def new_workspace(n: int, nsde: int, nh: int = 1, nroller: int = 0) -> Workspace:
+def new_workspace(n: int, nsde: int, nh: int = 1, nroller: int = 0, ntens: int = 0) -> Workspace:
     return Workspace(
         R=np.zeros((n, 3, 3)), r=np.zeros((n, 3)), rbase=np.zeros((n, 3)), roff=np.zeros((n, 3)), v=np.zeros((n, 3)), w=np.zeros((n, 3)),
         wb=np.zeros((n, 3)), E=np.zeros((n, 3, 3)), Edot=np.zeros((n, 3)), F=np.zeros((n, 3)),
@@ -177,7 +216,9 @@ def new_workspace(n: int, nsde: int, nh: int = 1, nroller: int = 0) -> Workspace
         fric_anchor=np.zeros((n, 3)), fric_anchored=np.zeros(n, np.int64), fric_anchor_trial=np.zeros((n, 3)),
         fric_anchored_trial=np.zeros(n, np.int64), fric_mode=np.zeros(1, np.int64),
         friction_force=np.zeros((n, 3)), plastic_hist=np.zeros((nsde, nh)), plastic_hist_trial=np.zeros((nsde, nh)),
-        k_tangent=np.zeros((nsde, 6)), out5=np.zeros(5), roller_hint=np.full(nroller, -1, np.int64),
+        k_tangent=np.zeros((nsde, 6)), out5=np.zeros(5), grip_a=np.zeros(n), grip_on=np.zeros(n, np.int64),
+        grip_a_trial=np.zeros(n), grip_on_trial=np.zeros(n, np.int64), tens_D=np.zeros(max(ntens, 1)),
+        tens_force=np.zeros(max(ntens, 1)), tens_time=np.zeros(2), roller_hint=np.full(nroller, -1, np.int64),
         roller_force=np.zeros((nroller, 3)), roller_normal=np.zeros(nroller), roller_anchor=np.zeros(nroller),
         roller_anchored=np.zeros(nroller, np.int64), roller_anchor_trial=np.zeros(nroller),
         roller_anchored_trial=np.zeros(nroller, np.int64), roller_scratch=np.zeros(32), waves_off=np.zeros(1, np.int64), point1=np.zeros((1, 3)), sea_frozen=np.zeros(1, np.int64))

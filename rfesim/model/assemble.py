@@ -22,12 +22,15 @@ from numba import njit
 
 from ..kinematics import (cross_into, euler_rate_derivative_into, euler_rate_matrix_into, matmul_into,
                           matTvec_into, matvec_into, rot_zyx_into, solve3_sym_into)
+from ..loads.bodies import body_hydro_forces
 from ..loads.gravity import gravity_forces
 from ..loads.hydro import buoyancy_forces, morison_forces, submergence
 from ..loads.point import point_loads
 from ..loads.sde import sde_forces_into, commit_plastic, plastic_sde_correction
 from ..loads.rollers import commit_roller_friction, roller_forces
 from ..loads.seabed import commit_friction, seabed_forces
+from ..loads.tensioner import commit_tensioners, tensioner_forces
+from ..loads.tension_only import tension_only_correction
 from ..sea.kernel import sea_kinematics_into
 
 
@@ -108,6 +111,8 @@ def accumulate_forces(km, att, ws, scale):
                     ws.v3, ws.m33)
     if km.has_plastic:
         plastic_forces(km, ws, ws.M)
+    if km.has_tension_only:
+        tension_only_forces(km, ws, ws.F, ws.M)
     local_loads(km, att, ws, scale)
 
 
@@ -117,6 +122,14 @@ def plastic_forces(km, ws, M):
     plastic_sde_correction(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, km.sde_stiffness,
                            km.sde_length, km.sde_plastic, km.plastic_params, ws.plastic_hist, ws.plastic_hist_trial,
                            ws.R, ws.rbase, ws.roff, ws.eps, ws.sigma, M, ws.k_tangent, ws.out5, ws.v3, ws.m33)
+
+
+@njit(cache=True)
+def tension_only_forces(km, ws, F, M):
+    """Ropes: no compressive axial SDE force (after the elastic and plastic SDE forces)."""
+    tension_only_correction(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, km.sde_stiffness,
+                            km.sde_tension_only, ws.R, ws.rbase, ws.roff, ws.sigma, F, M, ws.k_tangent,
+                            not km.has_plastic, ws.v3, ws.m33)
 
 
 @njit(cache=True)
@@ -152,6 +165,11 @@ def local_loads(km, att, ws, scale):
             morison_forces(km.rfe_length, km.rfe_diameter, km.rfe_disp_area, km.rfe_cdn, km.rfe_cdt, km.rfe_can,
                            km.rfe_cat, km.water_density, ws.R, ws.r, ws.v, ws.w, ws.sub_frac, ws.sub_point,
                            ws.water_vel, ws.water_acc, ws.F, ws.M, ws.Ma, ws.Ja)
+        if km.has_bodies:
+            body_hydro_forces(km.body_rfe, km.body_volume, km.body_height, km.body_cob, km.body_drag,
+                              km.body_added_mass, km.body_added_inertia, km.body_slam, km.water_density, km.gravity,
+                              scale, ws.R, ws.r, ws.v, ws.w, ws.surface_z, ws.water_vel, ws.water_acc, ws.F, ws.M,
+                              ws.Ma, ws.Ja, ws.sub_frac, ws.sub_point)
     if km.has_seabed:
         seabed_forces(km.rfe_length, km.rfe_contact_radius, km.rfe_seabed_c, km.bed_s, km.bed_z, km.bed_dir,
                       km.seabed_k, km.seabed_mu, km.seabed_kt, ws.R, ws.r, ws.v, ws.w, ws.F, ws.M,
@@ -167,6 +185,12 @@ def local_loads(km, att, ws, scale):
                       ws.F, ws.M, ws.roller_hint, ws.roller_force, ws.roller_normal, ws.roller_anchor,
                       ws.roller_anchored, ws.roller_anchor_trial, ws.roller_anchored_trial, ws.fric_mode,
                       ws.roller_scratch)
+    if km.has_tensioners:
+        ws.tens_time[1] = att.time[0]
+        tensioner_forces(km.tens_att, km.tens_point, km.tens_axis, km.tens_length, km.tens_kl, km.tens_kg,
+                         km.tens_cap, km.tens_line_lo, km.tens_line_hi, km.tens_mode, km.tens_table_t,
+                         km.tens_table_d, km.tens_table_v, km.tens_count, att.time[0], att.p, att.R, km.rfe_length, ws.r, ws.F,
+                         ws.grip_a, ws.grip_on, ws.grip_a_trial, ws.grip_on_trial, ws.tens_D, ws.tens_force)
 
 
 @njit(cache=True)
@@ -330,6 +354,13 @@ def commit_history(km, ws):
         commit_plastic(ws.plastic_hist, ws.plastic_hist_trial)
     if km.has_roller_friction:
         commit_roller_friction(ws.roller_anchor, ws.roller_anchored, ws.roller_anchor_trial, ws.roller_anchored_trial)
+    if km.has_tensioners:
+        # driven tensioners advance over the time since the last commit at this step's force
+        h = ws.tens_time[1] - ws.tens_time[0]
+        commit_tensioners(km.tens_mode, km.tens_set, km.tens_band, km.tens_gain, km.tens_vmax, ws.tens_force,
+                          ws.tens_D, h, ws.grip_a, ws.grip_on, ws.grip_a_trial, ws.grip_on_trial, km.tens_line_lo,
+                          km.tens_line_hi)
+        ws.tens_time[0] = ws.tens_time[1]
 
 
 @njit(cache=True)

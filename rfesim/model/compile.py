@@ -21,7 +21,8 @@ from ..sea.kernel import sea_spec
 from .arrays import (KIND_CLAMPED, KIND_FREE, KIND_PINNED, AttachmentState, KernelModel, Reference,
                      new_attachment_state)
 from .sections import Section, section_from_type
-from .supports import compile_supports, resting_points, supported_start
+from .supports import compile_supports, compile_tensioners, resting_points, supported_start
+from .bodies import append_body, body_arrays, body_pose
 
 log = logging.getLogger("rfesim")
 
@@ -93,6 +94,8 @@ class Model:
     line_index: dict[str, int] = field(default_factory=dict)
     plastic_history_width: int = 1          # columns of the SDEs' plastic history
     supports: list = field(default_factory=list)   # rfesim.model.supports.SupportInfo, one per support
+    tensioners: list = field(default_factory=list)  # rfesim.model.supports.TensionerInfo, one per tensioner
+    bodies: list = field(default_factory=list)     # rfesim.model.bodies.BodyInfo, one per body
 
     @property
     def n(self) -> int:
@@ -133,6 +136,9 @@ class Model:
                 j = i - li.rfe_start
                 s = 0.0 if j == 0 else min(li.length, j * li.dx)
                 return f"line '{li.name}', RFE {j} (arc length {s:.4g} m)"
+        for b in self.bodies:
+            if b.rfe == i:
+                return f"body '{b.name}'"
         return f"RFE {i}"
 
 
@@ -321,6 +327,8 @@ def compile_scenario(sc, start: str | None = None) -> Model:
     n_total = 0
     nsde_total = 0
     problems: list[tuple[str, str]] = []
+    tension_flags: list[int] = []          # per SDE: 1 for a tension-only line type (a rope)
+    body_infos: list = []                  # rfesim.model.bodies.BodyInfo
 
     for lname, line in sc.lines.items():
         base = f"lines.{lname}"
@@ -330,6 +338,8 @@ def compile_scenario(sc, start: str | None = None) -> Model:
         L = line.length
         dx = L / nseg
         shear_model = _choose_shear_model(line, sec, dx)
+        if getattr(lt, "tension_only", False) and line.shear_stiffness is None:
+            shear_model = "kruszewski"       # a rope: its elements stay joined whatever its (small) EI
         lengths = np.full(nseg + 1, dx)
         lengths[0] = lengths[-1] = 0.5 * dx
         s_lo = np.concatenate([[0.0], (np.arange(1, nseg + 1) - 0.5) * dx])
@@ -350,7 +360,7 @@ def compile_scenario(sc, start: str | None = None) -> Model:
         # --- ends
         ends = {}
         for end_name, end, j in (("end_a", line.end_a, 0), ("end_b", line.end_b, nseg)):
-            if end.attach == "free":
+            if end.attach == "free" or end.attach in sc.bodies:      # a body: its own RFE (model.bodies)
                 ends[end_name] = dict(kind=KIND_FREE, att=-1, offset=np.zeros(3))
             else:
                 att = attachment_names.index(end.attach)
@@ -381,6 +391,14 @@ def compile_scenario(sc, start: str | None = None) -> Model:
         dA = _glob_dir("end_a", line.end_a)
         dB = _glob_dir("end_b", line.end_b)
         down = np.array([0.0, 0.0, -1.0]) if env.gravity > 0 else np.array([1.0, 0.0, 0.0])
+        body_pose_b = None
+        if line.end_b.attach in sc.bodies:
+            body_pose_b = body_pose(sc.bodies[line.end_b.attach], line, A, down)
+            if body_pose_b is None:
+                problems.append((f"bodies.{line.end_b.attach}.position", "give the body's position or the "
+                                                                        f"position of end A of line '{lname}'"))
+                continue
+            B, dB = body_pose_b[2], None
         curve = None
         if A is not None and B is not None:
             chord = B - A
@@ -428,6 +446,17 @@ def compile_scenario(sc, start: str | None = None) -> Model:
             frames[i] = minimal_rotation(tang[i - 1], tang[i]) @ frames[i - 1]
         if line.end_b.connection == "clamped" and dB is not None:
             frames[-1] = minimal_rotation(frames[-1][:, 0], dB) @ frames[-1]
+        if body_pose_b is not None and line.end_b.connection == "clamped":
+            # the connection's rotation springs measure from equal frames (rfesim.model.bodies)
+            if float(frames[-1][:, 0] @ body_pose_b[1][:, 0]) < 1.0 - 1e-6:
+                problems.append((f"bodies.{line.end_b.attach}.orientation_deg", f"a clamped body continues the "
+                                 f"line: its x axis must point along line '{lname}' at end B, "
+                                 f"{np.round(frames[-1][:, 0], 6).tolist()}"))
+                continue
+            frames[-1] = body_pose_b[1]
+        if body_pose_b is not None:
+            # the end RFE ends exactly at the attachment point: the stiff connection starts unloaded
+            centres[-1] = B - 0.5 * lengths[-1] * frames[-1][:, 0]
         # --- RFE arrays
         for i in range(nseg + 1):
             rfe["mass"].append(masses[i])
@@ -507,6 +536,14 @@ def compile_scenario(sc, start: str | None = None) -> Model:
                               shear_model=shear_model, end_a=line.end_a, end_b=line.end_b))
         n_total += nseg + 1
         nsde_total += nseg
+        tension_flags.extend([1 if getattr(lt, "tension_only", False) else 0] * nseg)
+        if body_pose_b is not None:
+            body_infos.append(append_body(sc, line.end_b.attach, len(body_infos), line, body_pose_b, coef,
+                                          lengths[-1], masses[-1], inertia[-1], n_total, nsde_total, rfe, sde,
+                                          plastic_rows, plastic_flags, tension_flags, q0_blocks, X0_blocks,
+                                          R0_blocks, (KIND_FREE,)))
+            n_total += 1
+            nsde_total += 1
 
     if problems:
         raise ScenarioError(problems)
@@ -515,7 +552,7 @@ def compile_scenario(sc, start: str | None = None) -> Model:
 
     f = lambda key, shape, dt=float: (np.asarray(rfe[key], dtype=dt).reshape(shape))  # noqa: E731
     n = n_total
-    has_water = water is not None and any(li.section.outer_diameter > 0 for li in lines)
+    has_water = water is not None and (any(li.section.outer_diameter > 0 for li in lines) or bool(body_infos))
     sea = sea_spec(env)
     sea_still = sea._replace(has_waves=False, amplitude=sea.amplitude[:0].copy(), omega=sea.omega[:0].copy(),
                              wavenumber=sea.wavenumber[:0].copy(), phase=sea.phase[:0].copy(),
@@ -538,8 +575,11 @@ def compile_scenario(sc, start: str | None = None) -> Model:
     else:
         plastic_params_arr, plastic_width = np.zeros((len(plastic_flags), 2)), 1
     roller_arrays, support_infos = compile_supports(sc, attachment_names, lines)
+    tens_arrays, tens_infos = compile_tensioners(sc, attachment_names, lines)
     km = KernelModel(
         **roller_arrays,
+        **tens_arrays,
+        has_tensioners=bool(tens_arrays["tens_att"].shape[0] > 0),
         has_rollers=bool(roller_arrays["roller_attach"].shape[0] > 0),
         has_roller_friction=bool(roller_arrays["roller_attach"].shape[0] > 0
                                  and float(roller_arrays["roller_mu"].max()) > 0.0),
@@ -573,6 +613,8 @@ def compile_scenario(sc, start: str | None = None) -> Model:
         sde_plastic=np.asarray(plastic_flags, np.int64), plastic_params=plastic_params_arr,
         has_plastic=bool(any(plastic_flags)),
         has_sea=bool(has_water and (sea.has_waves or sea.has_current)), sea=sea, sea_still=sea_still,
+        sde_tension_only=np.asarray(tension_flags, np.int64), has_tension_only=bool(any(tension_flags)),
+        **body_arrays(sc, body_infos),
     )
     dof_mask = np.ones((n, 6), dtype=bool)
     dof_mask[km.rfe_kind == KIND_PINNED, :3] = False
@@ -581,8 +623,9 @@ def compile_scenario(sc, start: str | None = None) -> Model:
     ref = Reference(R=np.concatenate(R0_blocks, axis=0), X=np.concatenate(X0_blocks, axis=0))
     initial = State(t=0.0, q=q0, qd=np.zeros((n, 6)), qdd=np.zeros((n, 6)), ref=ref, aux=np.zeros((n, 6)))
     model = Model(scenario=sc, km=km, lines=lines, attachment_names=attachment_names, motions=motions,
-                  plastic_history_width=int(plastic_width), supports=support_infos,
-                  dof_mask=dof_mask, initial=initial, line_index={li.name: k for k, li in enumerate(lines)})
+                  plastic_history_width=int(plastic_width), supports=support_infos, tensioners=tens_infos,
+                  dof_mask=dof_mask, initial=initial, line_index={li.name: k for k, li in enumerate(lines)},
+                  bodies=body_infos)
     return model
 
 

@@ -129,6 +129,8 @@ def compile_supports(sc, attachment_names: list[str], lines) -> tuple[dict, list
         if li is None:
             problems.append((f"supports.{name}.line", f"unknown line '{sup.line}'"))
             continue
+        if sup.kind == "tensioner":
+            continue                       # rfesim.model.supports.compile_tensioners
         rs = roller_set(sup)
         m = rs.point.shape[0]
         att = attachment_names.index(sup.attach)
@@ -152,24 +154,57 @@ def compile_supports(sc, attachment_names: list[str], lines) -> tuple[dict, list
     return arrays, infos
 
 
+START_PENETRATION = 0.01     # the start shape presses into the rollers by this fraction of pipe + roller radius
+
+
 def resting_points(sc, line_name: str, pipe_radius: float, attachment_names: list[str], att0) -> np.ndarray | None:
     """Global points (at t = 0) where the axis of line ``line_name`` rests on its supports'
-    roller stations, one per station, or None when no support carries the line."""
+    roller stations, one per station, or None when no support carries the line. The
+    points press into the rollers by ``START_PENETRATION``: statics then starts with the
+    contacts closed, so Newton sees their stiffness (from a gap it would step through)."""
     pts = []
     for sup in (getattr(sc, "supports", None) or {}).values():
-        if sup.line != line_name:
+        if sup.line != line_name or sup.kind == "tensioner":
             continue
         rs = roller_set(sup)
         a = attachment_names.index(sup.attach)
-        local = rs.guide + ((pipe_radius + rs.radius) * rs.lift)[:, None] * rs.up
-        glob = att0.p[a][None, :] + local @ att0.R[a].T
-        # one point per station (the two halves of a V share it)
-        keep = np.ones(glob.shape[0], bool)
-        keep[1:] = np.linalg.norm(np.diff(glob, axis=0), axis=1) > 1e-9
-        pts.append(glob[keep])
+        R, p = att0.R[a], att0.p[a]
+        reach = pipe_radius + rs.radius
+        guide = p[None, :] + (rs.guide + (reach * rs.lift)[:, None] * rs.up) @ R.T
+        centre = p[None, :] + rs.point @ R.T
+        axis = rs.axis @ R.T
+        up = rs.up @ R.T
+        # stations: consecutive rollers whose resting points are closer than a pipe plus a
+        # roller diameter hold the pipe together (the two halves of a V)
+        groups = [[0]]
+        for k in range(1, guide.shape[0]):
+            if np.linalg.norm(guide[k] - guide[k - 1]) <= 2.0 * max(reach[k], reach[k - 1]):
+                groups[-1].append(k)
+            else:
+                groups.append([k])
+        for g in groups:
+            X = guide[g].mean(axis=0)
+            if len(g) > 1:
+                # the point at distance pipe + roller radius from every axis of the station
+                for _ in range(30):
+                    J = np.zeros((len(g), 3))
+                    res = np.zeros(len(g))
+                    for row, k in enumerate(g):
+                        e = X - centre[k]
+                        e -= (e @ axis[k]) * axis[k]
+                        d = np.linalg.norm(e)
+                        res[row] = d - reach[k]
+                        J[row] = e / max(d, 1e-300)
+                    step = np.linalg.lstsq(J, -res, rcond=None)[0]
+                    X = X + step
+                    if np.abs(step).max() < 1e-12 * (1.0 + np.abs(X).max()):
+                        break
+            u = up[g].mean(axis=0)
+            u /= np.linalg.norm(u)
+            pts.append(X - START_PENETRATION * float(reach[g].mean()) * u)
     if not pts:
         return None
-    return np.vstack(pts)
+    return np.asarray(pts)
 
 
 def supported_start(A: np.ndarray, B: np.ndarray | None, length: float, rest: np.ndarray, tail):
@@ -194,3 +229,70 @@ def supported_start(A: np.ndarray, B: np.ndarray | None, length: float, rest: np
         return np.append(s, s[-1] + remaining), np.vstack([X, X[-1] + remaining * d])
     ts, tX = tail_sx
     return np.concatenate([s, s[-1] + ts[1:]]), np.vstack([X, tX[1:]])
+
+
+@dataclass
+class TensionerInfo:
+    name: str
+    line: str
+    index: int
+
+
+def _pchip_slopes(t: np.ndarray, d: np.ndarray) -> np.ndarray:
+    """Monotone cubic (Fritsch-Carlson / PCHIP) slopes: no overshoot between rows, zero
+    slope at a flat row (a payout that stops, stops smoothly)."""
+    if len(t) < 3:
+        return np.zeros(len(t))
+    from scipy.interpolate import PchipInterpolator
+    return PchipInterpolator(t, d).derivative()(t)
+
+
+def compile_tensioners(sc, attachment_names: list[str], lines) -> tuple[dict, list[TensionerInfo]]:
+    """Tensioner arrays of the kernel model (rfesim.loads.tensioner), one row per tensioner."""
+    from ..loads.tensioner import MODE_TABLE, MODE_TENSION
+    supports = getattr(sc, "supports", None) or {}
+    tens = [(name, sup) for name, sup in supports.items() if sup.kind == "tensioner"]
+    index = {li.name: li for li in lines}
+    K = max([len(sup.payout.rows) for _, sup in tens if sup.payout.kind == "table"] + [2])
+    m = len(tens)
+    out = {
+        "tens_att": np.zeros(m, np.int64), "tens_point": np.zeros((m, 3)), "tens_axis": np.zeros((m, 3)),
+        "tens_length": np.zeros(m), "tens_kl": np.zeros(m), "tens_kg": np.zeros(m), "tens_cap": np.zeros(m),
+        "tens_line_lo": np.zeros(m, np.int64), "tens_line_hi": np.zeros(m, np.int64),
+        "tens_mode": np.zeros(m, np.int64), "tens_table_t": np.zeros((m, K)), "tens_table_d": np.zeros((m, K)),
+        "tens_table_v": np.zeros((m, K)),
+        "tens_count": np.zeros(m, np.int64), "tens_set": np.zeros(m), "tens_band": np.zeros(m),
+        "tens_gain": np.ones(m), "tens_vmax": np.zeros(m),
+    }
+    infos = []
+    for j, (name, sup) in enumerate(tens):
+        li = index[sup.line]
+        out["tens_att"][j] = attachment_names.index(sup.attach)
+        out["tens_point"][j] = sup.entry
+        axis = np.asarray(sup.axis, float)
+        out["tens_axis"][j] = axis / np.linalg.norm(axis)
+        out["tens_length"][j] = sup.length
+        out["tens_kl"][j] = sup.lateral_stiffness
+        out["tens_kg"][j] = sup.grip_stiffness
+        out["tens_cap"][j] = sup.capacity
+        out["tens_line_lo"][j] = li.rfe_start
+        out["tens_line_hi"][j] = li.rfe_stop
+        if sup.payout.kind == "table":
+            rows = np.asarray(sup.payout.rows, float)
+            out["tens_mode"][j] = MODE_TABLE
+            out["tens_count"][j] = max(2, len(rows))
+            if len(rows) == 1:
+                rows = np.vstack([rows, rows + [1.0, 0.0]])
+            out["tens_table_t"][j, :len(rows)] = rows[:, 0]
+            out["tens_table_d"][j, :len(rows)] = rows[:, 1]
+            out["tens_table_v"][j, :len(rows)] = _pchip_slopes(rows[:, 0], rows[:, 1])
+        else:
+            out["tens_mode"][j] = MODE_TENSION
+            out["tens_count"][j] = 2
+            out["tens_table_t"][j, :2] = [0.0, 1.0]
+            out["tens_set"][j] = sup.payout.tension
+            out["tens_band"][j] = sup.payout.dead_band
+            out["tens_gain"][j] = sup.payout.gain
+            out["tens_vmax"][j] = sup.payout.max_speed
+        infos.append(TensionerInfo(name=name, line=sup.line, index=j))
+    return out, infos

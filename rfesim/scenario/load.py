@@ -259,8 +259,8 @@ def check_references(sc: Scenario) -> list[tuple[str, str]]:
         lt = sc.line_types[line.type]
         for end_name in ("end_a", "end_b"):
             end = getattr(line, end_name)
-            if end.attach not in RESERVED_ATTACH and end.attach not in vessel_names:
-                known = ", ".join(["fixed", "free"] + sorted(vessel_names))
+            if end.attach not in RESERVED_ATTACH and end.attach not in vessel_names and end.attach not in sc.bodies:
+                known = ", ".join(["fixed", "free"] + sorted(vessel_names) + sorted(sc.bodies))
                 errors.append((f"{base}.{end_name}.attach",
                                f"unknown attachment '{end.attach}' (use one of: {known})"))
             if end.attach == "free" and end.connection == "clamped":
@@ -293,6 +293,8 @@ def check_references(sc: Scenario) -> list[tuple[str, str]]:
         if sup.attach != "fixed" and sup.attach not in vessel_names:
             known = ", ".join(["fixed"] + sorted(vessel_names))
             errors.append((f"{base}.attach", f"unknown attachment '{sup.attach}' (use one of: {known})"))
+    from .bodies import check_body_references
+    errors.extend(check_body_references(sc))
     an = sc.analysis
     if an.dynamics.enabled and an.dynamics.duration > 0 and an.dynamics.output_interval is not None:
         if an.dynamics.output_interval > an.dynamics.duration:

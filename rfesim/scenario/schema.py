@@ -759,6 +759,8 @@ class LineType(_Strict):
     added_mass_normal: float = Field(0.0, ge=0.0, le=10.0, description="Normal added-mass coefficient [-]")
     added_mass_axial: float = Field(0.0, ge=0.0, le=10.0, description="Axial added-mass coefficient [-]")
     material: Material = Field(default_factory=ElasticMaterial)
+    tension_only: bool = Field(False, description="A rope: the axial SDE force is max(0, EA eps + damping), "
+                                                  "never compressive (slack); keep the bending stiffness small")
     damping: StructuralDamping | None = None
 
     @model_validator(mode="after")
@@ -830,7 +832,8 @@ class LineType(_Strict):
 # --------------------------------------------------------------------------- lines
 
 class LineEnd(_Strict):
-    attach: str = Field("free", description='"fixed" (global frame), "free", or a vessel name')
+    attach: str = Field("free", description='"fixed" (global frame), "free", a vessel name, or (end B) a body '
+                                            'name (position: the attachment point in the body frame)')
     position: Vector3 | None = _units("m", "Position of the end: global for fixed and free ends, in the vessel "
                                       "frame for a vessel", default=None)
     direction: Vector3 | None = Field(None, description="Unit tangent of the line at this end, pointing from "
@@ -991,7 +994,64 @@ class StingerSupport(_Support):
         return self
 
 
-Support = Annotated[Union[RollerSupport, StingerSupport], Field(discriminator="kind")]
+PayoutRow = Annotated[list[float], _fixed_length_numbers(2, "[t, paid-out length]"), Field(min_length=2, max_length=2)]
+
+
+class PayoutTable(_Strict):
+    """Prescribed payout: rows [t (s), paid-out length (m)], linear in t (constant speed
+    between rows), constant beyond the ends; negative lengths reel the line in."""
+
+    kind: Literal["table"]
+    rows: list[PayoutRow] = Field(..., min_length=1, json_schema_extra={"units": "s, m"})
+
+    @model_validator(mode="after")
+    def _times(self):
+        for i in range(1, len(self.rows)):
+            if not self.rows[i][0] > self.rows[i - 1][0]:
+                raise FieldError(f"rows.{i}", f"time {self.rows[i][0]} s does not increase")
+        return self
+
+
+class PayoutConstantTension(_Strict):
+    """The tensioner's characteristic: it pays out when it holds more than tension +
+    dead_band, reels in below tension - dead_band, at (excess beyond the band) / gain,
+    at most max_speed."""
+
+    kind: Literal["constant-tension"]
+    tension: float = _units("N", "Set tension", gt=0.0)
+    dead_band: float = _units("N", "Dead band around the set tension", default=0.0, ge=0.0)
+    gain: float = _units("N*s/m", "Tension excess per unit payout speed", gt=0.0)
+    max_speed: float = _units("m/s", "Largest payout or reel-in speed", gt=0.0)
+
+
+class TensionerSupport(_Strict):
+    """A straight track (a tensioner, or a J-lay collar/clamp) that holds a line on its
+    axis with lateral pads and grips it axially; the pads move with the payout
+    (rfesim.loads.tensioner). The line's material passes through: pipe stored upstream of
+    the track (on deck, on a ramp) is part of the line."""
+
+    kind: Literal["tensioner"]
+    attach: str = Field("fixed", description='"fixed" (global frame) or a vessel name: the track moves with it')
+    line: str = Field(..., description="Name of the line the tensioner holds")
+    entry: Vector3 = _units("m", "Entry point of the track (attachment frame)")
+    axis: Vector3 = Field(..., description="Direction of payout along the track (attachment frame) [-]",
+                          json_schema_extra={"units": "1"})
+    length: float = _units("m", "Track length", gt=0.0)
+    lateral_stiffness: float = _units("N/m/m", "Pad stiffness holding the line on the axis, per unit length",
+                                      default=1.0e7, gt=0.0)
+    grip_stiffness: float = _units("N/m/m", "Axial grip stiffness per unit length", default=1.0e7, gt=0.0)
+    capacity: float = _units("N", "Largest axial force the pads hold before the line slips", gt=0.0)
+    payout: Annotated[Union[PayoutTable, PayoutConstantTension], Field(discriminator="kind")] = Field(
+        default_factory=lambda: PayoutTable(kind="table", rows=[[0.0, 0.0]]),
+        description="Prescribed payout, or driven by the tension characteristic (default: holds the line)")
+
+    @model_validator(mode="after")
+    def _axis(self):
+        _nonzero(self.axis, "axis")
+        return self
+
+
+Support = Annotated[Union[RollerSupport, StingerSupport, TensionerSupport], Field(discriminator="kind")]
 
 
 # --------------------------------------------------------------------------- analysis
@@ -1068,6 +1128,7 @@ class Analysis(_Strict):
 # --------------------------------------------------------------------------- scenario
 
 from .chains import ChainSpec, check_formulations  # noqa: E402 - chains.py builds on the models above
+from .bodies import Body  # noqa: E402 - bodies.py builds on the models above
 
 
 class Scenario(_Strict):
@@ -1085,6 +1146,8 @@ class Scenario(_Strict):
     analysis: Analysis = Field(default_factory=Analysis)
     chains: dict[str, ChainSpec] = Field(default_factory=dict, description="Kinematic chains of rigid and "
                                          "flexible links (rfesim.scenario.chains)")
+    bodies: dict[str, Body] = Field(default_factory=dict, description="Rigid bodies (payloads, buoys) on the "
+                                    "end B of a line (rfesim.scenario.bodies)")
 
     @model_validator(mode="after")
     def _formulations(self):

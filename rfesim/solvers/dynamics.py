@@ -65,6 +65,9 @@ def stable_rk4_step(system: System, state: State, safety: float) -> float:
         # any RFE may touch down, and a sticking one rides on the friction spring too
         k = max(km.seabed_k, km.seabed_kt if km.has_friction else 0.0)
         w = max(w, 1.1 * float(np.sqrt(k * km.rfe_length / np.maximum(km.rfe_mass, 1e-300)).max()))
+    if km.has_rollers:
+        # a roller acts on one RFE at a time (two at an SDE): k / m of the lightest RFE
+        w = max(w, 1.1 * float(np.sqrt(2.0 * km.roller_k.max() / max(km.rfe_mass.min(), 1e-300))))
     if w <= 0.0:
         return 0.01
     # SDE damping moves eigenvalues off the imaginary axis; keep inside the region
@@ -119,6 +122,16 @@ class Recorder:
         self._ch = {ch: np.zeros(nsde) for ch in ("tension", "shear_force", "bend_moment", "torque", "curvature")}
         self._react = np.zeros((model.n, 6))
         self._pts = {li.name: np.zeros((li.elements + 2, 3)) for li in model.lines}
+        nr = model.km.roller_attach.shape[0]
+        self.roller_reaction = np.zeros((nt, nr))
+        self.roller_force = np.zeros((nt, nr, 3))
+        ntens = len(model.tensioners)
+        self.tens_payout = np.zeros((nt, ntens))
+        self.tens_force = np.zeros((nt, ntens))
+        self.body_data = {b.name: {ch: np.zeros((nt, 3)) for ch in ("position", "velocity", "acceleration", "rotation",
+                                                                    "angular_velocity", "connection_force")}
+                          | {ch: np.zeros(nt) for ch in ("connection_tension", "submerged_fraction", "buoyancy")}
+                          for b in model.bodies}
         # stress outputs (eqs. 8.97-8.98) of elasto-plastic pipe lines
         self._stress_geometry = {}
         for li in model.lines:
@@ -176,7 +189,41 @@ class Recorder:
             R_rel = sysm.vs.R_heading[a].T @ sysm.att.R[a]
             psi, theta, phi = rotation_to_zyx(R_rel)
             self.vessel_rot[k, j] = np.degrees([phi, theta, psi])
+        if km.has_tensioners:
+            from ..loads.tensioner import tensioner_payout
+            for ti in sysm.model.tensioners:
+                self.tens_payout[k, ti.index] = tensioner_payout(km.tens_mode, km.tens_table_t, km.tens_table_d,
+                                                                 km.tens_table_v, km.tens_count, ti.index, state.t, ws.tens_D)
+                self.tens_force[k, ti.index] = ws.tens_force[ti.index]
+        if sysm.model.bodies:
+            self._record_bodies(k, ws, qdd)
+        if km.has_rollers:
+            self.roller_reaction[k] = ws.roller_normal
+            self.roller_force[k] = ws.roller_force
         self.k += 1
+
+    def _record_bodies(self, k: int, ws, qdd: np.ndarray) -> None:
+        from ..kinematics import rotation_to_zyx
+        from ..model.bodies import connection_force
+        km = self.system.km
+        for b in self.system.model.bodies:
+            d = self.body_data[b.name]
+            i = b.rfe
+            d["position"][k] = ws.r[i]
+            d["velocity"][k] = ws.v[i]
+            d["acceleration"][k] = qdd[i, :3]
+            psi, theta, phi = rotation_to_zyx(ws.R[i])
+            d["rotation"][k] = np.degrees([phi, theta, psi])
+            d["angular_velocity"][k] = ws.w[i]
+            force, moment = connection_force(km, ws, b)
+            d["connection_force"][k] = force
+            d["connection_tension"][k] = np.linalg.norm(force)
+            frac = float(ws.sub_frac[i]) if km.has_bodies else 0.0
+            d["submerged_fraction"][k] = frac
+            d["buoyancy"][k] = km.water_density * km.gravity * b.volume * frac
+            line = self.line_data[b.line]           # the line's end B force is the force on the body
+            line["end_b_force"][k] = force
+            line["end_b_moment"][k] = moment
 
     def results(self, **kw):
         from ..results import LineResults, Results, VesselResults
@@ -189,28 +236,49 @@ class Recorder:
                                          **{name: arr[:nt] for name, arr in d.items()})
         vessels = {name: VesselResults(name=name, position=self.vessel_pos[:nt, j], rotation=self.vessel_rot[:nt, j])
                    for j, name in enumerate(self.vessel_names)}
-        return Results(time=self.time[:nt].copy(), lines=lines, vessels=vessels, **kw)
+        from ..results import SupportResults, TensionerResults
+        tensioners = {ti.name: TensionerResults(name=ti.name, line=ti.line, payout=self.tens_payout[:nt, ti.index].copy(),
+                                                grip_force=self.tens_force[:nt, ti.index].copy())
+                      for ti in self.system.model.tensioners}
+        supports = {si.name: SupportResults(name=si.name, line=si.line, attach=si.attach,
+                                            roller_position=si.position, roller_axis=si.axis,
+                                            roller_reaction=self.roller_reaction[:nt, si.roller_start:si.roller_stop],
+                                            roller_force=self.roller_force[:nt, si.roller_start:si.roller_stop])
+                    for si in self.system.model.supports}
+        from ..results import BodyResults
+        bodies = {b.name: BodyResults(name=b.name, line=b.line, **{ch: arr[:nt] for ch, arr in self.body_data[b.name].items()})
+                  for b in self.system.model.bodies}
+        return Results(time=self.time[:nt].copy(), lines=lines, vessels=vessels, supports=supports, bodies=bodies,
+                       tensioners=tensioners,
+                       **kw)
 
 
 def touchdown(km, ws, li):
-    """(arc length from end A, position) of the touchdown point of a line: going from end B
-    towards end A, the end of the first RFE in seabed contact where its contact begins
+    """(arc length from end A, position) of the touchdown point of a line: going from its
+    upper end (end B, or end A when that is higher) towards the other, the end of the first
+    RFE in seabed contact where its contact begins
     (the contact of an RFE is a contiguous part of it, so its length places the point)."""
     lengths = km.rfe_length[li.rfe_start:li.rfe_stop]
     contact = ws.contact_length[li.rfe_start:li.rfe_stop]
     idx = np.nonzero(contact > 0.0)[0]
     if idx.size == 0:
         return None
-    j = int(idx[-1])
+    # a line hanging from end A (a pipe laid from a vessel) is searched from end A
+    from_a = ws.r[li.rfe_start, 2] > ws.r[li.rfe_stop - 1, 2]
+    j = int(idx[0]) if from_a else int(idx[-1])
     i = li.rfe_start + j
     s_lo = float(np.sum(lengths[:j]))
     L = lengths[j]
     lc = min(float(contact[j]), L)
     # the contact part of an RFE starts at its lower end: from the A-side end when that is
-    # lower (touchdown lc along the RFE), else it reaches the B-side end
+    # lower (touchdown lc along the RFE), else it reaches the B-side end (mirrored from A)
     t = ws.R[i, :, 0]
-    a_side_lower = t[2] > 0.0
-    off = (lc - 0.5 * L) if (a_side_lower and lc < L) else 0.5 * L
+    if from_a:
+        b_side_lower = t[2] < 0.0
+        off = (0.5 * L - lc) if (b_side_lower and lc < L) else -0.5 * L
+    else:
+        a_side_lower = t[2] > 0.0
+        off = (lc - 0.5 * L) if (a_side_lower and lc < L) else 0.5 * L
     s = s_lo + 0.5 * L + off
     return s, ws.r[i] + off * t
 

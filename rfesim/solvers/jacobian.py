@@ -25,7 +25,7 @@ from numba import njit
 from ..kinematics import cross_into, matmul_into, matvec_into
 from ..loads.sde import sde_forces_into
 from ..loads.sde_tangent import sde_tangent
-from ..model.assemble import plastic_forces
+from ..model.assemble import plastic_forces, tension_only_forces
 from .residual import residual_general, residual_q
 
 
@@ -81,6 +81,9 @@ def jacobian_analytic(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd
                     ws.v3, ws.m33)
     if km.has_plastic:
         plastic_forces(km, ws, Msde)
+    if km.has_tension_only:
+        tension_only_forces(km, ws, Fsde, Msde)     # slack ropes: axial tangent 0 in ws.k_tangent
+    if km.has_plastic or km.has_tension_only:
         sde_tangent(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, ws.k_tangent, km.sde_damping,
                     ws.R, ws.rbase, ws.roff, ws.sigma, Ks, Kds)
     else:

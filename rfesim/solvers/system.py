@@ -17,7 +17,8 @@ class System:
         n, nsde = model.n, model.nsde
         self.km = km
         self.n = n
-        self.ws = new_workspace(n, nsde, model.plastic_history_width)
+        self.ws = new_workspace(n, nsde, model.plastic_history_width, km.roller_attach.shape[0],
+                                km.tens_att.shape[0])
         self.vs = vessel_spec(model.motions)
         self.att = new_attachment_state(len(model.attachment_names))
         self.mask = model.dof_mask
@@ -36,13 +37,21 @@ class System:
     def history(self) -> tuple:
         """A copy of the committed history (seabed friction anchors), to roll a step back."""
         ws = self.ws
-        return ws.fric_anchor.copy(), ws.fric_anchored.copy(), ws.plastic_hist.copy()
+        return (ws.fric_anchor.copy(), ws.fric_anchored.copy(), ws.plastic_hist.copy(), ws.roller_anchor.copy(),
+                ws.roller_anchored.copy(), ws.grip_a.copy(), ws.grip_on.copy(), ws.tens_D.copy(),
+                ws.tens_time.copy())
 
     def set_history(self, saved: tuple) -> None:
         ws = self.ws
         ws.fric_anchor[:] = saved[0]
         ws.fric_anchored[:] = saved[1]
         ws.plastic_hist[:] = saved[2]
+        ws.roller_anchor[:] = saved[3]
+        ws.roller_anchored[:] = saved[4]
+        ws.grip_a[:] = saved[5]
+        ws.grip_on[:] = saved[6]
+        ws.tens_D[:] = saved[7]
+        ws.tens_time[:] = saved[8]
 
     def commit_history(self) -> None:
         """Accept the trial history written by the last evaluation."""

@@ -237,3 +237,58 @@ def test_damping_acts_only_while_pressed_and_never_pulls():
     args[16] = np.array([[0.0, 0.0, 0.2]])       # leaving fast: the force would be tensile, it is zero
     F, M, force, normal, *_ = run_kernel(tuple(args), hint, *z, 2)
     assert F[0, 2] == 0.0 and normal[0] == 0.0
+
+
+def _support_errors(support, lines=True):
+    import rfesim
+    sc = {"line_types": {"p": {"outer_diameter": 0.3, "wall_thickness": 0.02, "youngs_modulus": 2e11,
+                               "density": 7850}},
+          "lines": {"pipe": {"type": "p", "length": 10, "elements": 5,
+                             "end_a": {"attach": "fixed", "position": [0, 0, 0]}}} if lines else {},
+          "supports": {"s": support}}
+    with pytest.raises(rfesim.ScenarioError) as err:
+        rfesim.Scenario.model_validate(sc)
+    return str(err.value)
+
+
+@pytest.mark.parametrize("support, field, words", [
+    ({"kind": "rollers", "line": "nope", "stiffness": 1e6,
+      "rollers": [{"position": [0, 0, 0], "axis": [0, 1, 0], "width": 0.5}]}, "supports.s.line", "unknown line"),
+    ({"kind": "rollers", "line": "pipe", "attach": "boat", "stiffness": 1e6,
+      "rollers": [{"position": [0, 0, 0], "axis": [0, 1, 0], "width": 0.5}]}, "supports.s.attach",
+     "unknown attachment"),
+    ({"kind": "rollers", "line": "pipe", "stiffness": 1e6,
+      "rollers": [{"position": [0, 0, 0], "axis": [0, 0, 0], "width": 0.5}]}, "supports.s.rollers.0.axis",
+     "zero vector"),
+    ({"kind": "rollers", "line": "pipe", "stiffness": 0.0,
+      "rollers": [{"position": [0, 0, 0], "axis": [0, 1, 0], "width": 0.5}]}, "supports.s.stiffness", ""),
+    ({"kind": "stinger", "line": "pipe", "stiffness": 1e6, "start": [0, 0, 0], "direction": [0, 0, -1],
+      "radius": 50, "length": 20, "spacing": 4, "roller_width": 0.5}, "supports.s.direction", "vertical"),
+    ({"kind": "stinger", "line": "pipe", "stiffness": 1e6, "start": [0, 0, 0], "direction": [1, 0, 0],
+      "radius": 50, "length": 20, "spacing": 40, "roller_width": 0.5}, "supports.s.spacing", "longer"),
+])
+def test_support_errors_name_the_field(support, field, words):
+    text = _support_errors(support)
+    assert field in text and words in text
+
+
+def test_stinger_stations_lie_on_the_arc():
+    from rfesim.model.supports import roller_set
+    import rfesim
+    sc = rfesim.Scenario.model_validate({
+        "line_types": {"p": {"outer_diameter": 0.3, "wall_thickness": 0.02, "youngs_modulus": 2e11, "density": 7850}},
+        "lines": {"pipe": {"type": "p", "length": 10, "elements": 5, "end_a": {"attach": "fixed",
+                                                                                "position": [0, 0, 0]}}},
+        "supports": {"s": {"kind": "stinger", "line": "pipe", "stiffness": 1e6, "start": [1, 2, 3],
+                           "direction": [0, 2, 0], "radius": 40, "length": 30, "spacing": 5, "roller_width": 0.6,
+                           "v_angle_deg": 30}}})
+    rs = roller_set(sc.supports["s"])
+    assert rs.point.shape == (14, 3)                        # 7 stations x 2 halves of a V
+    centre = np.array([1.0, 2.0, 3.0 - 40.0])               # the arc bends down from +y
+    np.testing.assert_allclose(np.linalg.norm(rs.guide - centre, axis=1), 40.0, rtol=1e-12)
+    np.testing.assert_allclose(rs.guide[-1], [1.0, 2.0 + 40 * np.sin(0.75), 3.0 - 40 * (1 - np.cos(0.75))],
+                               rtol=1e-12)
+    # V halves rise 30 deg from the cross direction (x), start at the V bottom
+    np.testing.assert_allclose(np.abs(rs.axis[0]), [np.cos(np.radians(30)), 0.0, np.sin(np.radians(30))],
+                               atol=1e-12)
+    np.testing.assert_allclose(rs.point[0] - 0.3 * rs.axis[0], rs.guide[0], atol=1e-12)

@@ -1,0 +1,69 @@
+"""Tension-only SDEs (ropes): the axial SDE force is ``max(0, C_x eps_x + D_x d(eps_x)/dt)``.
+
+Applied after ``rfesim.loads.sde.sde_forces_into`` (and the plastic correction), like the
+plastic correction: for every SDE marked in ``sde_tension_only`` whose axial force
+sigma_x (eq. 8.86, in the frame {i'}) is negative, the force ``-sigma_x e_x'`` is added
+through exactly the map the SDE kernel uses for its forces (eq. 8.90.1 with the
+consistency moment of the gap), so the result is what the SDE kernel gives with the axial
+force replaced by 0; sigma_x is set to 0. A slack rope element then pushes nothing, while
+its shear and bending springs (small for a rope) still act.
+
+``k_tangent`` (nsde, 6) receives the stiffness for the analytic Jacobian with the axial
+entry 0 for slack SDEs; with ``fill`` it is first copied from the elastic stiffness (no
+plastic correction ran before to fill it).
+"""
+from __future__ import annotations
+
+from numba import njit
+
+from ..kinematics import cross_into, matTvec_into, matvec_into
+from .sde import sde_geometry
+
+
+@njit(cache=True)
+def tension_only_correction(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiffness, sde_tension_only,
+                            R, rbase, roff, sigma, F, M, k_tangent, fill, v3, m33):
+    """Remove the compressive axial force of the tension-only SDEs from F, M and sigma."""
+    pa = v3[0]
+    pb = v3[1]
+    g = v3[2]
+    th = v3[4]
+    tmp = v3[5]
+    tmp2 = v3[6]
+    Fp = v3[7]
+    Fg = v3[8]
+    h = v3[9]
+    wth = v3[10]
+    Rrel = m33[0]
+    Rh = m33[1]
+    Rp = m33[2]
+    Jri = m33[3]
+    Jrh = m33[4]
+    for s in range(sde_left.shape[0]):
+        if fill:
+            for k in range(6):
+                k_tangent[s, k] = sde_stiffness[s, k]
+        if sde_tension_only[s] == 0 or sigma[s, 0] >= 0.0:
+            continue
+        k_tangent[s, 0] = 0.0
+        a = sde_left[s]
+        b = sde_right[s]
+        sde_geometry(a, b, sde_arm_left[s], sde_arm_right[s], R, rbase, roff, pa, pb, g, Rrel, th, Rh, Rp, Jri, Jrh)
+        Fp[0] = -sigma[s, 0]
+        Fp[1] = 0.0
+        Fp[2] = 0.0
+        sigma[s, 0] = 0.0
+        # the force part of rfesim.loads.sde.sde_forces_into for the section force Fp
+        matvec_into(Rp, Fp, Fg)                                     # eq. 8.90.1
+        cross_into(Fg, g, h)
+        matTvec_into(Rp, h, tmp)
+        matTvec_into(Jrh, tmp, tmp2)
+        matTvec_into(Jri, tmp2, tmp)
+        matvec_into(R[b], tmp, wth)
+        cross_into(pb, Fg, tmp)
+        cross_into(pa, Fg, tmp2)
+        for k in range(3):
+            F[b, k] -= Fg[k]
+            F[a, k] += Fg[k]
+            M[b, k] += -tmp[k] - 0.5 * wth[k]
+            M[a, k] += tmp2[k] - h[k] + 0.5 * wth[k]

@@ -1,0 +1,169 @@
+"""Rigid bodies in the absolute-coordinate model: one free RFE per body.
+
+A body hangs on end B of one line. It becomes one more free RFE with the body's mass and
+principal inertia (its frame = the body's principal axes), placed in the global RFE
+ordering right after the last RFE of its line, and one more SDE -- the *connection* --
+joins the line's end RFE to it at the attachment point (the end's ``position``, body
+frame). Every SDE still joins RFEs i and i + 1, so the Jacobian stays block-tridiagonal
+and the SDE kernels are unchanged.
+
+Connection stiffness: ``CONNECTION_STIFFNESS_FACTOR`` times the line's own axial SDE
+stiffness EA/Delta on all three translations (isotropic, so the joint does not depend on
+how the body frame is turned against the line's end frame); rotations free for
+``pinned`` (a shackle), the same factor times the line's largest rotational SDE
+stiffness for ``clamped`` (the body's x axis must then continue the line's end tangent:
+the SDE measures its rotation from equal frames). The connection adds the compliance
+Delta / (factor EA) in series with the line's L / EA: 1/(factor n) relative. Its own
+high-frequency mode (the line's half end RFE on that spring) is damped critically.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..kinematics import rot_zyx
+
+CONNECTION_STIFFNESS_FACTOR = 100.0
+
+
+@dataclass
+class BodyInfo:
+    """Where a body sits in the model arrays."""
+
+    name: str
+    index: int          # row of the km.body_* arrays
+    rfe: int            # the body's RFE
+    sde: int            # the connection SDE (line end B -> body)
+    line: str           # the line it hangs on
+    mass: float         # kg
+    volume: float       # m^3
+
+
+def body_rotation(body) -> np.ndarray:
+    """Orientation of the body axes at t = 0 from roll, pitch, yaw (deg, ZYX)."""
+    roll, pitch, yaw = (math.radians(a) for a in body.orientation_deg)
+    return rot_zyx(yaw, pitch, roll)
+
+
+def body_pose(body, line, end_a_position: np.ndarray | None, down: np.ndarray):
+    """(centre of mass, rotation, end B position) of a body at t = 0. Without a given
+    position the line hangs straight down (along ``down``) from end A, the body under it."""
+    R = body_rotation(body)
+    arm = R @ np.asarray(line.end_b.position, float)
+    if body.position is not None:
+        centre = np.asarray(body.position, float)
+        return centre, R, centre + arm
+    if end_a_position is None:
+        return None
+    B = np.asarray(end_a_position, float) + line.length * down
+    return B - arm, R, B
+
+
+def connection_rows(line_coefficients: np.ndarray, connection: str, end_mass: float, body_mass: float,
+                    end_inertia: np.ndarray, body_inertia: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Stiffness and damping rows (6,) of the connection SDE (see the module text)."""
+    k = CONNECTION_STIFFNESS_FACTOR * float(line_coefficients[0])
+    stiffness = np.array([k, k, k, 0.0, 0.0, 0.0])
+    m_red = end_mass * body_mass / (end_mass + body_mass)
+    damping = np.zeros(6)
+    damping[:3] = 2.0 * math.sqrt(k * m_red)
+    if connection == "clamped":
+        kr = CONNECTION_STIFFNESS_FACTOR * float(np.max(line_coefficients[3:]))
+        stiffness[3:] = kr
+        for j in range(3):
+            i_red = end_inertia[j] * body_inertia[j] / (end_inertia[j] + body_inertia[j])
+            damping[3 + j] = 2.0 * math.sqrt(kr * i_red)
+    return stiffness, damping
+
+
+def body_rfe_row(body, sc) -> dict:
+    """Per-RFE array values of a body's RFE (line hydrodynamics off: rfesim.loads.bodies acts)."""
+    height = body.vertical_extent()
+    seabed = sc.environment.seabed
+    c_len = 0.0
+    if seabed is not None:
+        c_len = 2.0 * seabed.damping_ratio * math.sqrt(seabed.normal_stiffness * body.mass / height)
+    return dict(mass=body.mass, inertia=np.asarray(body.principal_inertia(), float), length=height,
+                diameter=0.0, disp_area=0.0, cdn=0.0, cdt=0.0, can=0.0, cat=0.0,
+                contact_radius=0.5 * height, seabed_c=c_len)
+
+
+def body_arrays(sc, infos: list[BodyInfo]) -> dict:
+    """The km.body_* arrays."""
+    water = sc.environment.water
+    rho = float(water.density) if water is not None else 0.0
+    bodies = [sc.bodies[b.name] for b in infos]
+    nb = len(bodies)
+    return dict(
+        body_rfe=np.asarray([b.rfe for b in infos], np.int64).reshape(nb),
+        body_volume=np.asarray([b.volume for b in bodies], float).reshape(nb),
+        body_height=np.asarray([b.vertical_extent() for b in bodies], float).reshape(nb),
+        body_cob=np.asarray([b.centre_of_buoyancy for b in bodies], float).reshape(nb, 3),
+        body_drag=np.asarray([b.drag_cd_area() for b in bodies], float).reshape(nb, 3),
+        body_added_mass=np.asarray([b.added_mass_per_axis(rho) for b in bodies], float).reshape(nb, 3),
+        body_added_inertia=np.asarray([b.added_mass.inertia if b.added_mass is not None else [0.0] * 3
+                                       for b in bodies], float).reshape(nb, 3),
+        body_slam=np.asarray([b.slam_coefficient * b.slamming_area() for b in bodies], float).reshape(nb),
+        has_bodies=nb > 0 and water is not None,
+    )
+
+
+def append_body(sc, name: str, index: int, line, pose, line_coefficients: np.ndarray, end_length: float,
+                end_mass: float, end_inertia: np.ndarray, n_total: int, nsde_total: int, rfe: dict, sde: dict,
+                plastic_rows: list, plastic_flags: list, tension_flags: list, q0_blocks: list, X0_blocks: list,
+                R0_blocks: list, kinds: tuple) -> BodyInfo:
+    """Append a body's RFE (index ``n_total``, right after its line's end RFE) and its
+    connection SDE (index ``nsde_total``) to compile_scenario's lists."""
+    body = sc.bodies[name]
+    centre, R, _ = pose
+    row = body_rfe_row(body, sc)
+    for key in ("mass", "inertia", "length", "diameter", "disp_area", "cdn", "cdt", "can", "cat", "contact_radius",
+                "seabed_c"):
+        rfe[key].append(row[key])
+    rfe["kind"].append(kinds[0])
+    rfe["attach"].append(-1)
+    rfe["attach_offset"].append(np.zeros(3))
+    rfe["pin_arm"].append(np.zeros(3))
+    rfe["clamp_R"].append(np.eye(3))
+    stiffness, damping = connection_rows(line_coefficients, line.end_b.connection, end_mass, body.mass,
+                                         end_inertia, row["inertia"])
+    sde["left"].append(n_total - 1)
+    sde["right"].append(n_total)
+    sde["arm_left"].append([0.5 * end_length, 0.0, 0.0])
+    sde["arm_right"].append(list(np.asarray(line.end_b.position, float)))
+    sde["stiffness"].append(stiffness)
+    sde["damping"].append(damping)
+    sde["length"].append(end_length)
+    plastic_rows.append(np.zeros(2))
+    plastic_flags.append(0)
+    tension_flags.append(0)
+    q0_blocks.append(np.zeros((1, 6)))
+    X0_blocks.append(np.asarray(centre, float)[None, :])
+    R0_blocks.append(np.asarray(R, float)[None, :, :])
+    return BodyInfo(name=name, index=index, rfe=n_total, sde=nsde_total, line=line_name(sc, line), mass=body.mass,
+                    volume=body.volume)
+
+
+def line_name(sc, line) -> str:
+    for name, ln in sc.lines.items():
+        if ln is line:
+            return name
+    raise KeyError("line not in the scenario")
+
+
+def connection_force(km, ws, info: BodyInfo) -> tuple[np.ndarray, np.ndarray]:
+    """Force (global) of the line on the body and its moment about the attachment point,
+    from the connection SDE of an evaluated workspace."""
+    from ..loads.sde import sde_forces
+    s = info.sde
+    n = ws.R.shape[0]
+    F = np.zeros((n, 3))
+    M = np.zeros((n, 3))
+    sde_forces(km.sde_left[s:s + 1], km.sde_right[s:s + 1], km.sde_arm_left[s:s + 1], km.sde_arm_right[s:s + 1],
+               km.sde_stiffness[s:s + 1], km.sde_damping[s:s + 1], ws.R, ws.rbase, ws.roff, ws.v, ws.w, F, M,
+               np.zeros((1, 6)), np.zeros((1, 6)), np.zeros((1, 3)))
+    b = info.rfe
+    arm = ws.R[b] @ km.sde_arm_right[s]
+    return F[b].copy(), M[b] - np.cross(arm, F[b])

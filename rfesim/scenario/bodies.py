@@ -1,0 +1,198 @@
+"""Scenario schema of rigid bodies (top-level ``bodies``): payloads, buoys, clump weights.
+
+A body hangs on the end B of one absolute-coordinate line (``"end_b": {"attach":
+"payload", "position": [0, 0, 1.2]}``: the end's ``position`` is the attachment point in
+the body frame, from the centre of mass). Its frame has the principal axes of inertia;
+at t = 0 it is turned by ``orientation_deg`` (roll, pitch, yaw; ZYX) from the global frame::
+
+    "bodies": {"payload": {"mass": 1.0e4, "inertia": [2e4, 2e4, 1.5e4],
+                           "volume": 4.0, "height": 2.0,
+                           "drag": {"cd": [1.0, 1.0, 1.2], "area": [4.0, 4.0, 4.0]},
+                           "added_mass": {"ca": [0.6, 0.6, 1.0]},
+                           "slam_coefficient": 3.14159,
+                           "position": [0, 0, -20]}}
+
+Hydrodynamics scale with the submerged fraction of the body's vertical extent
+(rfesim.loads.bodies). Units SI.
+"""
+from __future__ import annotations
+
+import math
+
+from pydantic import Field, model_validator
+
+from .schema import FieldError, Vector3, _Strict, _units
+
+NumberOr3 = float | Vector3
+
+
+def per_axis(value, default: float = 0.0) -> list[float]:
+    """A scalar or [x, y, z] -> [x, y, z] (None -> default on every axis)."""
+    if value is None:
+        return [default] * 3
+    if isinstance(value, (int, float)):
+        return [float(value)] * 3
+    return [float(v) for v in value]
+
+
+def _check_non_negative(value, name: str) -> None:
+    for k, v in enumerate(per_axis(value)):
+        if v < 0.0:
+            where = name if isinstance(value, (int, float)) else f"{name}.{k}"
+            raise FieldError(where, f"must not be negative, got {v}")
+
+
+class BodyDrag(_Strict):
+    """Quadratic drag per body axis: F_k = 1/2 rho cd_k area_k |u_k| u_k (u: water velocity
+    relative to the body at its centre of buoyancy, in body axes), times the submerged fraction."""
+
+    cd: NumberOr3 = Field(1.0, description="Drag coefficient, one value or one per body axis [x, y, z] [-]",
+                          json_schema_extra={"units": "1"})
+    area: NumberOr3 = _units("m^2", "Projected area normal to each body axis [x, y, z] (one value: all)")
+
+    @model_validator(mode="after")
+    def _signs(self):
+        _check_non_negative(self.cd, "cd")
+        _check_non_negative(self.area, "area")
+        return self
+
+
+class BodyAddedMass(_Strict):
+    """Added mass of the fully submerged body per body axis: ``ca`` times the displaced
+    mass rho*volume, or ``mass`` directly; it scales with the submerged fraction."""
+
+    ca: NumberOr3 | None = Field(None, description="Added-mass coefficient on rho*volume, one value or "
+                                 "[x, y, z] [-]", json_schema_extra={"units": "1"})
+    mass: NumberOr3 | None = _units("kg", "Added mass, one value or [x, y, z] (instead of ca)", default=None)
+    inertia: Vector3 = _units("kg*m^2", "Added rotational inertia about the body axes [x, y, z]",
+                              default=[0.0, 0.0, 0.0])
+
+    @model_validator(mode="after")
+    def _one_of(self):
+        if self.ca is not None and self.mass is not None:
+            raise FieldError("mass", "give either ca or mass, not both")
+        if self.ca is None and self.mass is None:
+            raise FieldError("ca", "give the added-mass coefficient ca or the added mass itself (mass)")
+        for name in ("ca", "mass", "inertia"):
+            if getattr(self, name) is not None:
+                _check_non_negative(getattr(self, name), name)
+        return self
+
+
+class Body(_Strict):
+    """A rigid body on the end B of a line (see the module text)."""
+
+    mass: float = _units("kg", "Mass", gt=0.0)
+    inertia: Vector3 | None = _units("kg*m^2", "Principal moments of inertia about the centre of mass, body "
+                                     "axes [Ixx, Iyy, Izz]", default=None)
+    radius_of_gyration: NumberOr3 | None = _units("m", "Radius of gyration, one value or [x, y, z] (instead of "
+                                                  "inertia: I = mass * r^2)", default=None)
+    volume: float = _units("m^3", "Displaced volume when fully submerged", default=0.0, ge=0.0)
+    height: float | None = _units("m", "Vertical extent over which the body goes under water (buoyancy, drag, "
+                                  "added mass and slamming scale with the submerged part of it); default: "
+                                  "the cube root of the volume", default=None, gt=0.0)
+    centre_of_buoyancy: Vector3 = _units("m", "Centre of buoyancy from the centre of mass, body axes (also the "
+                                         "middle of the vertical extent and where drag acts)",
+                                         default=[0.0, 0.0, 0.0])
+    drag: BodyDrag | None = None
+    added_mass: BodyAddedMass | None = None
+    slam_coefficient: float = Field(math.pi, ge=0.0, le=100.0, description="Slamming coefficient C_s: while the "
+                                    "body crosses the surface moving down into the water, an upward force "
+                                    "1/2 rho C_s A_s v^2 [-]", json_schema_extra={"units": "1"})
+    slam_area: float | None = _units("m^2", "Slamming area A_s (horizontal projection; default: the drag area "
+                                     "along the body z axis, else volume/height)", default=None, ge=0.0)
+    position: Vector3 | None = _units("m", "Centre of mass at t = 0 (global); default: the line hangs straight "
+                                      "down from its end A with the body under it", default=None)
+    orientation_deg: Vector3 = _units("deg", "Roll, pitch, yaw of the body axes at t = 0 (ZYX, global)",
+                                      default=[0.0, 0.0, 0.0])
+
+    @model_validator(mode="after")
+    def _inertia(self):
+        if self.inertia is not None and self.radius_of_gyration is not None:
+            raise FieldError("radius_of_gyration", "give either inertia or radius_of_gyration, not both")
+        if self.inertia is None and self.radius_of_gyration is None:
+            raise FieldError("inertia", "give the principal moments of inertia [Ixx, Iyy, Izz] (kg*m^2) or a "
+                                        "radius_of_gyration (m)")
+        if self.radius_of_gyration is not None:
+            for k, r in enumerate(per_axis(self.radius_of_gyration)):
+                if r <= 0.0:
+                    where = "radius_of_gyration" if isinstance(self.radius_of_gyration, (int, float)) \
+                        else f"radius_of_gyration.{k}"
+                    raise FieldError(where, f"must be greater than 0 m, got {r}")
+        else:
+            I = self.inertia
+            for k, v in enumerate(I):
+                if v <= 0.0:
+                    raise FieldError(f"inertia.{k}", f"must be greater than 0 kg*m^2, got {v}")
+            for k in range(3):
+                if I[k] > 1.000001 * (I[(k + 1) % 3] + I[(k + 2) % 3]):
+                    raise FieldError("inertia", f"I{'xyz'[k]}{'xyz'[k]} = {I[k]:.6g} kg*m^2 exceeds the sum of the "
+                                                "other two: no rigid body has these principal moments")
+        return self
+
+    def principal_inertia(self) -> list[float]:
+        """[Ixx, Iyy, Izz] in kg*m^2."""
+        if self.inertia is not None:
+            return [float(v) for v in self.inertia]
+        return [self.mass * r * r for r in per_axis(self.radius_of_gyration)]
+
+    def vertical_extent(self) -> float:
+        """m: the height, or the cube root of the volume (1 m without a volume)."""
+        if self.height is not None:
+            return float(self.height)
+        return float(self.volume) ** (1.0 / 3.0) if self.volume > 0.0 else 1.0
+
+    def drag_cd_area(self) -> list[float]:
+        """cd * area per body axis (m^2)."""
+        if self.drag is None:
+            return [0.0, 0.0, 0.0]
+        return [c * a for c, a in zip(per_axis(self.drag.cd), per_axis(self.drag.area))]
+
+    def added_mass_per_axis(self, water_density: float) -> list[float]:
+        """kg, fully submerged."""
+        am = self.added_mass
+        if am is None:
+            return [0.0, 0.0, 0.0]
+        if am.mass is not None:
+            return per_axis(am.mass)
+        return [water_density * self.volume * c for c in per_axis(am.ca)]
+
+    def slamming_area(self) -> float:
+        """m^2."""
+        if self.slam_area is not None:
+            return float(self.slam_area)
+        if self.drag is not None:
+            return float(per_axis(self.drag.area)[2])
+        return float(self.volume / self.vertical_extent()) if self.volume > 0.0 else 0.0
+
+
+def check_body_references(sc) -> list[tuple[str, str]]:
+    """Bodies hang on end B of exactly one absolute-coordinate line."""
+    errors: list[tuple[str, str]] = []
+    users: dict[str, list[str]] = {}
+    for name in sc.bodies:
+        if name in ("fixed", "free") or name in sc.vessels:
+            errors.append((f"bodies.{name}", f"'{name}' is already a vessel or a reserved attachment word; "
+                                             f"rename the body"))
+        elif not name or any(c in name for c in "/:\\") or name.strip() != name:
+            errors.append((f"bodies.{name}", f"bad name {name!r}: names must be non-empty and must not contain "
+                                             f"'/', ':' or '\\' or outer spaces"))
+    for lname, line in sc.lines.items():
+        if line.end_a.attach in sc.bodies:
+            errors.append((f"lines.{lname}.end_a.attach", f"a body hangs on a line's end B: attach body "
+                                                          f"'{line.end_a.attach}' at end_b (reverse the line)"))
+        if line.end_b.attach in sc.bodies:
+            users.setdefault(line.end_b.attach, []).append(lname)
+            if line.formulation != "absolute":
+                errors.append((f"lines.{lname}.formulation", "a body can hang only on a line in the absolute "
+                                                             "formulation"))
+    for bname, lines in users.items():
+        if len(lines) > 1:
+            errors.append((f"lines.{lines[1]}.end_b.attach",
+                           f"body '{bname}' already hangs on line '{lines[0]}': one line per body (more lines on "
+                           f"one body would break the block-tridiagonal structure of the model)"))
+    for bname in sc.bodies:
+        if bname not in users:
+            errors.append((f"bodies.{bname}", "not attached to any line: attach it at a line's end_b "
+                                              f"(\"end_b\": {{\"attach\": \"{bname}\", \"position\": [...]}})"))
+    return errors

@@ -1,0 +1,257 @@
+"""Rigid bodies and ropes: the kernels against readable numpy references, and the schema's errors.
+
+* rfesim.loads.bodies.body_hydro_forces against ``body_hydro_reference`` below, written
+  from the formulas of the module text, on random poses, velocities and sea kinematics;
+* rfesim.loads.tension_only: after the correction, forces equal those of the SDE kernel
+  with the axial stiffness and damping removed on the SDEs whose axial force was
+  compressive (the force is linear in the section forces), and the elastic forces of a
+  slack pair are minus the gradient of the potential without its axial term;
+* bad body input raises ScenarioError naming the field.
+"""
+from __future__ import annotations
+
+import copy
+import math
+
+import numpy as np
+import pytest
+
+import rfesim
+import reference_impl as ref
+from rfesim import ScenarioError
+from rfesim.loads.bodies import body_hydro_forces
+from rfesim.loads.sde import sde_forces
+from rfesim.loads.tension_only import tension_only_correction
+
+RHO, G = 1025.0, 9.81
+
+
+# ----------------------------------------------------------------------------- body hydrodynamics
+
+def body_hydro_reference(R, r, v, w, surface_z, water_vel, water_acc, volume, height, cob, cd_area, added_mass,
+                         added_inertia, slam, scale):
+    """Force, moment (about the centre), Ma, Ja, fraction and P of one body (module text)."""
+    d = R @ cob
+    P = r + d
+    f = float(np.clip((surface_z - (P[2] - 0.5 * height)) / height, 0.0, 1.0))
+    Ma = f * R @ np.diag(added_mass) @ R.T
+    Ja = f * np.asarray(added_inertia)
+    force = np.zeros(3)
+    if f > 0.0:
+        u = water_vel - (v + np.cross(w, d))
+        ub = R.T @ u
+        force += scale * RHO * G * volume * f * np.array([0.0, 0.0, 1.0])
+        force += R @ (0.5 * RHO * np.asarray(cd_area) * np.abs(ub) * ub * f)
+        force += RHO * volume * f * water_acc + Ma @ water_acc
+        if f < 1.0 and u[2] > 0.0:
+            force[2] += 0.5 * RHO * slam * u[2] ** 2
+    return force, np.cross(d, force), Ma, Ja, f, P
+
+
+def random_bodies(rng, nb, n):
+    rfe = rng.choice(n, size=nb, replace=False).astype(np.int64)
+    R = np.array([ref.random_rotation(rng) for _ in range(n)])
+    r = rng.uniform(-3.0, 3.0, size=(n, 3))
+    return dict(body_rfe=rfe, body_volume=rng.uniform(0.5, 5.0, nb), body_height=rng.uniform(0.5, 3.0, nb),
+                body_cob=rng.normal(scale=0.5, size=(nb, 3)), body_drag=rng.uniform(0.0, 5.0, (nb, 3)),
+                body_added_mass=rng.uniform(0.0, 5e3, (nb, 3)), body_added_inertia=rng.uniform(0.0, 1e3, (nb, 3)),
+                body_slam=rng.uniform(0.0, 10.0, nb), R=R, r=r, v=rng.normal(size=(n, 3)), w=rng.normal(size=(n, 3)),
+                surface_z=rng.uniform(-1.0, 1.0, n), water_vel=rng.normal(size=(n, 3)),
+                water_acc=rng.normal(size=(n, 3)))
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_body_hydro_kernel_matches_reference(seed):
+    rng = np.random.default_rng(seed)
+    n, nb = 7, 4
+    b = random_bodies(rng, nb, n)
+    F0 = rng.normal(size=(n, 3))
+    M0 = rng.normal(size=(n, 3))
+    F, M = F0.copy(), M0.copy()
+    Ma, Ja = np.full((n, 3, 3), 7.0), np.full((n, 3), 7.0)
+    sub_frac, sub_point = np.full(n, -1.0), np.zeros((n, 3))
+    scale = 0.7
+    body_hydro_forces(b["body_rfe"], b["body_volume"], b["body_height"], b["body_cob"], b["body_drag"],
+                      b["body_added_mass"], b["body_added_inertia"], b["body_slam"], RHO, G, scale, b["R"], b["r"],
+                      b["v"], b["w"], b["surface_z"], b["water_vel"], b["water_acc"], F, M, Ma, Ja, sub_frac,
+                      sub_point)
+    fractions = []
+    for j, i in enumerate(b["body_rfe"]):
+        force, moment, ma, ja, f, P = body_hydro_reference(
+            b["R"][i], b["r"][i], b["v"][i], b["w"][i], b["surface_z"][i], b["water_vel"][i], b["water_acc"][i],
+            b["body_volume"][j], b["body_height"][j], b["body_cob"][j], b["body_drag"][j], b["body_added_mass"][j],
+            b["body_added_inertia"][j], b["body_slam"][j], scale)
+        fractions.append(f)
+        size = np.abs(force).max() + 1.0
+        np.testing.assert_allclose(F[i] - F0[i], force, rtol=0, atol=1e-12 * size)
+        np.testing.assert_allclose(M[i] - M0[i], moment, rtol=0, atol=1e-12 * size * 10)
+        np.testing.assert_allclose(Ma[i], ma, rtol=0, atol=1e-12 * 5e3)
+        np.testing.assert_allclose(Ja[i], ja, rtol=0, atol=1e-12 * 1e3)
+        assert sub_frac[i] == pytest.approx(f, abs=1e-15)
+        np.testing.assert_allclose(sub_point[i], P, rtol=0, atol=1e-14 * 10)
+    others = np.setdiff1d(np.arange(n), b["body_rfe"])
+    np.testing.assert_array_equal(F[others], F0[others])           # other RFEs untouched
+    assert np.all(sub_frac[others] == -1.0)
+
+
+def test_body_submergence_fraction_and_slamming_limits():
+    """Buoyancy rho g V f with f linear over the height; slamming only entering, only while crossing."""
+    R = np.eye(3)[None]
+    base = dict(body_rfe=np.array([0]), body_volume=np.array([2.0]), body_height=np.array([2.0]),
+                body_cob=np.zeros((1, 3)), body_drag=np.zeros((1, 3)), body_added_mass=np.zeros((1, 3)),
+                body_added_inertia=np.zeros((1, 3)), body_slam=np.array([math.pi * 3.0]))
+
+    def fz(z, vz):
+        F, M = np.zeros((1, 3)), np.zeros((1, 3))
+        body_hydro_forces(*base.values(), RHO, G, 1.0, R, np.array([[0.0, 0.0, z]]), np.array([[0.0, 0.0, vz]]),
+                          np.zeros((1, 3)), np.zeros(1), np.zeros((1, 3)), np.zeros((1, 3)), F, M, np.zeros((1, 3, 3)),
+                          np.zeros((1, 3)), np.zeros(1), np.zeros((1, 3)))
+        return F[0, 2]
+
+    for z, frac in ((1.5, 0.0), (1.0, 0.0), (0.5, 0.25), (0.0, 0.5), (-0.5, 0.75), (-1.0, 1.0), (-3.0, 1.0)):
+        assert fz(z, 0.0) == pytest.approx(RHO * G * 2.0 * frac, rel=1e-14, abs=1e-9)
+    slam = 0.5 * RHO * math.pi * 3.0 * 2.0 ** 2
+    assert fz(0.0, -2.0) - fz(0.0, 0.0) == pytest.approx(slam, rel=1e-14)      # entering: slams
+    assert fz(0.0, 2.0) == pytest.approx(fz(0.0, 0.0), rel=1e-14)              # leaving: no slam
+    assert fz(-1.5, -2.0) == pytest.approx(fz(-1.5, 0.0), rel=1e-14)           # submerged: no slam
+    assert fz(2.0, -2.0) == 0.0                                                # in air: nothing
+
+
+# ----------------------------------------------------------------------------- tension-only SDEs
+
+def random_pairs(rng, nsde, gap=0.3):
+    """A chain of RFEs with axial gaps of both signs (some SDEs stretched, some compressed)."""
+    n = nsde + 1
+    R = np.empty((n, 3, 3))
+    rbase = np.empty((n, 3))
+    R[0] = ref.random_rotation(rng)
+    rbase[0] = rng.uniform(-5.0, 5.0, 3)
+    arm_l = np.tile([0.5, 0.0, 0.0], (nsde, 1))
+    arm_r = np.tile([-0.5, 0.0, 0.0], (nsde, 1))
+    for s in range(nsde):
+        R[s + 1] = R[s] @ ref.exp_so3(ref.random_rotation_vector(rng, 0.2))
+        end = rbase[s] + R[s] @ arm_l[s]
+        rbase[s + 1] = end - R[s + 1] @ arm_r[s] + gap * rng.uniform(-1.0, 1.0) * R[s][:, 0] \
+            + rng.normal(scale=0.02, size=3)
+    roff = rng.normal(scale=1e-3, size=(n, 3))
+    stiffness = rng.uniform(0.5, 2.0, (nsde, 6)) * np.array([1e5, 3e4, 3e4, 2e3, 5e3, 5e3])
+    damping = rng.uniform(0.5, 2.0, (nsde, 6)) * np.array([1e3, 3e2, 3e2, 20.0, 50.0, 50.0])
+    return dict(left=np.arange(nsde, dtype=np.int64), right=np.arange(1, n, dtype=np.int64), arm_left=arm_l,
+                arm_right=arm_r, stiffness=stiffness, damping=damping, R=R, rbase=rbase, roff=roff,
+                v=rng.normal(size=(n, 3)), w=rng.normal(size=(n, 3)))
+
+
+def kernel(c, stiffness, damping):
+    n, nsde = c["R"].shape[0], c["left"].shape[0]
+    F, M = np.zeros((n, 3)), np.zeros((n, 3))
+    eps, sigma, point = np.zeros((nsde, 6)), np.zeros((nsde, 6)), np.zeros((nsde, 3))
+    sde_forces(c["left"], c["right"], c["arm_left"], c["arm_right"], stiffness, damping, c["R"], c["rbase"],
+               c["roff"], c["v"], c["w"], F, M, eps, sigma, point)
+    return F, M, eps, sigma
+
+
+@pytest.mark.parametrize("seed", range(6))
+@pytest.mark.parametrize("with_damping", [False, True])
+def test_tension_only_equals_sde_without_axial_spring_where_compressed(seed, with_damping):
+    rng = np.random.default_rng(seed)
+    c = random_pairs(rng, 8)
+    nsde = c["left"].shape[0]
+    damping = c["damping"] if with_damping else np.zeros((nsde, 6))
+    flags = (rng.uniform(size=nsde) < 0.7).astype(np.int64)
+    F, M, eps, sigma = kernel(c, c["stiffness"], damping)
+    compressed = (sigma[:, 0] < 0.0) & (flags == 1)
+    assert compressed.any() and (sigma[:, 0] > 0.0).any()
+    k_tangent = np.zeros((nsde, 6))
+    tension_only_correction(c["left"], c["right"], c["arm_left"], c["arm_right"], c["stiffness"], flags, c["R"],
+                            c["rbase"], c["roff"], sigma, F, M, k_tangent, True, np.zeros((32, 3)),
+                            np.zeros((16, 3, 3)))
+    k_ref, d_ref = c["stiffness"].copy(), damping.copy()
+    k_ref[compressed, 0] = 0.0
+    d_ref[compressed, 0] = 0.0
+    F_ref, M_ref, _, sigma_ref = kernel(c, k_ref, d_ref)
+    size = np.abs(F_ref).max()
+    np.testing.assert_allclose(F, F_ref, rtol=0, atol=1e-10 * size)
+    np.testing.assert_allclose(M, M_ref, rtol=0, atol=1e-10 * size)
+    np.testing.assert_allclose(sigma, sigma_ref, rtol=0, atol=1e-10 * size)
+    assert np.all(sigma[flags == 1, 0] >= 0.0)
+    np.testing.assert_array_equal(k_tangent, k_ref)       # the Jacobian sees no axial stiffness when slack
+
+
+def test_slack_pair_forces_are_minus_the_gradient_without_axial_energy():
+    """A compressed tension-only pair: V = 1/2 eps^T C eps without the axial term."""
+    rng = np.random.default_rng(11)
+    for _ in range(20):
+        c = random_pairs(rng, 1, gap=0.3)
+        F, M, eps, sigma = kernel(c, c["stiffness"], np.zeros((1, 6)))
+        if sigma[0, 0] < -1.0:
+            break
+    k_tangent = np.zeros((1, 6))
+    tension_only_correction(c["left"], c["right"], c["arm_left"], c["arm_right"], c["stiffness"],
+                            np.ones(1, np.int64), c["R"], c["rbase"], c["roff"], sigma, F, M, k_tangent, True,
+                            np.zeros((32, 3)), np.zeros((16, 3, 3)))
+    pair = dict(position_a=c["rbase"][0] + c["roff"][0], rotation_a=c["R"][0], arm_a=c["arm_left"][0],
+                position_b=c["rbase"][1] + c["roff"][1], rotation_b=c["R"][1], arm_b=c["arm_right"][0],
+                velocity_a=c["v"][0], angular_velocity_a=c["w"][0], velocity_b=c["v"][1],
+                angular_velocity_b=c["w"][1])
+    stiffness = c["stiffness"][0].copy()
+    stiffness[0] = 0.0
+    Fa, Ma, Fb, Mb = ref.sde_elastic_forces_by_gradient(pair, stiffness)
+    size = np.abs(F).max()
+    np.testing.assert_allclose(F[0], Fa, rtol=0, atol=1e-5 * size)
+    np.testing.assert_allclose(F[1], Fb, rtol=0, atol=1e-5 * size)
+    np.testing.assert_allclose(M[0], Ma, rtol=0, atol=1e-5 * size)
+    np.testing.assert_allclose(M[1], Mb, rtol=0, atol=1e-5 * size)
+
+
+# ----------------------------------------------------------------------------- schema errors
+
+BASE = {
+    "environment": {"gravity": 9.81, "water": {"density": 1025.0, "depth": 100.0}},
+    "line_types": {"rope": {"EA": 1e8, "EIy": 1.0, "mass_per_length": 1.0, "tension_only": True}},
+    "bodies": {"payload": {"mass": 1e4, "inertia": [1e4, 1e4, 1e4], "volume": 2.0, "height": 2.0}},
+    "lines": {"hoist": {"type": "rope", "length": 20.0, "elements": 4,
+                        "end_a": {"attach": "fixed", "position": [0, 0, 10]},
+                        "end_b": {"attach": "payload", "position": [0, 0, 1.0]}}},
+    "analysis": {"statics": {"enabled": True}, "dynamics": {"enabled": False}},
+}
+
+
+def errors_of(mutate):
+    data = copy.deepcopy(BASE)
+    mutate(data)
+    with pytest.raises(ScenarioError) as info:
+        rfesim.Scenario.model_validate(data)
+    return dict(info.value.errors)
+
+
+def test_base_scenario_is_valid():
+    sc = rfesim.Scenario.model_validate(copy.deepcopy(BASE))
+    assert sc.bodies["payload"].principal_inertia() == [1e4, 1e4, 1e4]
+    assert sc.line_types["rope"].tension_only is True
+
+
+@pytest.mark.parametrize("mutate, field, words", [
+    (lambda d: d["bodies"]["payload"].update(mass=-5.0), "bodies.payload.mass", "greater than 0"),
+    (lambda d: d["bodies"]["payload"].update(inertia=[1.0, 1.0, 3.0]), "bodies.payload.inertia", "sum of the other"),
+    (lambda d: d["bodies"]["payload"].update(inertia=None), "bodies.payload.inertia", "radius_of_gyration"),
+    (lambda d: d["bodies"]["payload"].update(radius_of_gyration=1.0), "bodies.payload.radius_of_gyration",
+     "not both"),
+    (lambda d: d["bodies"]["payload"].update(volume=-1.0), "bodies.payload.volume", "greater than or equal"),
+    (lambda d: d["bodies"]["payload"].update(drag={"cd": [1, -1, 1], "area": 2.0}), "bodies.payload.drag.cd.1",
+     "negative"),
+    (lambda d: d["bodies"]["payload"].update(added_mass={"ca": 1.0, "mass": 100.0}),
+     "bodies.payload.added_mass.mass", "not both"),
+    (lambda d: d["bodies"]["payload"].update(colour="red"), "bodies.payload.colour", ""),
+    (lambda d: d["lines"]["hoist"]["end_b"].update(attach="crate"), "lines.hoist.end_b.attach", "crate"),
+    (lambda d: (d["lines"]["hoist"].update(end_a={"attach": "payload", "position": [0, 0, 0]},
+                                           end_b={"attach": "fixed", "position": [0, 0, 10]})),
+     "lines.hoist.end_a.attach", "end_b"),
+    (lambda d: d["lines"].update(second=copy.deepcopy(d["lines"]["hoist"])), "lines.second.end_b.attach",
+     "one line per body"),
+    (lambda d: d["bodies"].update(buoy={"mass": 10.0, "radius_of_gyration": 0.2}), "bodies.buoy",
+     "not attached"),
+])
+def test_bad_bodies_name_the_field(mutate, field, words):
+    errors = errors_of(mutate)
+    assert field in errors, errors
+    assert words in errors[field]
