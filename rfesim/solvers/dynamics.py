@@ -246,7 +246,8 @@ class Recorder:
                                             roller_force=self.roller_force[:nt, si.roller_start:si.roller_stop])
                     for si in self.system.model.supports}
         from ..results import BodyResults
-        bodies = {b.name: BodyResults(name=b.name, line=b.line, **{ch: arr[:nt] for ch, arr in self.body_data[b.name].items()})
+        bodies = {b.name: BodyResults(name=b.name, line=b.line,
+                                      **{ch: arr[:nt] for ch, arr in self.body_data[b.name].items()})
                   for b in self.system.model.bodies}
         return Results(time=self.time[:nt].copy(), lines=lines, vessels=vessels, supports=supports, bodies=bodies,
                        tensioners=tensioners,

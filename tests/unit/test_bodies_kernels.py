@@ -255,3 +255,60 @@ def test_bad_bodies_name_the_field(mutate, field, words):
     errors = errors_of(mutate)
     assert field in errors, errors
     assert words in errors[field]
+
+
+# ----------------------------------------------------------------------------- Jacobian with a body and a slack rope
+
+def test_analytic_jacobian_with_body_and_slack_rope():
+    """The analytic Jacobian of an implicit step (rope with a slack SDE, connection SDE, body
+    hydrodynamics) against central differences, as in tests/unit/test_jacobian.py. The rows
+    of the rope's torsion (GJ ~ 1 N*m^2: rows below 1e-4 of the largest) are left out of the
+    entry-wise check: the tangent's small-rotation terms of the connection (its two frames
+    are 90 deg apart) put O(T * 1e-4) into them; the Newton step is checked whole. (Statics
+    uses the central-difference Jacobian.)"""
+    mode = 1
+    from rfesim.model.compile import compile_scenario
+    from rfesim.solvers.banded import bt_to_dense
+    from rfesim.solvers.jacobian import jacobian_analytic
+    from rfesim.solvers.kernels import jacobian_fd_general
+    from rfesim.solvers.statics import solve_statics
+    from rfesim.solvers.system import System
+
+    data = copy.deepcopy(BASE)
+    data["bodies"]["payload"].update(drag={"cd": 1.0, "area": [3.0, 3.0, 4.0]}, added_mass={"ca": 0.8},
+                                     centre_of_buoyancy=[0.1, 0.0, 0.2], inertia=[1e4, 1.2e4, 1.4e4])
+    system = System(compile_scenario(rfesim.Scenario.model_validate(data)))
+    state, _ = solve_statics(system)
+    q = state.q.copy()
+    q[3:, 2] += 0.01            # lift the lower rope and the body: SDE 2 goes slack
+    rng = np.random.default_rng(3)
+    scale = np.where(np.arange(6) < 3, 1e-5 * system.length_scale[:, None], 1e-5)
+    q[system.mask] += (rng.normal(size=q.shape) * scale)[system.mask]
+    system.set_time(0.0)
+    h = 0.02
+    cq, cv = h * h * 0.3, h * 0.6
+    Q0 = q - cq * rng.normal(size=q.shape)
+    V0 = rng.normal(scale=0.1, size=q.shape)
+    Q0[~system.mask] = q[~system.mask]
+    V0[~system.mask] = 0.0
+    args = (system.km, system.att, q, state.ref, system.ws, 1.0, mode, Q0, V0, cq, cv, system.mask,
+            system.qd_buf, system.A_buf)
+    r0 = np.zeros_like(q)
+    jacobian_fd_general(*args, np.zeros_like(q), system.qp, system.rp, system.hs, system.length_scale, system.J,
+                        True, 1e-6)
+    mask = system.mask.ravel()
+    reference = bt_to_dense(system.J.copy())[np.ix_(mask, mask)]
+    jacobian_analytic(*args, r0, system.qp, system.rp, system.hs, system.length_scale, system.J, system.Ks,
+                      system.Kds, system.T, system.Fsde, system.Msde)
+    analytic = bt_to_dense(system.J.copy())[np.ix_(mask, mask)]
+    assert system.ws.sigma[2, 0] == 0.0 and system.ws.sigma[0, 0] > 0.0       # one slack, others taut
+    rows = np.abs(reference).max(axis=1, keepdims=True)
+    err = np.abs(analytic - reference) / rows
+    full = np.flatnonzero(mask)
+    rope = full // 6 < system.model.bodies[0].rfe
+    soft = rope & (full % 6 == 5)                            # torsion (phi about the RFE axis) of the rope
+    assert rows.ravel()[soft].max() < 1e-4 * rows.max()
+    assert err[~soft].max() < 5e-3, err[~soft].max()
+    rhs = r0.ravel()[mask]
+    step = np.linalg.solve(analytic, rhs)
+    assert np.linalg.norm(reference @ step - rhs) < 1e-2 * np.linalg.norm(rhs)
