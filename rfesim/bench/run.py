@@ -342,6 +342,15 @@ def main(argv=None) -> int:
         from .validation import write as write_validation
         log("validation cases ...")
         print(write_validation(DOCS / "validation.md"))
+        log("slow validation tests (pytest -m slow) ...")
+        import subprocess
+        import sys
+        proc = subprocess.run([sys.executable, "-m", "pytest", "-q", "-m", "slow", "-p", "no:cacheprovider",
+                               str(ROOT / "tests")], capture_output=True, text=True, cwd=ROOT)
+        tail = [ln for ln in proc.stdout.strip().splitlines() if ln.strip()][-1:] or ["(no output)"]
+        with open(DOCS / "validation.md", "a") as fh:
+            fh.write(f"\nSlow validation tests (`pytest -m slow`, not run by CI): {tail[0]}\n")
+        print("slow tests:", tail[0])
         if parts == {"validation"}:
             return 0
     out_path = Path(args.output)
