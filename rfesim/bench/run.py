@@ -359,7 +359,7 @@ def main(argv=None) -> int:
         # H2 (issue 3) has its own section and its own "h2" entry in benchmarks.json
         from .run_h2 import run_h2_and_write
         print(run_h2_and_write(args.quick, not args.no_moordyn, out_path))
-        if not parts & {"h1", "scaling", "startup"}:
+        if not parts & {"h1", "scaling", "startup", "formulations"}:
             return 0
     if "formulations" in parts:
         # issue 4: cost per step of each RFE formulation; its own section and benchmarks_formulations.json
