@@ -7,6 +7,36 @@
 """
 __version__ = "0.1.0"
 
+
+def _numba_cache_dir() -> None:
+    """Keep numba's compiled kernels out of an installed package's folder.
+
+    numba caches next to the source (``__pycache__``); for a package installed into
+    site-packages those files outlive ``pip uninstall`` and leave a namespace package
+    that shadows a later (editable) install. Unless the user chose a cache folder, use
+    ``$XDG_CACHE_HOME/rfesim/numba`` (``~/.cache/...``) when it is writable; a source
+    checkout keeps numba's default."""
+    import os
+    if "NUMBA_CACHE_DIR" in os.environ:
+        return
+    here = os.path.dirname(os.path.abspath(__file__))
+    if "site-packages" not in here and "dist-packages" not in here:
+        return
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    folder = os.path.join(base, "rfesim", "numba")
+    try:
+        os.makedirs(folder, exist_ok=True)
+        probe = os.path.join(folder, ".probe")
+        with open(probe, "w"):
+            pass
+        os.unlink(probe)
+    except OSError:
+        return
+    os.environ["NUMBA_CACHE_DIR"] = folder
+
+
+_numba_cache_dir()
+
 from .errors import CancelledError, RfesimError, ScenarioError, SolverError  # noqa: E402
 from .scenario import Scenario, load_scenario  # noqa: E402
 from .results import Results, open_results  # noqa: E402

@@ -56,13 +56,14 @@ def h1_scenario(elements: int, integrator: dict, output_interval: float = 0.05):
     return rfesim.load_scenario(data)
 
 
-def run_rfesim_h1(elements: int, integrator: dict, label: str, repeats: int = 1) -> H1Run:
-    """One H1 run: statics, then 60 s of dynamics (timed alone, best of ``repeats``)."""
+def run_rfesim_h1(elements: int, integrator: dict, label: str, repeats: int = 1, scenario=h1_scenario) -> H1Run:
+    """One H1 run: statics, then 60 s of dynamics (timed alone, best of ``repeats``).
+    ``scenario(elements, integrator)`` builds the scenario (H2 passes its own)."""
     from ..model.compile import compile_scenario
     from ..solvers.dynamics import run_dynamics
     from ..solvers.statics import solve_statics
     from ..solvers.system import System
-    sc = h1_scenario(elements, integrator)
+    sc = scenario(elements, integrator)
     t0 = time.perf_counter()
     system = System(compile_scenario(sc))
     state, _ = solve_statics(system)

@@ -20,10 +20,8 @@ first-harmonic amplitude of the fairlead tension at the heave frequency 0.125 Hz
 from __future__ import annotations
 
 import json
-import math
-import time
 
-from .h1 import SCENARIO, WINDOW, H1Run, first_harmonic_amplitude
+from .h1 import SCENARIO, H1Run, run_rfesim_h1
 
 ADDED_MASS_NORMAL = 1.0                 # -
 CURRENT_SPEED = 0.5                     # m/s
@@ -62,24 +60,4 @@ def h2_scenario(elements: int, integrator: dict, output_interval: float = 0.05):
 
 def run_rfesim_h2(elements: int, integrator: dict, label: str, repeats: int = 1) -> H1Run:
     """One H2 run: statics, then 60 s of dynamics (timed alone, best of ``repeats``)."""
-    from ..model.compile import compile_scenario
-    from ..solvers.dynamics import run_dynamics
-    from ..solvers.statics import solve_statics
-    from ..solvers.system import System
-    sc = h2_scenario(elements, integrator)
-    t0 = time.perf_counter()
-    system = System(compile_scenario(sc))
-    state, _ = solve_statics(system)
-    t_static = time.perf_counter() - t0
-    best = math.inf
-    rec = None
-    for _ in range(max(1, repeats)):
-        t1 = time.perf_counter()
-        _, rec, _ = run_dynamics(system, state, sc.analysis.dynamics)
-        best = min(best, time.perf_counter() - t1)
-    line = rec.results().line("riser")
-    t = rec.time[:rec.k]
-    amplitude = first_harmonic_amplitude(t, line.top_tension)
-    sel = (t >= WINDOW[0] - 1e-9) & (t <= WINDOW[1] + 1e-9)
-    moment = float(line.bend_moment[sel].max())
-    return H1Run("rfesim", elements, label, best, best + t_static, amplitude, moment)
+    return run_rfesim_h1(elements, integrator, label, repeats, scenario=h2_scenario)

@@ -337,6 +337,35 @@ ID  LineType  AttachA  AttachB  UnstrLen  NumSegs  LineOutputs
 """
 
 
+def _work_directory(stack: contextlib.ExitStack, workdir, prefix: str) -> str:
+    """``workdir`` (created if needed), or a temporary directory removed with ``stack``."""
+    if workdir is None:
+        return stack.enter_context(tempfile.TemporaryDirectory(prefix=prefix))
+    directory = os.path.abspath(workdir)
+    os.makedirs(directory, exist_ok=True)
+    return directory
+
+
+def _create_and_simulate(moordyn, input_path: str, console_path: str, segments: int, dt_internal: float,
+                         coupling_step: float, duration: float, quiet: bool) -> dict:
+    """Load the MoorDyn input, run ``_simulate`` and close the system, MoorDyn's console
+    output going to ``console_path`` (echoed unless ``quiet``)."""
+    with open(console_path, "w"):
+        pass
+    with _standard_output_to(console_path):
+        system = moordyn.Create(input_path)
+    if system is None:
+        raise RuntimeError(f"MoorDyn could not load {input_path}")
+    try:
+        return _simulate(moordyn, system, segments, dt_internal, coupling_step, duration, console_path)
+    finally:
+        with _standard_output_to(console_path):
+            moordyn.Close(system)
+        if not quiet:
+            with open(console_path) as handle:
+                print(handle.read(), end="")
+
+
 @contextlib.contextmanager
 def _standard_output_to(path: str):
     """Send file descriptor 1 (MoorDyn's C++ console messages) to the file ``path``."""
@@ -447,11 +476,7 @@ def run_moordyn_h1(segments: int, dt_internal: float | None = None, coupling_ste
         coupling_step = dt_internal
 
     with contextlib.ExitStack() as stack:
-        if workdir is None:
-            directory = stack.enter_context(tempfile.TemporaryDirectory(prefix="moordyn_h1_"))
-        else:
-            directory = os.path.abspath(workdir)
-            os.makedirs(directory, exist_ok=True)
+        directory = _work_directory(stack, workdir, "moordyn_h1_")
         input_path = os.path.join(directory, f"h1_n{segments}.dat")
         console_path = os.path.join(directory, f"h1_n{segments}_console.txt")
         # MoorDyn subtracts dtM from the coupling step until nothing is left; written as
@@ -460,22 +485,8 @@ def run_moordyn_h1(segments: int, dt_internal: float | None = None, coupling_ste
         with open(input_path, "w") as handle:
             handle.write(moordyn_input_text(segments, dt_internal * (1.0 + 1e-9), axial_damping_ratio,
                                             time_scheme))
-        with open(console_path, "w"):
-            pass
-
-        with _standard_output_to(console_path):
-            system = moordyn.Create(input_path)
-        if system is None:
-            raise RuntimeError(f"MoorDyn could not load {input_path}")
-        try:
-            result = _simulate(moordyn, system, segments, dt_internal, coupling_step, duration,
-                               console_path)
-        finally:
-            with _standard_output_to(console_path):
-                moordyn.Close(system)
-            if not quiet:
-                with open(console_path) as handle:
-                    print(handle.read(), end="")
+        result = _create_and_simulate(moordyn, input_path, console_path, segments, dt_internal, coupling_step,
+                                      duration, quiet)
     result["time_scheme"] = time_scheme
     return result
 

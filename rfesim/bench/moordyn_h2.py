@@ -153,31 +153,14 @@ def run_moordyn_h2(segments: int, dt_internal: float | None = None, duration: fl
     coupling_step = dt_internal
 
     with contextlib.ExitStack() as stack:
-        if workdir is None:
-            directory = stack.enter_context(tempfile.TemporaryDirectory(prefix="moordyn_h2_"))
-        else:
-            directory = os.path.abspath(workdir)
-            os.makedirs(directory, exist_ok=True)
+        directory = h1._work_directory(stack, workdir, "moordyn_h2_")
         # dtM larger by 1e-9 (relative) so that MoorDyn takes exactly one step per call
         # (see run_moordyn_h1)
         input_path = write_inputs(directory, segments, dt_internal * (1.0 + 1e-9), axial_damping_ratio,
                                   time_scheme)
         console_path = os.path.join(directory, f"h2_n{segments}_console.txt")
-        with open(console_path, "w"):
-            pass
-        with h1._standard_output_to(console_path):
-            system = moordyn.Create(input_path)
-        if system is None:
-            raise RuntimeError(f"MoorDyn could not load {input_path}")
-        try:
-            result = h1._simulate(moordyn, system, segments, dt_internal, coupling_step, duration,
-                                  console_path)
-        finally:
-            with h1._standard_output_to(console_path):
-                moordyn.Close(system)
-            if not quiet:
-                with open(console_path) as handle:
-                    print(handle.read(), end="")
+        result = h1._create_and_simulate(moordyn, input_path, console_path, segments, dt_internal, coupling_step,
+                                         duration, quiet)
     result["time_scheme"] = time_scheme
     return result
 

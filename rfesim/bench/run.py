@@ -150,7 +150,8 @@ def run_startup(scenario: Path) -> dict:
 
 
 # ----------------------------------------------------------------------------- report
-def plot_work_precision(h1: dict, path: Path) -> None:
+def plot_work_precision(h1: dict, path: Path,
+                        title: str = "H1 work-precision (labels: elements / segments)") -> None:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -167,7 +168,7 @@ def plot_work_precision(h1: dict, path: Path) -> None:
         ax.axhline(level, color="grey", lw=0.5, ls="--")
     ax.set_xlabel("wall time of the 60 s run [s]")
     ax.set_ylabel("error against own converged solution [-]")
-    ax.set_title("H1 work-precision (labels: elements / segments)")
+    ax.set_title(title)
     ax.legend()
     ax.grid(True, which="both", lw=0.3)
     fig.tight_layout()
@@ -202,6 +203,29 @@ def _fmt(x, digits=4):
     return str(x)
 
 
+def results_table(h: dict) -> list[str]:
+    """Markdown table of the runs of both codes (H1Run) and their references."""
+    lines = ["| code | elements / segments | settings | wall time [s] | with statics/IC [s] | "
+             "tension amplitude [N] | max moment [N*m] | error |",
+             "|---|---:|---|---:|---:|---:|---:|---:|"]
+    for code in ("rfesim", "moordyn"):
+        ref = h.get(f"{code}_reference")
+        for r in h.get(code, []) + ([ref] if ref else []):
+            tag = " (reference)" if r is ref else ""
+            lines.append(f"| {r.code}{tag} | {r.segments} | {r.setting} | {_fmt(r.wall_time)} | "
+                         f"{_fmt(r.total_time)} | {_fmt(r.tension_amplitude, 6)} | {_fmt(r.max_moment, 6)} | "
+                         f"{_fmt(r.error, 3)} |")
+    return lines
+
+
+def converged_text(rr: H1Run, mr: H1Run) -> str:
+    """The converged (reference) solutions of rfesim (rr) and MoorDyn (mr) compared."""
+    return (f"Converged solutions: tension amplitude rfesim {rr.tension_amplitude:.1f} N, MoorDyn "
+            f"{mr.tension_amplitude:.1f} N ({100 * (mr.tension_amplitude / rr.tension_amplitude - 1):+.2f} %); "
+            f"largest moment rfesim {rr.max_moment:.0f} N*m, MoorDyn {mr.max_moment:.0f} N*m "
+            f"({100 * (mr.max_moment / rr.max_moment - 1):+.2f} %).")
+
+
 def report(h1: dict | None, scaling: dict | None, startup: dict | None, quick: bool) -> str:
     lines = [MARK_BEGIN, "## Core solver", ""]
     load = os.getloadavg() if hasattr(os, "getloadavg") else (float("nan"),) * 3
@@ -220,16 +244,7 @@ def report(h1: dict | None, scaling: dict | None, startup: dict | None, quick: b
                   "largest bending moment over the same window (the sag bend), each code against its own "
                   "converged solution. Wall time: the dynamic run (statics / initial conditions excluded for "
                   "both codes; the total with them is in the table).", ""]
-        lines.append("| code | elements / segments | settings | wall time [s] | with statics/IC [s] | "
-                     "tension amplitude [N] | max moment [N*m] | error |")
-        lines.append("|---|---:|---|---:|---:|---:|---:|---:|")
-        for code in ("rfesim", "moordyn"):
-            ref = h1.get(f"{code}_reference")
-            for r in h1.get(code, []) + ([ref] if ref else []):
-                tag = " (reference)" if r is ref else ""
-                lines.append(f"| {r.code}{tag} | {r.segments} | {r.setting} | {_fmt(r.wall_time)} | "
-                             f"{_fmt(r.total_time)} | {_fmt(r.tension_amplitude, 6)} | {_fmt(r.max_moment, 6)} | "
-                             f"{_fmt(r.error, 3)} |")
+        lines += results_table(h1)
         lines.append("")
         lines.append("![H1 work-precision](img/h1_work_precision.png)")
         lines.append("")
@@ -262,11 +277,7 @@ def report(h1: dict | None, scaling: dict | None, startup: dict | None, quick: b
         for note in notes:
             lines += [note, ""]
         if h1.get("moordyn_reference"):
-            rr, mr = h1["rfesim_reference"], h1["moordyn_reference"]
-            lines.append(f"Converged solutions: tension amplitude rfesim {rr.tension_amplitude:.1f} N, MoorDyn "
-                         f"{mr.tension_amplitude:.1f} N ({100 * (mr.tension_amplitude / rr.tension_amplitude - 1):+.2f} %); "
-                         f"largest moment rfesim {rr.max_moment:.0f} N*m, MoorDyn {mr.max_moment:.0f} N*m "
-                         f"({100 * (mr.max_moment / rr.max_moment - 1):+.2f} %).")
+            lines.append(converged_text(h1["rfesim_reference"], h1["moordyn_reference"]))
             lines.append("")
         h1["summary"] = summary
     if scaling is not None:
@@ -295,13 +306,20 @@ def report(h1: dict | None, scaling: dict | None, startup: dict | None, quick: b
     return "\n".join(lines)
 
 
+def replace_section(old: str, text: str, begin: str, end: str) -> str | None:
+    """``old`` with its part from the marker ``begin`` to ``end`` replaced by ``text``
+    (None when the markers are not both there)."""
+    if begin in old and end in old:
+        a = old.index(begin)
+        b = old.index(end) + len(end)
+        return old[:a] + text + old[b:]
+    return None
+
+
 def write_section(text: str, path: Path) -> None:
     old = path.read_text() if path.exists() else "# Benchmarks\n"
-    if MARK_BEGIN in old and MARK_END in old:
-        a = old.index(MARK_BEGIN)
-        b = old.index(MARK_END) + len(MARK_END)
-        new = old[:a] + text + old[b:]
-    else:
+    new = replace_section(old, text, MARK_BEGIN, MARK_END)
+    if new is None:
         head, _, rest = old.partition("\n")
         new = head + "\n\n" + text + "\n" + rest
     path.write_text(new)

@@ -21,20 +21,18 @@ from __future__ import annotations
 import math
 import os
 import platform
-import sys
 import time
 from pathlib import Path
 
 from .h1 import H1Run, assign_errors, time_to_reach
 from .h2 import run_rfesim_h2
+from .run import _fmt, converged_text, log, replace_section, results_table
+from .run import _moordyn_run as _moordyn_row
+from .run import plot_work_precision as _plot_work_precision
 
 MARK_BEGIN = "<!-- h2-bench -->"
 MARK_END = "<!-- /h2-bench -->"
 PLOT_NAME = "h2_work_precision.png"
-
-
-def log(msg: str) -> None:
-    print(msg, file=sys.stderr, flush=True)
 
 
 def _ga(h: float) -> tuple[dict, str]:
@@ -60,11 +58,7 @@ def moordyn_grid(quick: bool):
 
 def _moordyn_run(segments: int) -> H1Run:
     from .moordyn_h2 import run_moordyn_h2
-    r = run_moordyn_h2(segments)
-    return H1Run("moordyn", segments, f"{r.get('time_scheme', 'RK4')} dtM={1e3 * r['dt_internal']:.3g} ms, coupled "
-                 f"every {1e3 * r['coupling_step']:.3g} ms, ICgenDynamic",
-                 float(r["wall_time"]), float(r["wall_time"] + r.get("ic_wall_time", 0.0)),
-                 float(r["tension_amplitude"]), float(r["max_sagbend_moment"]))
+    return _moordyn_row(run_moordyn_h2, segments)
 
 
 def run_h2(quick: bool, with_moordyn: bool) -> dict:
@@ -163,36 +157,8 @@ def from_json(raw: dict) -> dict:
 
 
 def plot_work_precision(h2: dict, path: Path) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(figsize=(7, 5))
-    for code, marker in (("rfesim", "o"), ("moordyn", "s")):
-        runs = [r for r in h2.get(code, []) if r.error > 0]
-        if not runs:
-            continue
-        ax.loglog([r.wall_time for r in runs], [r.error for r in runs], marker, label=code)
-        for r in runs:
-            ax.annotate(str(r.segments), (r.wall_time, r.error), fontsize=7, xytext=(3, 3),
-                        textcoords="offset points")
-    for level in (1e-2, 1e-3):
-        ax.axhline(level, color="grey", lw=0.5, ls="--")
-    ax.set_xlabel("wall time of the 60 s run [s]")
-    ax.set_ylabel("error against own converged solution [-]")
-    ax.set_title("H2 (H1 + added mass, current, waves) work-precision\n(labels: elements / segments)")
-    ax.legend()
-    ax.grid(True, which="both", lw=0.3)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-
-
-def _fmt(x, digits=4):
-    if isinstance(x, float):
-        if not math.isfinite(x):
-            return "-"
-        return f"{x:.{digits}g}"
-    return str(x)
+    _plot_work_precision(h2, path, "H2 (H1 + added mass, current, waves) work-precision\n"
+                                   "(labels: elements / segments)")
 
 
 def report(h2: dict) -> str:
@@ -224,16 +190,7 @@ def report(h2: dict) -> str:
                      f"(of up to {kin['velocity_scale']:.2f} m/s), {kin['acceleration']:.2g} m/s^2 in acceleration "
                      f"(of up to {kin['acceleration_scale']:.2f} m/s^2), {kin['elevation']:.2g} m in elevation.")
         lines.append("")
-    lines.append("| code | elements / segments | settings | wall time [s] | with statics/IC [s] | "
-                 "tension amplitude [N] | max moment [N*m] | error |")
-    lines.append("|---|---:|---|---:|---:|---:|---:|---:|")
-    for code in ("rfesim", "moordyn"):
-        ref = h2.get(f"{code}_reference")
-        for r in h2.get(code, []) + ([ref] if ref else []):
-            tag = " (reference)" if r is ref else ""
-            lines.append(f"| {r.code}{tag} | {r.segments} | {r.setting} | {_fmt(r.wall_time)} | "
-                         f"{_fmt(r.total_time)} | {_fmt(r.tension_amplitude, 6)} | {_fmt(r.max_moment, 6)} | "
-                         f"{_fmt(r.error, 3)} |")
+    lines += results_table(h2)
     lines.append("")
     lines.append(f"![H2 work-precision](img/{PLOT_NAME})")
     lines.append("")
@@ -258,10 +215,7 @@ def report(h2: dict) -> str:
         lines.append("")
     if h2.get("moordyn_reference"):
         rr, mr = h2["rfesim_reference"], h2["moordyn_reference"]
-        lines.append(f"Converged solutions: tension amplitude rfesim {rr.tension_amplitude:.1f} N, MoorDyn "
-                     f"{mr.tension_amplitude:.1f} N ({100 * (mr.tension_amplitude / rr.tension_amplitude - 1):+.2f} %); "
-                     f"largest moment rfesim {rr.max_moment:.0f} N*m, MoorDyn {mr.max_moment:.0f} N*m "
-                     f"({100 * (mr.max_moment / rr.max_moment - 1):+.2f} %).")
+        lines.append(converged_text(rr, mr))
         lines.append("")
         extrapolated = moordyn_extrapolation(h2)
         if extrapolated is not None:
@@ -291,14 +245,11 @@ def report(h2: dict) -> str:
 def write_section(text: str, path: Path) -> None:
     """Replace the H2 section of ``path`` (or add it after the core section, else at the end)."""
     old = path.read_text() if path.exists() else "# Benchmarks\n"
-    if MARK_BEGIN in old and MARK_END in old:
-        a = old.index(MARK_BEGIN)
-        b = old.index(MARK_END) + len(MARK_END)
-        new = old[:a] + text + old[b:]
-    elif "<!-- /core-bench -->" in old:
+    new = replace_section(old, text, MARK_BEGIN, MARK_END)
+    if new is None and "<!-- /core-bench -->" in old:
         b = old.index("<!-- /core-bench -->") + len("<!-- /core-bench -->")
         new = old[:b] + "\n\n" + text + old[b:]
-    else:
+    elif new is None:
         new = old.rstrip("\n") + "\n\n" + text + "\n"
     path.write_text(new)
 

@@ -41,6 +41,7 @@ from .transforms import (
     FREE_LINEAR,
     FREE_ZYX,
     joint_matrices_into,
+    joint_scratch,
     pseudo_inertia,
 )
 
@@ -119,13 +120,7 @@ def sde_forces(kind, C, qstart, sde_left, sde_right, sde_left_root, sde_right_ro
     The transformation of RFE i in {p,0} is its joint matrix T~(p,i) = C_i M(q_i) (eq. 8.9);
     RFE 0 is the reference itself (T~ = I, angles 0) and contributes no coordinates.
     """
-    J = np.empty((4, 4))
-    dJ = np.empty((6, 4, 4))
-    d2J = np.empty((6, 6, 4, 4))
-    M = np.empty((4, 4))
-    dM = np.empty((6, 4, 4))
-    d2M = np.empty((6, 6, 4, 4))
-    work = np.empty((4, 3, 3))
+    J, dJ, d2J, M, dM, d2M, work = joint_scratch()
     axis = np.zeros(3)
     pos = np.empty((2, 3))           # SDE point seen from left / right, in {p,0}
     vel = np.empty((2, 3))
@@ -265,13 +260,7 @@ def linear_modes(link: ClassicalLink, n_modes: int = 6):
 def sde_gaps(kind, C, qstart, sde_left, sde_right, sde_left_root, sde_right_root, sde_point_left,
              sde_point_right, q, out):
     """Gap Delta r (eq. 8.23) of every SDE in {p,0} into out (ns, 3)."""
-    J = np.empty((4, 4))
-    dJ = np.empty((6, 4, 4))
-    d2J = np.empty((6, 6, 4, 4))
-    M = np.empty((4, 4))
-    dM = np.empty((6, 4, 4))
-    d2M = np.empty((6, 6, 4, 4))
-    work = np.empty((4, 3, 3))
+    J, dJ, d2J, M, dM, d2M, work = joint_scratch()
     axis = np.zeros(3)
     for e in range(sde_left.shape[0]):
         for i in range(3):

@@ -330,3 +330,11 @@ def _base_kernel(q, qd, qdd, out):
                     vdd += d2M[k, m, i, j] * qd[k] * qd[m]
             out[1, i, j] = vd
             out[2, i, j] = vdd
+
+
+@njit(cache=True)
+def joint_scratch():
+    """Scratch for ``joint_matrices_into``: J, dJ, d2J (joint matrix and its first and
+    second derivatives), M, dM, d2M and work (4, 3, 3), allocated once per kernel call."""
+    return (np.empty((4, 4)), np.empty((6, 4, 4)), np.empty((6, 6, 4, 4)), np.empty((4, 4)),
+            np.empty((6, 4, 4)), np.empty((6, 6, 4, 4)), np.empty((4, 3, 3)))

@@ -37,7 +37,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .transforms import affine_inverse_into, joint_matrices_into, mul4_into
+from .transforms import affine_inverse_into, joint_matrices_into, joint_scratch, mul4_into
 
 
 @njit(cache=True)
@@ -45,13 +45,7 @@ def forward_pass(parent, kind, axis, C, qstart, qcount, q, qd, qdd, TA, TAd, TAd
     """Poses T (nb, 4, 4), their time derivatives Td, Tdd (with the given qdd) and the
     coordinate twists Omega (nq, 4, 4) = T^c_k T_c^{-1}, parents before children."""
     nb = parent.shape[0]
-    J = np.empty((4, 4))
-    dJ = np.empty((6, 4, 4))
-    d2J = np.empty((6, 6, 4, 4))
-    M = np.empty((4, 4))
-    dM = np.empty((6, 4, 4))
-    d2M = np.empty((6, 6, 4, 4))
-    work = np.empty((4, 3, 3))
+    J, dJ, d2J, M, dM, d2M, work = joint_scratch()
     Jd = np.empty((4, 4))
     Jdd = np.empty((4, 4))
     tmp = np.empty((4, 4))

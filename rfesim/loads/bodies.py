@@ -28,6 +28,8 @@ from __future__ import annotations
 
 from numba import njit
 
+from ._common import add_force_moment
+
 
 @njit(cache=True)
 def body_hydro_forces(body_rfe, body_volume, body_height, body_cob, body_drag, body_added_mass, body_added_inertia,
@@ -87,12 +89,7 @@ def body_hydro_forces(body_rfe, body_volume, body_height, body_cob, body_drag, b
         # slamming while crossing the surface, moving down into the water (u_z > 0)
         if f < 1.0 and uz > 0.0:
             fz += 0.5 * water_density * body_slam[j] * uz * uz
-        F[i, 0] += fx
-        F[i, 1] += fy
-        F[i, 2] += fz
-        M[i, 0] += dy * fz - dz * fy
-        M[i, 1] += dz * fx - dx * fz
-        M[i, 2] += dx * fy - dy * fx
+        add_force_moment(F, M, i, dx, dy, dz, fx, fy, fz)
 
 
 def body_buoyancy(water_density: float, gravity: float, volume: float, fraction: float) -> float:

@@ -21,6 +21,8 @@ import math
 
 from numba import njit
 
+from ._common import add_force_moment
+
 
 @njit(cache=True)
 def submergence(rfe_length, rfe_disp_area, R, r, surface_z, sub_frac, sub_point):
@@ -125,12 +127,7 @@ def morison_forces(rfe_length, rfe_diameter, rfe_disp_area, rfe_cdn, rfe_cdt, rf
             fx += vol * ax + man * (ax - at * tx) + mat * at * tx
             fy += vol * ay + man * (ay - at * ty) + mat * at * ty
             fz += vol * az + man * (az - at * tz) + mat * at * tz
-        F[i, 0] += fx
-        F[i, 1] += fy
-        F[i, 2] += fz
-        M[i, 0] += dy * fz - dz * fy
-        M[i, 1] += dz * fx - dx * fz
-        M[i, 2] += dx * fy - dy * fx
+        add_force_moment(F, M, i, dx, dy, dz, fx, fy, fz)
         # added mass matrix: man (I - t t^T) + mat t t^T
         t0 = tx
         t1 = ty

@@ -45,6 +45,8 @@ import math
 
 from numba import njit
 
+from ._common import add_force_moment
+
 
 @njit(cache=True)
 def segment_closest_points(cx, cy, cz, tx, ty, tz, h, px, py, pz, ax, ay, az, b, out):
@@ -185,6 +187,17 @@ def _normal_force(i, at, pen, c, k, cdamp, r, v, w, att_p, att_v, att_w):
 
 
 @njit(cache=True)
+def _contact_normal_force(i, at, g, b, rho, R, r, rfe_length, rfe_radius, sw, c, k, cdamp, v, w, att_p, att_v,
+                          att_w):
+    """Normal force of the roller on RFE i (``_normal_force``), 0 without contact; c as
+    left by ``_contact``."""
+    pen = _contact(i, g, b, rho, R, r, rfe_length, rfe_radius, sw, c)
+    if pen <= 0.0:
+        return 0.0
+    return _normal_force(i, at, pen, c, k, cdamp, r, v, w, att_p, att_v, att_w)
+
+
+@njit(cache=True)
 def roller_forces(roller_attach, roller_point, roller_axis, roller_half_width, roller_radius, roller_k, roller_c,
                   roller_mu, roller_kt, roller_lo, roller_hi, rfe_length, rfe_radius, att_p, att_R, att_v, att_w,
                   R, r, v, w, F, M, hint, roller_force, roller_normal, anchor, anchored, anchor_trial,
@@ -249,10 +262,8 @@ def roller_forces(roller_attach, roller_point, roller_axis, roller_half_width, r
         ntot = 0.0
         nu = 0.0
         for i in range(ia, ib + 1):
-            pen = _contact(i, g, b, rho, R, r, rfe_length, rfe_radius, sw2, c)
-            if pen <= 0.0:
-                continue
-            fn = _normal_force(i, at, pen, c, roller_k[j], roller_c[j], r, v, w, att_p, att_v, att_w)
+            fn = _contact_normal_force(i, at, g, b, rho, R, r, rfe_length, rfe_radius, sw2, c, roller_k[j],
+                                       roller_c[j], v, w, att_p, att_v, att_w)
             if fn <= 0.0:
                 continue
             ntot += fn
@@ -275,10 +286,8 @@ def roller_forces(roller_attach, roller_point, roller_axis, roller_half_width, r
             continue
         # pass 2: apply the forces
         for i in range(ia, ib + 1):
-            pen = _contact(i, g, b, rho, R, r, rfe_length, rfe_radius, sw2, c)
-            if pen <= 0.0:
-                continue
-            fn = _normal_force(i, at, pen, c, roller_k[j], roller_c[j], r, v, w, att_p, att_v, att_w)
+            fn = _contact_normal_force(i, at, g, b, rho, R, r, rfe_length, rfe_radius, sw2, c, roller_k[j],
+                                       roller_c[j], v, w, att_p, att_v, att_w)
             if fn <= 0.0:
                 continue
             fx = fn * c[6]
@@ -299,12 +308,7 @@ def roller_forces(roller_attach, roller_point, roller_axis, roller_half_width, r
             dx = c[0] - r[i, 0]
             dy = c[1] - r[i, 1]
             dz = c[2] - r[i, 2]
-            F[i, 0] += fx
-            F[i, 1] += fy
-            F[i, 2] += fz
-            M[i, 0] += dy * fz - dz * fy
-            M[i, 1] += dz * fx - dx * fz
-            M[i, 2] += dx * fy - dy * fx
+            add_force_moment(F, M, i, dx, dy, dz, fx, fy, fz)
             roller_force[j, 0] -= fx
             roller_force[j, 1] -= fy
             roller_force[j, 2] -= fz

@@ -47,6 +47,36 @@ def sde_geometry(a, b, arm_a, arm_b, R, rbase, roff, pa, pb, g, Rrel, th, Rh, Rp
 
 
 @njit(cache=True)
+def sde_geometry_scratch(s, sde_left, sde_right, sde_arm_left, sde_arm_right, R, rbase, roff, v3, m33):
+    """``sde_geometry`` of SDE s into the fixed scratch slots shared by the SDE kernels:
+    pa, pb, g, th in v3[0], v3[1], v3[2], v3[4]; Rrel, Rh, Rp, Jri, Jrh in m33[0:5]."""
+    sde_geometry(sde_left[s], sde_right[s], sde_arm_left[s], sde_arm_right[s], R, rbase, roff, v3[0], v3[1], v3[2],
+                 m33[0], v3[4], m33[1], m33[2], m33[3], m33[4])
+
+
+@njit(cache=True)
+def apply_section_force(a, b, Fp, mg, g, pa, pb, Rb, Rp, Jri, Jrh, Fg, h, tmp, tmp2, wth, F, M):
+    """Apply the section force Fp (in {i'}) of SDE (a, b) and the global moment mg (from
+    the section moment, eq. 8.90.2) to F and M through the exact transpose of the
+    deformation rate map: eq. 8.90.1 with the consistency moment h = Fg x g of the gap.
+    Fg, h, tmp, tmp2, wth are (3,) scratch; Fg and h are left holding their values."""
+    matvec_into(Rp, Fp, Fg)                                         # eq. 8.90.1
+    cross_into(Fg, g, h)                                            # consistency moment (tiny: g is the gap)
+    # W^T h = Rb Jri^T Jrh^T Rp^T h
+    matTvec_into(Rp, h, tmp)
+    matTvec_into(Jrh, tmp, tmp2)
+    matTvec_into(Jri, tmp2, tmp)
+    matvec_into(Rb, tmp, wth)
+    cross_into(pb, Fg, tmp)
+    cross_into(pa, Fg, tmp2)
+    for k in range(3):
+        F[b, k] -= Fg[k]
+        F[a, k] += Fg[k]
+        M[b, k] += -tmp[k] - mg[k] - 0.5 * wth[k]
+        M[a, k] += tmp2[k] + mg[k] - h[k] + 0.5 * wth[k]
+
+
+@njit(cache=True)
 def sde_forces(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiffness, sde_damping,
                R, rbase, roff, v, w, F, M, eps_out, sigma_out, point_out):
     """Convenience form of ``sde_forces_into`` that allocates its own scratch."""
@@ -84,17 +114,14 @@ def sde_forces_into(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiffn
     h = v3[15]
     mg = v3[16]
     wth = v3[17]
-    Rrel = m33[0]
-    Rh = m33[1]
     Rp = m33[2]
     Jri = m33[3]
     Jrh = m33[4]
     for s in range(sde_left.shape[0]):
         a = sde_left[s]
         b = sde_right[s]
-        Ra = R[a]
         Rb = R[b]
-        sde_geometry(a, b, sde_arm_left[s], sde_arm_right[s], R, rbase, roff, pa, pb, g, Rrel, th, Rh, Rp, Jri, Jrh)
+        sde_geometry_scratch(s, sde_left, sde_right, sde_arm_left, sde_arm_right, R, rbase, roff, v3, m33)
         matTvec_into(Rp, g, dlt)                                    # eq. 8.85: R'^T (r_R - r_L)
         # rates
         cross_into(w[b], pb, tmp)
@@ -123,22 +150,9 @@ def sde_forces_into(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiffn
             sigma_out[s, k] = Fp[k]
             sigma_out[s, 3 + k] = Mp[k]
             point_out[s, k] = rbase[a, k] + roff[a, k] + pa[k] + 0.5 * g[k]
-        matvec_into(Rp, Fp, Fg)                                     # eq. 8.90.1
-        cross_into(Fg, g, h)                                        # consistency moment (tiny: g is the gap)
         matTvec_into(Jri, Mp, tmp)
         matvec_into(Rb, tmp, mg)                                    # eq. 8.90.2 with the exact J_r^-T
-        # W^T h = Rb Jri^T Jrh^T Rp^T h
-        matTvec_into(Rp, h, tmp)
-        matTvec_into(Jrh, tmp, tmp2)
-        matTvec_into(Jri, tmp2, tmp)
-        matvec_into(Rb, tmp, wth)
-        cross_into(pb, Fg, tmp)
-        cross_into(pa, Fg, tmp2)
-        for k in range(3):
-            F[b, k] -= Fg[k]
-            F[a, k] += Fg[k]
-            M[b, k] += -tmp[k] - mg[k] - 0.5 * wth[k]
-            M[a, k] += tmp2[k] + mg[k] - h[k] + 0.5 * wth[k]
+        apply_section_force(a, b, Fp, mg, g, pa, pb, Rb, Rp, Jri, Jrh, Fg, h, tmp, tmp2, wth, F, M)
 
 
 @njit(cache=True)
@@ -165,18 +179,10 @@ def plastic_sde_correction(sde_left, sde_right, sde_arm_left, sde_arm_right, sde
     what the SDE kernel would give with the plastic moment; sigma is corrected too.
     ``k_tangent`` (nsde, 6) receives the stiffness with the consistent bending tangent
     (dM/dkappa / Delta) for the analytic Jacobian; M is the moment accumulator."""
-    pa = v3[0]
-    pb = v3[1]
-    g = v3[2]
-    th = v3[4]
     dm = v3[5]
     tmp = v3[6]
     mg = v3[7]
-    Rrel = m33[0]
-    Rh = m33[1]
-    Rp = m33[2]
     Jri = m33[3]
-    Jrh = m33[4]
     for s in range(sde_left.shape[0]):
         for k in range(6):
             k_tangent[s, k] = sde_stiffness[s, k]
@@ -195,7 +201,7 @@ def plastic_sde_correction(sde_left, sde_right, sde_arm_left, sde_arm_right, sde
         k_tangent[s, 5] = out5[4] / d
         a = sde_left[s]
         b = sde_right[s]
-        sde_geometry(a, b, sde_arm_left[s], sde_arm_right[s], R, rbase, roff, pa, pb, g, Rrel, th, Rh, Rp, Jri, Jrh)
+        sde_geometry_scratch(s, sde_left, sde_right, sde_arm_left, sde_arm_right, R, rbase, roff, v3, m33)
         matTvec_into(Jri, dm, tmp)
         matvec_into(R[b], tmp, mg)
         for k in range(3):

@@ -35,6 +35,8 @@ import math
 
 from numba import njit
 
+from ._common import add_force_moment
+
 
 @njit(cache=True)
 def seabed_height(bed_s, bed_z, bed_dir, x, y, out):
@@ -169,13 +171,8 @@ def seabed_forces(rfe_length, rfe_contact_radius, rfe_seabed_c, bed_s, bed_z, be
             fx += ffx
             fy += ffy
             fz += ffz
-        F[i, 0] += fx
-        F[i, 1] += fy
-        F[i, 2] += fz
-        # moment of the contact force at the centroid d: d x f
-        M[i, 0] += dy * fz - dz * fy
-        M[i, 1] += dz * fx - dx * fz
-        M[i, 2] += dx * fy - dy * fx
+        # the contact force at the centroid d and its moment d x f
+        add_force_moment(F, M, i, dx, dy, dz, fx, fy, fz)
 
 
 @njit(cache=True)

@@ -16,8 +16,7 @@ from __future__ import annotations
 
 from numba import njit
 
-from ..kinematics import cross_into, matTvec_into, matvec_into
-from .sde import sde_geometry
+from .sde import apply_section_force, sde_geometry_scratch
 
 
 @njit(cache=True)
@@ -27,18 +26,18 @@ def tension_only_correction(sde_left, sde_right, sde_arm_left, sde_arm_right, sd
     pa = v3[0]
     pb = v3[1]
     g = v3[2]
-    th = v3[4]
     tmp = v3[5]
     tmp2 = v3[6]
     Fp = v3[7]
     Fg = v3[8]
     h = v3[9]
     wth = v3[10]
-    Rrel = m33[0]
-    Rh = m33[1]
+    zero = v3[11]
     Rp = m33[2]
     Jri = m33[3]
     Jrh = m33[4]
+    for k in range(3):
+        zero[k] = 0.0
     for s in range(sde_left.shape[0]):
         if fill:
             for k in range(6):
@@ -48,22 +47,10 @@ def tension_only_correction(sde_left, sde_right, sde_arm_left, sde_arm_right, sd
         k_tangent[s, 0] = 0.0
         a = sde_left[s]
         b = sde_right[s]
-        sde_geometry(a, b, sde_arm_left[s], sde_arm_right[s], R, rbase, roff, pa, pb, g, Rrel, th, Rh, Rp, Jri, Jrh)
+        sde_geometry_scratch(s, sde_left, sde_right, sde_arm_left, sde_arm_right, R, rbase, roff, v3, m33)
         Fp[0] = -sigma[s, 0]
         Fp[1] = 0.0
         Fp[2] = 0.0
         sigma[s, 0] = 0.0
-        # the force part of rfesim.loads.sde.sde_forces_into for the section force Fp
-        matvec_into(Rp, Fp, Fg)                                     # eq. 8.90.1
-        cross_into(Fg, g, h)
-        matTvec_into(Rp, h, tmp)
-        matTvec_into(Jrh, tmp, tmp2)
-        matTvec_into(Jri, tmp2, tmp)
-        matvec_into(R[b], tmp, wth)
-        cross_into(pb, Fg, tmp)
-        cross_into(pa, Fg, tmp2)
-        for k in range(3):
-            F[b, k] -= Fg[k]
-            F[a, k] += Fg[k]
-            M[b, k] += -tmp[k] - 0.5 * wth[k]
-            M[a, k] += tmp2[k] - h[k] + 0.5 * wth[k]
+        # the force part of rfesim.loads.sde.sde_forces_into for the section force Fp (no moment)
+        apply_section_force(a, b, Fp, zero, g, pa, pb, R[b], Rp, Jri, Jrh, Fg, h, tmp, tmp2, wth, F, M)

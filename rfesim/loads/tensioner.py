@@ -33,6 +33,8 @@ import math
 
 from numba import njit
 
+from ..interp import bracket
+
 MODE_TABLE = 0
 MODE_TENSION = 1
 
@@ -47,14 +49,8 @@ def _table(ts, ds, vs, t):
         return ds[0]
     if t >= ts[n - 1]:
         return ds[n - 1]
-    lo = 0
-    hi = n - 1
-    while hi - lo > 1:
-        mid = (lo + hi) // 2
-        if ts[mid] <= t:
-            lo = mid
-        else:
-            hi = mid
+    lo = bracket(ts, t)
+    hi = lo + 1
     h = ts[hi] - ts[lo]
     u = (t - ts[lo]) / h
     h00 = (1.0 + 2.0 * u) * (1.0 - u) * (1.0 - u)

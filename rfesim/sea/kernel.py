@@ -32,6 +32,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from ..interp import bracket
 from .current import current_profile
 from .waves import STRETCHING_CODES, wave_components, water_depth
 
@@ -104,14 +105,8 @@ def interp_clamped(xs, ys, x):
         return ys[0]
     if x >= xs[n - 1]:
         return ys[n - 1]
-    lo = 0
-    hi = n - 1
-    while hi - lo > 1:
-        mid = (lo + hi) // 2
-        if xs[mid] <= x:
-            lo = mid
-        else:
-            hi = mid
+    lo = bracket(xs, x)
+    hi = lo + 1
     f = (x - xs[lo]) / (xs[hi] - xs[lo])
     return ys[lo] + f * (ys[hi] - ys[lo])
 

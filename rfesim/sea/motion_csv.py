@@ -15,6 +15,8 @@ from types import SimpleNamespace
 
 import numpy as np
 
+from .rao import read_input_file
+
 COLUMNS = ("t", "surge", "sway", "heave", "roll", "pitch", "yaw")
 
 
@@ -33,16 +35,7 @@ def read_motion_csv(path) -> np.ndarray:
     """(n, 7) array [t, surge, sway, heave, roll, pitch, yaw] (m, deg) from a CSV file;
     ValueError with the file name and line for anything wrong."""
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except FileNotFoundError:
-        raise ValueError(f"file not found: {path}") from None
-    except IsADirectoryError:
-        raise ValueError(f"{path} is a directory, not a CSV file") from None
-    except UnicodeDecodeError:
-        raise ValueError(f"{path} is not UTF-8 text") from None
-    except OSError as exc:
-        raise ValueError(f"cannot read {path}: {exc.strerror or exc}") from None
+    text = read_input_file(path, "a CSV file", "utf-8-sig")
     order = list(range(7))
     rows: list[list[float]] = []
     header_seen = False

@@ -35,6 +35,22 @@ DOF_NAMES = ("surge", "sway", "heave", "roll", "pitch", "yaw")
 MIRROR_SIGN = np.array([1.0, -1.0, 1.0, -1.0, 1.0, -1.0])   # x-z plane mirror: sway, roll, yaw reverse
 
 
+def read_input_file(path: Path, what: str, encoding: str | None = None):
+    """The bytes of ``path`` (its text when ``encoding`` is given), ValueError naming the
+    file for a missing file, a directory (``what``: what the file should be), text that
+    does not decode, or any other read error."""
+    try:
+        return path.read_bytes() if encoding is None else path.read_text(encoding=encoding)
+    except FileNotFoundError:
+        raise ValueError(f"file not found: {path}") from None
+    except IsADirectoryError:
+        raise ValueError(f"{path} is a directory, not {what}") from None
+    except UnicodeDecodeError:
+        raise ValueError(f"{path} is not UTF-8 text") from None
+    except OSError as exc:
+        raise ValueError(f"cannot read {path}: {exc.strerror or exc}") from None
+
+
 def read_rao_file(path):
     """The :class:`rfesim.scenario.schema.RaoTable` in a JSON or YAML file (ValueError naming
     the file and the field for anything wrong)."""
@@ -44,14 +60,7 @@ def read_rao_file(path):
     from ..scenario.load import parse_text
     from ..scenario.schema import FieldError, RaoTable
     path = Path(path)
-    try:
-        text = path.read_bytes()
-    except FileNotFoundError:
-        raise ValueError(f"file not found: {path}") from None
-    except IsADirectoryError:
-        raise ValueError(f"{path} is a directory, not an RAO table") from None
-    except OSError as exc:
-        raise ValueError(f"cannot read {path}: {exc.strerror or exc}") from None
+    text = read_input_file(path, "an RAO table")
     try:
         data = parse_text(text, "json" if path.suffix.lower() == ".json" else "auto")
     except ScenarioError as exc:

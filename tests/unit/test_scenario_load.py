@@ -306,3 +306,26 @@ def test_seabed_level_from_water_depth(data):
 def test_loaded_scenario_compiles(json_file):
     model = compile_scenario(rfesim.load_scenario(json_file))
     assert model.line("pipe").elements == 20
+
+
+def test_numba_cache_folder_only_moves_for_installed_packages(monkeypatch, tmp_path):
+    """An installed package caches its kernels in the user cache (numba's __pycache__ files
+    would outlive pip uninstall in site-packages); a source checkout and a user choice stay."""
+    import rfesim
+    monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    rfesim._numba_cache_dir()                      # this checkout is not in site-packages
+    assert "NUMBA_CACHE_DIR" not in __import__("os").environ
+    monkeypatch.setattr(rfesim, "__file__", "/x/lib/python3.11/site-packages/rfesim/__init__.py")
+    import os
+    real_abspath = os.path.abspath
+    monkeypatch.setattr(os.path, "abspath", lambda p: p if "site-packages" in str(p) else real_abspath(p))
+    rfesim._numba_cache_dir.__globals__["__file__"] = "/x/lib/python3.11/site-packages/rfesim/__init__.py"
+    try:
+        rfesim._numba_cache_dir()
+        assert os.environ["NUMBA_CACHE_DIR"] == str(tmp_path / "rfesim" / "numba")
+        monkeypatch.setenv("NUMBA_CACHE_DIR", "/mine")
+        rfesim._numba_cache_dir()
+        assert os.environ["NUMBA_CACHE_DIR"] == "/mine"
+    finally:
+        rfesim._numba_cache_dir.__globals__["__file__"] = real_abspath(rfesim.__path__[0] + "/__init__.py")
