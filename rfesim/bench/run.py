@@ -51,17 +51,23 @@ def moordyn_grid(quick: bool):
     return [(25,), (50,), (100,), (200,)], (400,)
 
 
+def rfesim_grid_runs(tag: str, run, runs, ref_spec, quick: bool) -> dict:
+    """The rfesim side of a work-precision benchmark: the reference run, then every
+    (elements, integrator, label) of the grid, each with its error against the reference."""
+    log(f"{tag} rfesim reference ...")
+    ref = run(*ref_spec)
+    rows = []
+    for n, integ, label in runs:
+        log(f"{tag} rfesim {n} RFEs, {label}")
+        rows.append(run(n, integ, label, repeats=1 if quick else 2))
+    assign_errors(rows, ref)
+    ref.error = 0.0
+    return {"rfesim": rows, "rfesim_reference": ref}
+
+
 def run_h1(quick: bool, with_moordyn: bool) -> dict:
     runs, ref_spec = rfesim_grid(quick)
-    out: dict = {"rfesim": [], "moordyn": []}
-    log("H1 rfesim reference ...")
-    ref = run_rfesim_h1(ref_spec[0], ref_spec[1], ref_spec[2])
-    for n, integ, label in runs:
-        log(f"H1 rfesim {n} RFEs, {label}")
-        out["rfesim"].append(run_rfesim_h1(n, integ, label, repeats=1 if quick else 2))
-    assign_errors(out["rfesim"], ref)
-    ref.error = 0.0
-    out["rfesim_reference"] = ref
+    out: dict = {"moordyn": [], **rfesim_grid_runs("H1", run_rfesim_h1, runs, ref_spec, quick)}
     if with_moordyn:
         from .moordyn_h1 import moordyn_available, run_moordyn_h1
         if moordyn_available():

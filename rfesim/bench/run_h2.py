@@ -26,7 +26,7 @@ from pathlib import Path
 
 from .h1 import H1Run, assign_errors, time_to_reach
 from .h2 import run_rfesim_h2
-from .run import _fmt, converged_text, log, replace_section, results_table
+from .run import _fmt, converged_text, log, replace_section, results_table, rfesim_grid_runs
 from .run import _moordyn_run as _moordyn_row
 from .run import plot_work_precision as _plot_work_precision
 
@@ -65,15 +65,7 @@ def run_h2(quick: bool, with_moordyn: bool) -> dict:
     """All H2 runs: rfesim's grid and reference, then MoorDyn's (when installed)."""
     started = time.perf_counter()
     runs, ref_spec = rfesim_grid(quick)
-    out: dict = {"rfesim": [], "moordyn": [], "quick": quick}
-    log("H2 rfesim reference ...")
-    ref = run_rfesim_h2(*ref_spec)
-    for n, integ, label in runs:
-        log(f"H2 rfesim {n} RFEs, {label}")
-        out["rfesim"].append(run_rfesim_h2(n, integ, label, repeats=1 if quick else 2))
-    assign_errors(out["rfesim"], ref)
-    ref.error = 0.0
-    out["rfesim_reference"] = ref
+    out: dict = {"moordyn": [], "quick": quick, **rfesim_grid_runs("H2", run_rfesim_h2, runs, ref_spec, quick)}
     if with_moordyn:
         from .moordyn_h1 import moordyn_available
         if moordyn_available():
