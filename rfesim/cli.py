@@ -3,7 +3,7 @@
     rfesim run SCENARIO [-o OUT.nc] [--plot OUT.png]   # statics + dynamics, progress bar
     rfesim statics SCENARIO [-o OUT.nc]
     rfesim modes SCENARIO [-n 10]
-    rfesim check SCENARIO                              # validate only, clear errors
+    rfesim check SCENARIO [--expand]                   # validate only, clear errors
     rfesim bench [--quick]                             # work-precision report
     rfesim serve [--host 127.0.0.1 --port 8000]        # the HTTP service
     rfesim sweep SCENARIO --vary path=v1,v2,... [--scheduler ADDRESS]
@@ -142,6 +142,15 @@ def _run_summary(res, wall: float) -> list[str]:
 
 def cmd_check(args) -> int:
     sc = _load(args.scenario)
+    if getattr(args, "expand", False):
+        # the scenario with its pipelay templates expanded (rfesim.scenario.expand), as JSON
+        import json
+
+        from .scenario import expand, parse_text
+        from .scenario.load import _read_file
+        data = parse_text(*_read_file(_scenario_path(args.scenario)))
+        print(json.dumps(expand(data), indent=2))
+        return EXIT_OK
     an = sc.analysis
     parts = [f"{len(sc.lines)} lines", f"{len(sc.vessels)} vessels", f"{len(sc.line_types)} line types",
              f"{sum(li.elements for li in sc.lines.values())} elements"]
@@ -393,6 +402,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("check", parents=[common], help="validate a scenario only")
     p.add_argument("scenario", metavar="SCENARIO")
+    p.add_argument("--expand", action="store_true",
+                   help="print the scenario with its pipelay templates expanded (JSON)")
     p.set_defaults(func=cmd_check)
 
     p = sub.add_parser("bench", parents=[common], help="work-precision report (extra options go to the runner)")

@@ -12,8 +12,8 @@ import numpy as np
 # one table: every output variable's units and long name
 CHANNELS: dict[str, tuple[str, str]] = {
     "time": ("s", "Simulated time"),
-    "payout": ("m", "Length of line paid out by the tensioner since the start (negative: reeled in)"),
-    "grip_force": ("N", "Axial force with which the tensioner holds the line back"),
+    "payout": ("m", "Length of line paid out by the tensioner or reel since the start (negative: reeled in)"),
+    "grip_force": ("N", "Axial (reel: tangential) force with which the tensioner or reel holds the line back"),
     "position": ("m", "Position of the line points (end A, every SDE, end B) in the global frame"),
     "tension": ("N", "Effective tension (axial SDE force)"),
     "shear_force": ("N", "Shear force magnitude at the SDE"),
@@ -29,6 +29,8 @@ CHANNELS: dict[str, tuple[str, str]] = {
     "von_mises_stress": ("Pa", "Equivalent (von Mises) stress at the outer fibre where axial and bending stress add "
                                "(eqs. 8.97-8.98; elasto-plastic pipe lines, NaN otherwise)"),
     "utilisation": ("1", "von_mises_stress over the yield stress (eq. 8.98; 1 = yielding; NaN: no yield stress)"),
+    "residual_curvature": ("1/m", "Curvature the SDE would keep if unloaded to zero moment, from its plastic "
+                                  "memory (reeling residual curvature; 0 for elastic lines)"),
     "touchdown_position": ("m", "Touchdown point: where seabed contact begins, seen from end B (NaN: no contact)"),
     "touchdown_arc_length": ("m", "Arc length from end A of the touchdown point (NaN: no contact)"),
     "end_a_direction": ("1", "Unit tangent of the line at end A (axis of the end RFE, global)"),
@@ -60,7 +62,7 @@ BODY_CHANNELS = ("position", "velocity", "acceleration", "rotation", "angular_ve
 LINE_CHANNELS = ("position", "tension", "shear_force", "bend_moment", "torque", "curvature", "end_a_force",
                  "end_b_force", "end_a_moment", "end_b_moment", "seabed_force", "end_a_direction",
                  "end_b_direction", "seabed_friction", "touchdown_position", "touchdown_arc_length",
-                 "von_mises_stress", "utilisation")
+                 "von_mises_stress", "utilisation", "residual_curvature")
 
 
 @dataclass
@@ -86,6 +88,7 @@ class LineResults:
     touchdown_arc_length: np.ndarray = None  # (nt,) m, NaN without contact
     von_mises_stress: np.ndarray = None     # (nt, nsde) Pa, NaN for lines without a yield stress
     utilisation: np.ndarray = None          # (nt, nsde) -, NaN for lines without a yield stress
+    residual_curvature: np.ndarray = None   # (nt, nsde) 1/m, zero-moment curvature from the plastic memory
 
     @property
     def top_tension(self) -> np.ndarray:
@@ -156,7 +159,8 @@ class LineResults:
 
     def _truncate(self, nt: int) -> None:
         for name in LINE_CHANNELS:
-            setattr(self, name, getattr(self, name)[:nt])
+            if getattr(self, name) is not None:
+                setattr(self, name, getattr(self, name)[:nt])
 
 
 @dataclass
@@ -227,6 +231,7 @@ class Results:
     bodies: dict = field(default_factory=dict)
     supports: dict[str, SupportResults] = field(default_factory=dict)
     tensioners: dict[str, TensionerResults] = field(default_factory=dict)
+    reels: dict[str, TensionerResults] = field(default_factory=dict)   # payout and tangential grip force
     status: int = 0
     message: str = ""
     counters: dict = field(default_factory=dict)
@@ -343,9 +348,13 @@ def _write_netcdf(res: Results, path: str) -> None:
             _var(g, "touchdown_arc_length", ("time",), lr.touchdown_arc_length)
             _var(g, "von_mises_stress", ("time", "sde"), lr.von_mises_stress)
             _var(g, "utilisation", ("time", "sde"), lr.utilisation)
-        if res.tensioners:
-            tg = f.create_group("tensioners")
-            for name, tr in res.tensioners.items():
+            if lr.residual_curvature is not None:
+                _var(g, "residual_curvature", ("time", "sde"), lr.residual_curvature)
+        for group, items in (("tensioners", res.tensioners), ("reels", res.reels)):
+            if not items:
+                continue
+            tg = f.create_group(group)
+            for name, tr in items.items():
                 g = tg.create_group(name)
                 g.attrs["line"] = tr.line
                 g.dimensions = {"time": nt}
@@ -420,6 +429,9 @@ def open_results(path: str | os.PathLike) -> Results:
         tensioners = {name: TensionerResults(name=name, line=_s(g.attrs.get("line", "")), payout=g["payout"][()],
                                              grip_force=g["grip_force"][()])
                       for name, g in f.get("tensioners", {}).items()}
+        reels = {name: TensionerResults(name=name, line=_s(g.attrs.get("line", "")), payout=g["payout"][()],
+                                        grip_force=g["grip_force"][()])
+                 for name, g in f.get("reels", {}).items()}
         supports = {}
         for name, g in f.get("supports", {}).items():
             supports[name] = SupportResults(name=name, line=_s(g.attrs.get("line", "")),
@@ -427,7 +439,7 @@ def open_results(path: str | os.PathLike) -> Results:
                                             **{ch: g[ch][()] for ch in ("roller_position", "roller_axis",
                                                                          "roller_reaction", "roller_force")})
         return Results(time=time, lines=lines, vessels=vessels, supports=supports, bodies=bodies,
-                       tensioners=tensioners, status=int(_scalar(attrs.get("status", 0))),
+                       tensioners=tensioners, reels=reels, status=int(_scalar(attrs.get("status", 0))),
                        message=_s(attrs.get("message", "")), counters=json.loads(_s(attrs.get("counters", "{}"))),
                        scenario_json=_s(attrs.get("scenario", "")), version=_s(attrs.get("rfesim_version", "")),
                        kind=_s(attrs.get("kind", "dynamics")))

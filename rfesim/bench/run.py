@@ -353,7 +353,7 @@ def main(argv=None) -> int:
     p = argparse.ArgumentParser(prog="rfesim bench", description=__doc__)
     p.add_argument("--quick", action="store_true", help="a small grid (a few minutes)")
     p.add_argument("--no-moordyn", action="store_true", help="skip the MoorDyn comparison")
-    p.add_argument("--only", choices=["h1", "h2", "scaling", "startup", "validation", "formulations"],
+    p.add_argument("--only", choices=["h1", "h2", "scaling", "startup", "validation", "formulations", "slay"],
                    action="append",
                    help="run only these parts (repeatable)")
     p.add_argument("--output", default=str(DOCS / "benchmarks.md"), help="report file (its core section is replaced)")
@@ -383,6 +383,12 @@ def main(argv=None) -> int:
         # H2 (issue 3) has its own section and its own "h2" entry in benchmarks.json
         from .run_h2 import run_h2_and_write
         print(run_h2_and_write(args.quick, not args.no_moordyn, out_path))
+        if not parts & {"h1", "scaling", "startup", "formulations"}:
+            return 0
+    if "slay" in parts:
+        # S-lay in irregular waves (issue 3): its own section and "slay" entry of benchmarks.json
+        from .run_slay import run_slay_and_write
+        print(run_slay_and_write(args.quick, out_path))
         if not parts & {"h1", "scaling", "startup", "formulations"}:
             return 0
     if "formulations" in parts:
@@ -421,6 +427,9 @@ def main(argv=None) -> int:
     h2_previous = _previous(out_path.parent / "benchmarks.json").get("h2")
     if h2_previous is not None:
         raw["h2"] = h2_previous
+    slay_previous = _previous(out_path.parent / "benchmarks.json").get("slay")
+    if slay_previous is not None:
+        raw["slay"] = slay_previous
     (out_path.parent / "benchmarks.json").write_text(json.dumps(raw, indent=1, default=float))
     print(text)
     return 0

@@ -529,6 +529,9 @@ def _statics_states(sc, scene):
 
 def statics(sc, progress=None):
     from .. import __version__
+    from . import mixed
+    if mixed.is_mixed(sc):                  # chains with absolute-coordinate lines: one solver over both
+        return mixed.statics(sc, progress)
     scene = compile_scene(sc)
     wall0 = _time.perf_counter()
     states, iters = _statics_states(sc, scene)
@@ -559,6 +562,9 @@ def _omega_max(scene, states) -> float:
 
 def simulate(sc, progress=None):
     from .. import __version__
+    from . import mixed
+    if mixed.is_mixed(sc):
+        return mixed.simulate(sc, progress)
     scene = compile_scene(sc)
     an = sc.analysis
     wall0 = _time.perf_counter()
@@ -713,6 +719,10 @@ def _positions(unit, q, t=0.0):
 
 def modes(sc, n: int | None = None):
     from ..solvers.modal import ModalResults
+    from . import mixed
+    if mixed.is_mixed(sc):
+        raise SolverError("modal analysis of a scene mixing chains with absolute-coordinate lines is not "
+                          "supported yet (statics and dynamics are)")
     scene = compile_scene(sc)
     nmodes = n or (sc.analysis.modal.modes if sc.analysis.modal else 10)
     # the linear classical model's modes do not depend on the static state (its K is constant)

@@ -10,10 +10,16 @@ axis ``r_i + s t_i``, ``|s| <= L_i / 2`` (t_i the RFE's x axis), of outer radius
 *Real-Time Collision Detection*, 5.1.9), ``d = |X_p - X_r|`` and the common normal
 ``n = (X_p - X_r) / d``, the penetration and the normal force on the RFE are
 
-    delta = a_i + rho_j - d,    f_n = max(0, k_j delta - c_j (v_p - v_r) . n)  (delta > 0)
+    delta = a_i + rho_j - d,    f_n = max(0, f_e(delta) - s(delta) c_j (v_p - v_r) . n)  (delta > 0)
 
 with ``v_p`` the velocity of the pipe point ``X_p`` and ``v_r`` that of the roller
-point ``X_r``. The force ``f_n n`` acts at ``X_p`` (the contact point on the surface,
+point ``X_r``. The contact comes in smoothly over a small onset depth ``delta_0``
+(``roller_onset``; by default ``CONTACT_ONSET (a_i + rho_j)``, rfesim.model.supports):
+``f_e = k_j delta^2 / (2 delta_0)`` and ``s = delta / delta_0`` below it,
+``f_e = k_j (delta - delta_0 / 2)`` and ``s = 1`` beyond, so the force and its tangent ``k_j min(delta / delta_0, 1)`` are continuous at
+first touch (a sharp onset, whose tangent jumps from 0 to k_j, makes the implicit step's
+Newton iteration cycle between contact and no contact; docs/theory.md, "Roller contact
+onset"). The force ``f_n n`` acts at ``X_p`` (the contact point on the surface,
 ``X_p - a_i n``, gives the same moment) and adds ``(X_p - r_i) x f`` to the RFE's moment
 about its centre, like any load of eq. 8.93; the generalised forces follow by eq. 8.94.
 
@@ -46,6 +52,8 @@ import math
 from numba import njit
 
 from ._common import add_force_moment
+
+CONTACT_ONSET = 0.005    # default onset depth of a roller contact, as a fraction of pipe + roller radius
 
 
 @njit(cache=True)
@@ -166,7 +174,22 @@ def _contact(i, g, b, rho, R, r, rfe_length, rfe_radius, sw, c):
 
 
 @njit(cache=True)
-def _normal_force(i, at, pen, c, k, cdamp, r, v, w, att_p, att_v, att_w):
+def contact_law(pen, vn, k, cdamp, onset):
+    """Normal force (>= 0) at penetration pen > 0 and normal speed vn (> 0: separating):
+    quadratic onset over the depth ``onset``, then linear (module text); onset 0: the
+    sharp law max(0, k pen - c vn)."""
+    if pen < onset:
+        s = pen / onset
+        fe = 0.5 * k * pen * s
+    else:
+        s = 1.0
+        fe = k * (pen - 0.5 * onset)
+    fn = fe - s * cdamp * vn
+    return fn if fn > 0.0 else 0.0
+
+
+@njit(cache=True)
+def _normal_force(i, at, pen, c, k, cdamp, onset, r, v, w, att_p, att_v, att_w):
     """Normal force (>= 0) of a contact with penetration pen and geometry c."""
     # velocity of the pipe point X_p and of the roller point X_r, along n
     dx = c[0] - r[i, 0]
@@ -182,25 +205,24 @@ def _normal_force(i, at, pen, c, k, cdamp, r, v, w, att_p, att_v, att_w):
     vry = att_v[at, 1] + att_w[at, 2] * ex - att_w[at, 0] * ez
     vrz = att_v[at, 2] + att_w[at, 0] * ey - att_w[at, 1] * ex
     vn = (vpx - vrx) * c[6] + (vpy - vry) * c[7] + (vpz - vrz) * c[8]
-    fn = k * pen - cdamp * vn
-    return fn if fn > 0.0 else 0.0
+    return contact_law(pen, vn, k, cdamp, onset)
 
 
 @njit(cache=True)
-def _contact_normal_force(i, at, g, b, rho, R, r, rfe_length, rfe_radius, sw, c, k, cdamp, v, w, att_p, att_v,
-                          att_w):
+def _contact_normal_force(i, at, g, b, rho, R, r, rfe_length, rfe_radius, sw, c, k, cdamp, onset, v, w, att_p,
+                          att_v, att_w):
     """Normal force of the roller on RFE i (``_normal_force``), 0 without contact; c as
     left by ``_contact``."""
     pen = _contact(i, g, b, rho, R, r, rfe_length, rfe_radius, sw, c)
     if pen <= 0.0:
         return 0.0
-    return _normal_force(i, at, pen, c, k, cdamp, r, v, w, att_p, att_v, att_w)
+    return _normal_force(i, at, pen, c, k, cdamp, onset, r, v, w, att_p, att_v, att_w)
 
 
 @njit(cache=True)
 def roller_forces(roller_attach, roller_point, roller_axis, roller_half_width, roller_radius, roller_k, roller_c,
-                  roller_mu, roller_kt, roller_lo, roller_hi, rfe_length, rfe_radius, att_p, att_R, att_v, att_w,
-                  R, r, v, w, F, M, hint, roller_force, roller_normal, anchor, anchored, anchor_trial,
+                  roller_mu, roller_kt, roller_onset, roller_lo, roller_hi, rfe_length, rfe_radius, att_p, att_R,
+                  att_v, att_w, R, r, v, w, F, M, hint, roller_force, roller_normal, anchor, anchored, anchor_trial,
                   anchored_trial, mode, scratch):
     """Contact of every roller with the RFEs of its line (see the module text): adds the
     forces and moments on the RFEs to F, M (global); writes roller_force (nr, 3),
@@ -263,7 +285,7 @@ def roller_forces(roller_attach, roller_point, roller_axis, roller_half_width, r
         nu = 0.0
         for i in range(ia, ib + 1):
             fn = _contact_normal_force(i, at, g, b, rho, R, r, rfe_length, rfe_radius, sw2, c, roller_k[j],
-                                       roller_c[j], v, w, att_p, att_v, att_w)
+                                       roller_c[j], roller_onset[j], v, w, att_p, att_v, att_w)
             if fn <= 0.0:
                 continue
             ntot += fn
@@ -287,7 +309,7 @@ def roller_forces(roller_attach, roller_point, roller_axis, roller_half_width, r
         # pass 2: apply the forces
         for i in range(ia, ib + 1):
             fn = _contact_normal_force(i, at, g, b, rho, R, r, rfe_length, rfe_radius, sw2, c, roller_k[j],
-                                       roller_c[j], v, w, att_p, att_v, att_w)
+                                       roller_c[j], roller_onset[j], v, w, att_p, att_v, att_w)
             if fn <= 0.0:
                 continue
             fx = fn * c[6]

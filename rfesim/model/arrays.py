@@ -58,6 +58,7 @@ class KernelModel(NamedTuple):
     roller_c: np.ndarray            # (nr,) N*s/m, contact damping
     roller_mu: np.ndarray           # (nr,) friction coefficient along the roller axis
     roller_kt: np.ndarray           # (nr,) N/m, stick-spring stiffness of the friction
+    roller_onset: np.ndarray        # (nr,) m, depth over which the contact force ramps in (0: sharp)
     roller_lo: np.ndarray           # (nr,) int64, first RFE of the roller's line
     roller_hi: np.ndarray           # (nr,) int64, one past its last RFE
     # --- environment
@@ -117,6 +118,29 @@ class KernelModel(NamedTuple):
     body_added_inertia: np.ndarray = np.zeros((0, 3))  # (nb, 3) kg*m^2, added rotational inertia, body axes
     body_slam: np.ndarray = np.zeros(0)              # (nb,) m^2, slamming coefficient * slamming area
     has_bodies: bool = False
+    # --- reels (rfesim.loads.reel), one row per reel; nl = number of reels
+    reel_att: np.ndarray = np.zeros(0, np.int64)     # (nl,) int64 attachment
+    reel_centre: np.ndarray = np.zeros((0, 3))       # (nl, 3) m, drum centre in the attachment frame
+    reel_axis: np.ndarray = np.zeros((0, 3))         # (nl, 3) unit drum axis in the attachment frame
+    reel_dir: np.ndarray = np.zeros((0, 3))          # (nl, 3) unit payout direction at the take-off
+    reel_radius: np.ndarray = np.zeros(0)            # (nl,) m, radius of the pipe axis on the drum
+    reel_wrap: np.ndarray = np.zeros(0)              # (nl,) rad, wrap window from the take-off
+    reel_kr: np.ndarray = np.zeros(0)                # (nl,) N/m/m, radial contact stiffness
+    reel_kl: np.ndarray = np.zeros(0)                # (nl,) N/m/m, lateral (flange) stiffness
+    reel_kg: np.ndarray = np.zeros(0)                # (nl,) N/m/m, tangential grip stiffness
+    reel_cap: np.ndarray = np.zeros(0)               # (nl,) N, grip capacity
+    reel_line_lo: np.ndarray = np.zeros(0, np.int64)  # (nl,) int64, RFE range of the stored line
+    reel_line_hi: np.ndarray = np.zeros(0, np.int64)  # (nl,) int64
+    reel_mode: np.ndarray = np.zeros(0, np.int64)    # (nl,) int64: 0 payout table, 1 constant tension
+    reel_table_t: np.ndarray = np.zeros((0, 2))      # (nl, K) s
+    reel_table_d: np.ndarray = np.zeros((0, 2))      # (nl, K) m
+    reel_table_v: np.ndarray = np.zeros((0, 2))      # (nl, K) m/s
+    reel_count: np.ndarray = np.zeros(0, np.int64)   # (nl,) int64 rows of the table
+    reel_set: np.ndarray = np.zeros(0)               # (nl,) N, set tension
+    reel_band: np.ndarray = np.zeros(0)              # (nl,) N, dead band
+    reel_gain: np.ndarray = np.ones(0)               # (nl,) N*s/m
+    reel_vmax: np.ndarray = np.zeros(0)              # (nl,) m/s
+    has_reels: bool = False
 
 
 class Workspace(NamedTuple):
@@ -179,6 +203,13 @@ class Workspace(NamedTuple):
     waves_off: np.ndarray            # (1,) int64, 1: still water plus current (statics), 0: waves on
     point1: np.ndarray               # (1, 3) m, scratch point for one-point sea kinematics
     sea_frozen: np.ndarray           # (1,) int64, 1: keep the water kinematics of the last evaluation
+    reel_grip_a: np.ndarray = np.zeros(0)            # (n,) m, committed reel grip anchors (material coordinate)
+    reel_grip_on: np.ndarray = np.zeros(0, np.int64)  # (n,) int64
+    reel_grip_a_trial: np.ndarray = np.zeros(0)      # (n,)
+    reel_grip_on_trial: np.ndarray = np.zeros(0, np.int64)  # (n,) int64
+    reel_D: np.ndarray = np.zeros(1)                 # (nreel,) m, committed paid-out length of driven reels
+    reel_force: np.ndarray = np.zeros(1)             # (nreel,) N, tangential force each reel holds
+    reel_time: np.ndarray = np.zeros(2)              # (2,) s: [time of the last commit, of the last evaluation]
 
 
 class Reference(NamedTuple):
@@ -203,7 +234,7 @@ class AttachmentState(NamedTuple):
     scratch: np.ndarray  # (16, 3) work space of the compiled kinematics
 
 
-def new_workspace(n: int, nsde: int, nh: int = 1, nroller: int = 0, ntens: int = 0) -> Workspace:
+def new_workspace(n: int, nsde: int, nh: int = 1, nroller: int = 0, ntens: int = 0, nreel: int = 0) -> Workspace:
     return Workspace(
         R=np.zeros((n, 3, 3)), r=np.zeros((n, 3)), rbase=np.zeros((n, 3)), roff=np.zeros((n, 3)), v=np.zeros((n, 3)), w=np.zeros((n, 3)),
         wb=np.zeros((n, 3)), E=np.zeros((n, 3, 3)), Edot=np.zeros((n, 3)), F=np.zeros((n, 3)),
@@ -221,7 +252,10 @@ def new_workspace(n: int, nsde: int, nh: int = 1, nroller: int = 0, ntens: int =
         tens_force=np.zeros(max(ntens, 1)), tens_time=np.zeros(2), roller_hint=np.full(nroller, -1, np.int64),
         roller_force=np.zeros((nroller, 3)), roller_normal=np.zeros(nroller), roller_anchor=np.zeros(nroller),
         roller_anchored=np.zeros(nroller, np.int64), roller_anchor_trial=np.zeros(nroller),
-        roller_anchored_trial=np.zeros(nroller, np.int64), roller_scratch=np.zeros(32), waves_off=np.zeros(1, np.int64), point1=np.zeros((1, 3)), sea_frozen=np.zeros(1, np.int64))
+        roller_anchored_trial=np.zeros(nroller, np.int64), roller_scratch=np.zeros(32), waves_off=np.zeros(1, np.int64), point1=np.zeros((1, 3)), sea_frozen=np.zeros(1, np.int64),
+        reel_grip_a=np.zeros(n), reel_grip_on=np.zeros(n, np.int64), reel_grip_a_trial=np.zeros(n),
+        reel_grip_on_trial=np.zeros(n, np.int64), reel_D=np.zeros(max(nreel, 1)), reel_force=np.zeros(max(nreel, 1)),
+        reel_time=np.zeros(2))
 
 
 def new_attachment_state(natt: int) -> AttachmentState:

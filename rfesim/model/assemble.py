@@ -30,6 +30,7 @@ from ..loads.sde import sde_forces_into, commit_plastic, plastic_sde_correction
 from ..loads.rollers import commit_roller_friction, roller_forces
 from ..loads.seabed import commit_friction, seabed_forces
 from ..loads.tensioner import commit_tensioners, tensioner_forces
+from ..loads.reel import reel_forces
 from ..loads.tension_only import tension_only_correction
 from ..sea.kernel import sea_kinematics_into
 
@@ -180,9 +181,9 @@ def local_loads(km, att, ws, scale):
                     ws.R, ws.F, ws.M, ws.tmp3)
     if km.has_rollers:
         roller_forces(km.roller_attach, km.roller_point, km.roller_axis, km.roller_half_width, km.roller_radius,
-                      km.roller_k, km.roller_c, km.roller_mu, km.roller_kt, km.roller_lo, km.roller_hi,
-                      km.rfe_length, km.rfe_contact_radius, att.p, att.R, att.v, att.w, ws.R, ws.r, ws.v, ws.w,
-                      ws.F, ws.M, ws.roller_hint, ws.roller_force, ws.roller_normal, ws.roller_anchor,
+                      km.roller_k, km.roller_c, km.roller_mu, km.roller_kt, km.roller_onset, km.roller_lo,
+                      km.roller_hi, km.rfe_length, km.rfe_contact_radius, att.p, att.R, att.v, att.w, ws.R, ws.r,
+                      ws.v, ws.w, ws.F, ws.M, ws.roller_hint, ws.roller_force, ws.roller_normal, ws.roller_anchor,
                       ws.roller_anchored, ws.roller_anchor_trial, ws.roller_anchored_trial, ws.fric_mode,
                       ws.roller_scratch)
     if km.has_tensioners:
@@ -191,6 +192,13 @@ def local_loads(km, att, ws, scale):
                          km.tens_cap, km.tens_line_lo, km.tens_line_hi, km.tens_mode, km.tens_table_t,
                          km.tens_table_d, km.tens_table_v, km.tens_count, att.time[0], att.p, att.R, km.rfe_length, ws.r, ws.F,
                          ws.grip_a, ws.grip_on, ws.grip_a_trial, ws.grip_on_trial, ws.tens_D, ws.tens_force)
+    if km.has_reels:
+        ws.reel_time[1] = att.time[0]
+        reel_forces(km.reel_att, km.reel_centre, km.reel_axis, km.reel_dir, km.reel_radius, km.reel_wrap, km.reel_kr,
+                    km.reel_kl, km.reel_kg, km.reel_cap, km.reel_line_lo, km.reel_line_hi, km.reel_mode,
+                    km.reel_table_t, km.reel_table_d, km.reel_table_v, km.reel_count, att.time[0], att.p, att.R,
+                    km.rfe_length, ws.r, ws.F, ws.reel_grip_a, ws.reel_grip_on, ws.reel_grip_a_trial,
+                    ws.reel_grip_on_trial, ws.reel_D, ws.reel_force)
 
 
 @njit(cache=True)
@@ -361,6 +369,13 @@ def commit_history(km, ws):
                           ws.tens_D, h, ws.grip_a, ws.grip_on, ws.grip_a_trial, ws.grip_on_trial, km.tens_line_lo,
                           km.tens_line_hi)
         ws.tens_time[0] = ws.tens_time[1]
+    if km.has_reels:
+        # the same spring-sliders and payout law as the tensioners, on the reels' arrays
+        h = ws.reel_time[1] - ws.reel_time[0]
+        commit_tensioners(km.reel_mode, km.reel_set, km.reel_band, km.reel_gain, km.reel_vmax, ws.reel_force,
+                          ws.reel_D, h, ws.reel_grip_a, ws.reel_grip_on, ws.reel_grip_a_trial, ws.reel_grip_on_trial,
+                          km.reel_line_lo, km.reel_line_hi)
+        ws.reel_time[0] = ws.reel_time[1]
 
 
 @njit(cache=True)

@@ -22,6 +22,7 @@ from .arrays import (KIND_CLAMPED, KIND_FREE, KIND_PINNED, AttachmentState, Kern
                      new_attachment_state)
 from .sections import Section, section_from_type
 from .supports import compile_supports, compile_tensioners, resting_points, supported_start
+from .reels import compile_reels, reel_tail, reel_wrap_start, reeled_history
 from .bodies import append_body, body_arrays, body_pose
 
 log = logging.getLogger("rfesim")
@@ -96,6 +97,8 @@ class Model:
     supports: list = field(default_factory=list)   # rfesim.model.supports.SupportInfo, one per support
     tensioners: list = field(default_factory=list)  # rfesim.model.supports.TensionerInfo, one per tensioner
     bodies: list = field(default_factory=list)     # rfesim.model.bodies.BodyInfo, one per body
+    reels: list = field(default_factory=list)      # rfesim.model.reels.ReelInfo, one per reel
+    initial_plastic_history: np.ndarray | None = None   # (nsde, nh) plastic history at t = 0 (reeled pipe)
 
     @property
     def n(self) -> int:
@@ -391,6 +394,9 @@ def compile_scenario(sc, start: str | None = None) -> Model:
         dA = _glob_dir("end_a", line.end_a)
         dB = _glob_dir("end_b", line.end_b)
         down = np.array([0.0, 0.0, -1.0]) if env.gravity > 0 else np.array([1.0, 0.0, 0.0])
+        wrap = reel_wrap_start(sc, lname, attachment_names, att0)
+        if wrap is not None:
+            A = wrap[1][0]          # stored on a reel: end A lies on the wrap (rfesim.model.reels)
         body_pose_b = None
         if line.end_b.attach in sc.bodies:
             body_pose_b = body_pose(sc.bodies[line.end_b.attach], line, A, down)
@@ -428,6 +434,10 @@ def compile_scenario(sc, start: str | None = None) -> Model:
         if rest is not None:
             # over rollers: through their resting points, then a catenary to end B
             curve = _supported_curve(A, B, L, rest, sec, sc)
+        if wrap is not None:
+            # from end A along the wrap to the take-off point, then over the rollers
+            ts, tX = reel_tail(wrap[1][-1], wrap[2], L - wrap[0][-1], rest, B)
+            curve = _Curve(np.concatenate([wrap[0], wrap[0][-1] + ts[1:]]), np.vstack([wrap[1], tX[1:]]))
         joints = curve.joints(lengths, B if (A is not None and B is not None) else None)
         if A is None:
             # only end B is placed: the curve was built ending at B; march from its start
@@ -554,7 +564,8 @@ def compile_scenario(sc, start: str | None = None) -> Model:
     n = n_total
     has_water = water is not None and (any(li.section.outer_diameter > 0 for li in lines) or bool(body_infos))
     sea = sea_spec(env)
-    sea_still = sea._replace(has_waves=False, amplitude=sea.amplitude[:0].copy(), omega=sea.omega[:0].copy(),
+    sea_still = sea._replace(has_waves=False, amplitude=sea.amplitude[:0].copy(), velocity=sea.velocity[:0].copy(),
+                             omega=sea.omega[:0].copy(),
                              wavenumber=sea.wavenumber[:0].copy(), phase=sea.phase[:0].copy(),
                              cos_direction=sea.cos_direction[:0].copy(), sin_direction=sea.sin_direction[:0].copy(),
                              ramp=0.0)
@@ -576,10 +587,13 @@ def compile_scenario(sc, start: str | None = None) -> Model:
         plastic_params_arr, plastic_width = np.zeros((len(plastic_flags), 2)), 1
     roller_arrays, support_infos = compile_supports(sc, attachment_names, lines)
     tens_arrays, tens_infos = compile_tensioners(sc, attachment_names, lines)
+    reel_arrays, reel_infos = compile_reels(sc, attachment_names, lines)
     km = KernelModel(
         **roller_arrays,
         **tens_arrays,
         has_tensioners=bool(tens_arrays["tens_att"].shape[0] > 0),
+        **reel_arrays,
+        has_reels=bool(reel_arrays["reel_att"].shape[0] > 0),
         has_rollers=bool(roller_arrays["roller_attach"].shape[0] > 0),
         has_roller_friction=bool(roller_arrays["roller_attach"].shape[0] > 0
                                  and float(roller_arrays["roller_mu"].max()) > 0.0),
@@ -625,7 +639,9 @@ def compile_scenario(sc, start: str | None = None) -> Model:
     model = Model(scenario=sc, km=km, lines=lines, attachment_names=attachment_names, motions=motions,
                   plastic_history_width=int(plastic_width), supports=support_infos, tensioners=tens_infos,
                   dof_mask=dof_mask, initial=initial, line_index={li.name: k for k, li in enumerate(lines)},
-                  bodies=body_infos)
+                  bodies=body_infos, reels=reel_infos)
+    if reel_infos and km.has_plastic:
+        model.initial_plastic_history = reeled_history(sc, lines, ref.R, km.plastic_params, int(plastic_width))
     return model
 
 

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ScenarioError
+from ..loads.rollers import CONTACT_ONSET
 
 
 @dataclass
@@ -61,7 +62,10 @@ def stinger_frame(direction) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return T, N0, np.cross(T, N0)
 
 
-def roller_set(sup) -> RollerSet:
+def roller_set(sup, pipe_radius: float = 0.0) -> RollerSet:
+    if sup.kind == "straightener":
+        from .reels import straightener_roller_set
+        return straightener_roller_set(sup, pipe_radius)
     if sup.kind == "rollers":
         pts, axes, hw, rad, up = [], [], [], [], []
         for r in sup.rollers:
@@ -110,7 +114,8 @@ def empty_roller_arrays() -> dict:
     z = np.zeros(0)
     zi = np.zeros(0, np.int64)
     return dict(roller_attach=zi, roller_point=z3, roller_axis=z3.copy(), roller_half_width=z, roller_radius=z.copy(),
-                roller_k=z.copy(), roller_c=z.copy(), roller_mu=z.copy(), roller_kt=z.copy(), roller_lo=zi.copy(),
+                roller_k=z.copy(), roller_c=z.copy(), roller_mu=z.copy(), roller_kt=z.copy(), roller_onset=z.copy(),
+                roller_lo=zi.copy(),
                 roller_hi=zi.copy())
 
 
@@ -129,9 +134,9 @@ def compile_supports(sc, attachment_names: list[str], lines) -> tuple[dict, list
         if li is None:
             problems.append((f"supports.{name}.line", f"unknown line '{sup.line}'"))
             continue
-        if sup.kind == "tensioner":
-            continue                       # rfesim.model.supports.compile_tensioners
-        rs = roller_set(sup)
+        if sup.kind in ("tensioner", "reel"):
+            continue                       # compile_tensioners, rfesim.model.reels.compile_reels
+        rs = roller_set(sup, 0.5 * li.section.outer_diameter)
         m = rs.point.shape[0]
         att = attachment_names.index(sup.attach)
         cols["roller_attach"].append(np.full(m, att, np.int64))
@@ -143,6 +148,9 @@ def compile_supports(sc, attachment_names: list[str], lines) -> tuple[dict, list
         cols["roller_c"].append(np.full(m, float(sup.damping)))
         cols["roller_mu"].append(np.full(m, float(sup.friction)))
         cols["roller_kt"].append(np.full(m, float(sup.friction_stiffness or sup.stiffness)))
+        # smooth contact onset (rfesim.loads.rollers): given, or a fraction of pipe + roller radius
+        cols["roller_onset"].append(np.full(m, float(sup.contact_onset)) if sup.contact_onset is not None
+                                    else CONTACT_ONSET * (0.5 * li.section.outer_diameter + rs.radius))
         cols["roller_lo"].append(np.full(m, li.rfe_start, np.int64))
         cols["roller_hi"].append(np.full(m, li.rfe_stop, np.int64))
         infos.append(SupportInfo(name=name, line=sup.line, attach=sup.attach, roller_start=start,
@@ -164,9 +172,9 @@ def resting_points(sc, line_name: str, pipe_radius: float, attachment_names: lis
     contacts closed, so Newton sees their stiffness (from a gap it would step through)."""
     pts = []
     for sup in (getattr(sc, "supports", None) or {}).values():
-        if sup.line != line_name or sup.kind == "tensioner":
+        if sup.line != line_name or sup.kind in ("tensioner", "reel"):
             continue
-        rs = roller_set(sup)
+        rs = roller_set(sup, pipe_radius)
         a = attachment_names.index(sup.attach)
         R, p = att0.R[a], att0.p[a]
         reach = pipe_radius + rs.radius
@@ -247,9 +255,32 @@ def _pchip_slopes(t: np.ndarray, d: np.ndarray) -> np.ndarray:
     return PchipInterpolator(t, d).derivative()(t)
 
 
+def fill_payout(out: dict, prefix: str, j: int, payout) -> None:
+    """Pack a payout law (schema PayoutTable or PayoutConstantTension) into the arrays
+    ``<prefix>_mode, _count, _table_t/d/v, _set, _band, _gain, _vmax`` at row j (a
+    tensioner's or a reel's: the same kernels read them)."""
+    from ..loads.tensioner import MODE_TABLE, MODE_TENSION
+    if payout.kind == "table":
+        rows = np.asarray(payout.rows, float)
+        out[f"{prefix}_mode"][j] = MODE_TABLE
+        out[f"{prefix}_count"][j] = max(2, len(rows))
+        if len(rows) == 1:
+            rows = np.vstack([rows, rows + [1.0, 0.0]])
+        out[f"{prefix}_table_t"][j, :len(rows)] = rows[:, 0]
+        out[f"{prefix}_table_d"][j, :len(rows)] = rows[:, 1]
+        out[f"{prefix}_table_v"][j, :len(rows)] = _pchip_slopes(rows[:, 0], rows[:, 1])
+    else:
+        out[f"{prefix}_mode"][j] = MODE_TENSION
+        out[f"{prefix}_count"][j] = 2
+        out[f"{prefix}_table_t"][j, :2] = [0.0, 1.0]
+        out[f"{prefix}_set"][j] = payout.tension
+        out[f"{prefix}_band"][j] = payout.dead_band
+        out[f"{prefix}_gain"][j] = payout.gain
+        out[f"{prefix}_vmax"][j] = payout.max_speed
+
+
 def compile_tensioners(sc, attachment_names: list[str], lines) -> tuple[dict, list[TensionerInfo]]:
     """Tensioner arrays of the kernel model (rfesim.loads.tensioner), one row per tensioner."""
-    from ..loads.tensioner import MODE_TABLE, MODE_TENSION
     supports = getattr(sc, "supports", None) or {}
     tens = [(name, sup) for name, sup in supports.items() if sup.kind == "tensioner"]
     index = {li.name: li for li in lines}
@@ -277,22 +308,6 @@ def compile_tensioners(sc, attachment_names: list[str], lines) -> tuple[dict, li
         out["tens_cap"][j] = sup.capacity
         out["tens_line_lo"][j] = li.rfe_start
         out["tens_line_hi"][j] = li.rfe_stop
-        if sup.payout.kind == "table":
-            rows = np.asarray(sup.payout.rows, float)
-            out["tens_mode"][j] = MODE_TABLE
-            out["tens_count"][j] = max(2, len(rows))
-            if len(rows) == 1:
-                rows = np.vstack([rows, rows + [1.0, 0.0]])
-            out["tens_table_t"][j, :len(rows)] = rows[:, 0]
-            out["tens_table_d"][j, :len(rows)] = rows[:, 1]
-            out["tens_table_v"][j, :len(rows)] = _pchip_slopes(rows[:, 0], rows[:, 1])
-        else:
-            out["tens_mode"][j] = MODE_TENSION
-            out["tens_count"][j] = 2
-            out["tens_table_t"][j, :2] = [0.0, 1.0]
-            out["tens_set"][j] = sup.payout.tension
-            out["tens_band"][j] = sup.payout.dead_band
-            out["tens_gain"][j] = sup.payout.gain
-            out["tens_vmax"][j] = sup.payout.max_speed
+        fill_payout(out, "tens", j, sup.payout)
         infos.append(TensionerInfo(name=name, line=sup.line, index=j))
     return out, infos

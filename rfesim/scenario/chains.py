@@ -289,30 +289,86 @@ def planar_axes(direction):
     return e1, np.cross(e1, [0.0, 0.0, 1.0])
 
 
+def chain_point(sc, attach):
+    """(chain name, link name) of a line attachment "<chain>.<link>" (a point of a chain
+    link, rfesim.formulations.mixed), or None."""
+    if not isinstance(attach, str) or "." not in attach or attach in getattr(sc, "vessels", {}):
+        return None
+    chains = getattr(sc, "chains", None) or {}
+    for i, c in enumerate(attach):
+        if c == "." and attach[:i] in chains and attach[i + 1:] in chains[attach[:i]].links:
+            return attach[:i], attach[i + 1:]
+    return None
+
+
+def _check_chain_ends(sc) -> None:
+    """Line ends on chain links: "attach": "<chain>.<link>", ``at`` on the link."""
+    special = set(getattr(sc, "vessels", {})) | set(getattr(sc, "bodies", {})) | {"fixed", "free"}
+    chains = getattr(sc, "chains", None) or {}
+    for name, ln in sc.lines.items():
+        for end_name in ("end_a", "end_b"):
+            end = getattr(ln, end_name)
+            base = f"lines.{name}.{end_name}"
+            cp = chain_point(sc, end.attach)
+            if cp is None:
+                if end.at is not None:
+                    raise FieldError(f"{base}.at", "only for an end attached to a chain link "
+                                                   "(attach: '<chain>.<link>')")
+                if "." in end.attach and end.attach not in special:
+                    cname, _, lname = end.attach.partition(".")
+                    if cname in chains:
+                        raise FieldError(f"{base}.attach", f"chain '{cname}' has no link '{lname}' (links: "
+                                                           f"{', '.join(chains[cname].links)})")
+                    raise FieldError(f"{base}.attach", f"unknown attachment '{end.attach}': no chain '{cname}' "
+                                                       f"(chains: {', '.join(chains) or 'none defined'}) and no "
+                                                       f"vessel of that name")
+                if end.position is None and end.attach not in ("free",) and end.attach not in getattr(sc, "bodies", {}):
+                    raise FieldError(f"{base}.position", f"an end attached to '{end.attach}' needs a position")
+                continue
+            cname, lname = cp
+            if ln.formulation != "absolute":
+                raise FieldError(f"{base}.attach", f"only absolute-coordinate lines attach to chain links (this "
+                                                   f"line is in the {ln.formulation} formulation: make it a link of "
+                                                   f"chain '{cname}' instead)")
+            length = chains[cname].links[lname].length
+            if end.at is not None and end.at > length * (1 + 1e-12):
+                raise FieldError(f"{base}.at", f"{end.at} m is beyond the tip of link '{lname}' of chain "
+                                               f"'{cname}' ({length} m)")
+
+
 def check_formulations(sc) -> None:
     """Cross-field checks of chains and non-absolute lines; raise FieldError naming the field."""
     import numpy as np
     others = {n: ln for n, ln in sc.lines.items() if ln.formulation != "absolute"}
     absolute = [n for n, ln in sc.lines.items() if ln.formulation == "absolute"]
-    if absolute and (others or sc.chains):
-        what = "chains" if sc.chains else f"line '{next(iter(others))}' in the {next(iter(others.values())).formulation} formulation"
+    if absolute and others:
+        o = next(iter(others))
         raise FieldError(f"lines.{absolute[0]}.formulation",
-                         f"this scene has {what}; mixing them with absolute-coordinate lines (a chain's end point as "
-                         f"a line's attachment) is not supported yet: it needs one integrator over both coordinate "
-                         f"sets, and running the two side by side would be co-simulation, not the same. Use one "
-                         f"kind per scene")
+                         f"this scene has line '{o}' in the {others[o].formulation} formulation; mixing it with "
+                         f"absolute-coordinate lines is not supported yet (make it a link of a chain: chains and "
+                         f"absolute lines are advanced by one integrator)")
+    _check_chain_ends(sc)
     if not (others or sc.chains):
         return
+    mixed = bool(absolute)              # chains + absolute lines: rfesim.formulations.mixed
     if getattr(sc, "supports", None):
         raise FieldError("supports", "supports act on absolute-coordinate lines only; not with chains or other "
                                      "formulations yet")
     env = sc.environment
     dyn = sc.analysis.dynamics
+    if mixed and env.seabed is not None:
+        raise FieldError("environment.seabed", "a scene mixing chains with absolute-coordinate lines does not "
+                                               "support the seabed yet")
     needs_chain = bool(sc.chains) or any(ln.formulation != "planar" for ln in others.values())
-    if needs_chain and dyn.enabled and dyn.duration > 0 and dyn.integrator.kind == "generalized-alpha":
+    if mixed and dyn.enabled and dyn.duration > 0 and dyn.integrator.kind != "generalized-alpha":
         raise FieldError("analysis.dynamics.integrator.kind",
-                         "generalized-alpha is not available for classical/modified lines and chains yet; use "
-                         "'rk4' or 'adaptive'")
+                         "a scene mixing chains with absolute-coordinate lines is advanced by one implicit "
+                         "integrator over both coordinate sets: use 'generalized-alpha'")
+    if not mixed and needs_chain and dyn.enabled and dyn.duration > 0 and \
+            dyn.integrator.kind == "generalized-alpha":
+        raise FieldError("analysis.dynamics.integrator.kind",
+                         "generalized-alpha is not available for classical/modified lines and chains yet (only "
+                         "for chains together with absolute-coordinate lines); use 'rk4' or 'adaptive'")
     for name, ln in others.items():
         base = f"lines.{name}"
         lt = sc.line_types.get(ln.type)

@@ -44,7 +44,7 @@ def _union_member(tp, tag):
     for member in typing.get_args(tp):
         m = _unwrap(member)
         if isinstance(m, type) and issubclass(m, BaseModel):
-            kind = m.model_fields.get("kind")
+            kind = m.model_fields.get("kind") or m.model_fields.get("method")    # discriminators
             if kind is not None and tag in typing.get_args(_unwrap(kind.annotation)):
                 return m
             if tag == m.__name__:
@@ -202,11 +202,12 @@ def _reason(err: dict, owner: type | None = None, key: Any = None, tp: Any = Non
     return "", msg
 
 
-def validation_errors(exc: ValidationError) -> list[tuple[str, str]]:
-    """Convert a pydantic ValidationError into ``(field path, reason)`` pairs."""
+def validation_errors(exc: ValidationError, prefix: tuple = ()) -> list[tuple[str, str]]:
+    """Convert a pydantic ValidationError into ``(field path, reason)`` pairs; ``prefix``
+    is the location in the Scenario of what was validated (e.g. ``("pipelay",)``)."""
     by_path: dict[str, list[str]] = {}
     for err in exc.errors():
-        loc = err.get("loc", ())
+        loc = tuple(prefix) + tuple(err.get("loc", ()))
         parts, owner, tp = _resolve(loc)
         extra, reason = _reason(err, owner, parts[-1] if parts else None, tp)
         if extra:
@@ -235,6 +236,12 @@ def _rest_position(sc: Scenario, end) -> list[float] | None:
     return [vessel.position[0] + c * x - s * y, vessel.position[1] + s * x + c * y, vessel.position[2] + z]
 
 
+def _on_chain(sc: Scenario, attach: str) -> bool:
+    """A "<chain>.<link>" attachment (checked in detail by rfesim.scenario.chains)."""
+    from .chains import chain_point
+    return chain_point(sc, attach) is not None
+
+
 def check_references(sc: Scenario) -> list[tuple[str, str]]:
     """Cross-field checks: names a scenario uses must exist and be consistent."""
     errors: list[tuple[str, str]] = []
@@ -259,7 +266,8 @@ def check_references(sc: Scenario) -> list[tuple[str, str]]:
         lt = sc.line_types[line.type]
         for end_name in ("end_a", "end_b"):
             end = getattr(line, end_name)
-            if end.attach not in RESERVED_ATTACH and end.attach not in vessel_names and end.attach not in sc.bodies:
+            if end.attach not in RESERVED_ATTACH and end.attach not in vessel_names and end.attach not in sc.bodies \
+                    and not _on_chain(sc, end.attach):
                 known = ", ".join(["fixed", "free"] + sorted(vessel_names) + sorted(sc.bodies))
                 errors.append((f"{base}.{end_name}.attach",
                                f"unknown attachment '{end.attach}' (use one of: {known})"))
@@ -279,10 +287,14 @@ def check_references(sc: Scenario) -> list[tuple[str, str]]:
                 errors.append((f"{base}.length", f"{line.length} m is shorter than the distance between its ends "
                                                  f"({d:.6g} m): the line would be stretched by "
                                                  f"{100 * (d / line.length - 1):.3g} %"))
-        if line.end_a.attach == "free" and line.end_a.position is None and line.end_b.attach == "free":
+        on_reel = any(sup.kind == "reel" and sup.line == lname for sup in sc.supports.values())
+        if line.end_a.attach == "free" and line.end_a.position is None and line.end_b.attach == "free" \
+                and not on_reel:        # a reel places end A on its wrap (stored_length)
             errors.append((f"{base}.end_a.position", "a line with two free ends needs the position of end A"))
     for sname, sup in sc.supports.items():
         base = f"supports.{sname}"
+        if sup.kind == "reel" and sup.line in sc.lines and sc.lines[sup.line].end_a.attach != "free":
+            errors.append((f"{base}.line", f"end A of line '{sup.line}' must be free: it lies on the reel's wrap"))
         if sup.line not in sc.lines:
             known = ", ".join(sorted(sc.lines)) or "none defined"
             errors.append((f"{base}.line", f"unknown line '{sup.line}' (lines: {known})"))
@@ -311,6 +323,8 @@ def validate_dict(obj: Any, _raw: Callable | None = None) -> Scenario:
         raise ScenarioError([("", f"a scenario must be a JSON/YAML object (a mapping of keys to values), "
                                   f"got {what}")])
     raw = _raw or (lambda o: super(Scenario, Scenario).model_validate(o))
+    from .pipelay import expand
+    obj = expand(obj)              # pipelay templates -> ordinary sections (rfesim.scenario.pipelay)
     try:
         sc = raw(obj)
     except ValidationError as exc:

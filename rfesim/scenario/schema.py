@@ -177,6 +177,20 @@ class AiryWaves(_Waves):
                               default=0.0)
 
 
+class Stokes5Waves(_Waves):
+    """A regular Stokes 5th-order wave (Fenton 1985): height crest to trough, period, zero
+    Eulerian mean current; five harmonics (rfesim.sea.stokes5). Refused beyond the breaking
+    limit and in shallow water (Ursell number > 40)."""
+
+    kind: Literal["stokes5"]
+    height: float = _units("m", "Wave height H, crest to trough", gt=0.0)
+    period: float = _units("s", "Wave period", gt=0.0)
+    phase_deg: float = _units("deg", "Phase of the fundamental (harmonic j has j times it)", default=0.0)
+    stretching: Literal["wheeler", "none", "vertical", "linear"] = Field(
+        "none", description="Stokes kinematics hold up to the actual surface: none (default) evaluates them "
+                            "there; the other methods as for airy")
+
+
 class _SpectrumWaves(_Waves):
     hs: float = _units("m", "Significant wave height (4 sqrt(m0))", gt=0.0)
     tp: float = _units("s", "Spectral peak period", gt=0.0)
@@ -243,7 +257,7 @@ class TimeSeriesWaves(_Waves):
         return self
 
 
-Waves = Annotated[Union[AiryWaves, JonswapWaves, PiersonMoskowitzWaves, TimeSeriesWaves], Field(discriminator="kind")]
+Waves = Annotated[Union[AiryWaves, Stokes5Waves, JonswapWaves, PiersonMoskowitzWaves, TimeSeriesWaves], Field(discriminator="kind")]
 
 
 class Water(_Strict):
@@ -254,7 +268,7 @@ class Water(_Strict):
                                  default=None, gt=0.0)
     surface_level: float = _units("m", "z of the still water surface", default=0.0)
     current: Current | None = Field(None, description="Current profile; omit for none")
-    waves: Waves | None = Field(None, description="Waves: kind airy, jonswap, pierson-moskowitz or time-series; "
+    waves: Waves | None = Field(None, description="Waves: kind airy, stokes5, jonswap, pierson-moskowitz or time-series; "
                                                   "omit for still water")
 
     @model_validator(mode="after")
@@ -391,6 +405,12 @@ class Environment(_Strict):
                 raise FieldError("water.waves.height",
                                  f"{waves.height} m on a {length:.4g} m long wave (H/L = {waves.height / length:.4g}) "
                                  f"is steeper than the breaking limit H/L = tanh(kh)/7 = {limit:.4g}")
+        elif waves.kind == "stokes5":
+            from ..sea.stokes5 import stokes5
+            try:
+                stokes5(waves.height, waves.period, h, self.gravity)
+            except ValueError as e:
+                raise FieldError("water.waves.height", str(e)) from None
         elif waves.kind in ("jonswap", "pierson-moskowitz"):
             steepness = 2.0 * math.pi * waves.hs / (self.gravity * waves.tp ** 2)
             limit = sea_state_steepness_limit(waves.tp)
@@ -840,6 +860,10 @@ class LineEnd(_Strict):
                                       "end A toward end B (global, or vessel frame for a vessel)")
     connection: Literal["clamped", "pinned"] = Field("pinned", description="clamped: position and orientation "
                                                      "follow the attachment; pinned: position only")
+    at: float | None = _units("m", 'Attached to a chain link ("attach": "<chain>.<link>"): arc length of the '
+                              "point on the link (default: its tip); position is then the offset from that point "
+                              "in the link's axes (default: none) and direction is in the link's axes",
+                              default=None, ge=0.0)
 
     @model_validator(mode="after")
     def _direction(self):
@@ -903,9 +927,10 @@ class Line(_Strict):
                                          f"{dx:.3g} m, shorter than {MIN_SEGMENT} m: use fewer elements")
         if self.end_a.attach == "free" and self.end_b.attach == "free":
             pass  # a free-floating line is allowed in dynamics (statics will be singular and says so)
-        if self.end_a.position is None and self.end_a.attach != "free":
+        # an end on a chain link ("<chain>.<link>", checked by scenario.chains) may omit its position
+        if self.end_a.position is None and self.end_a.attach != "free" and "." not in self.end_a.attach:
             raise FieldError("end_a.position", f"an end attached to '{self.end_a.attach}' needs a position")
-        if self.end_b.position is None and self.end_b.attach != "free":
+        if self.end_b.position is None and self.end_b.attach != "free" and "." not in self.end_b.attach:
             raise FieldError("end_b.position", f"an end attached to '{self.end_b.attach}' needs a position")
         for i, load in enumerate(self.loads):
             if not isinstance(load.at, str) and not (0.0 <= load.at <= self.length):
@@ -949,6 +974,10 @@ class _Support(_Strict):
                             "axes (the rollers turn freely along the pipe); dynamics only [-]")
     friction_stiffness: float | None = _units("N/m", "Stick-spring stiffness of the friction (default: the "
                                               "contact stiffness)", default=None, gt=0.0)
+    contact_onset: float | None = _units("m", "Penetration over which the contact force comes in smoothly "
+                                         "(quadratic, then linear with the stiffness; rfesim.loads.rollers). "
+                                         "Default 0.005 x (pipe + roller radius); 0: a sharp onset",
+                                         default=None, ge=0.0)
 
 
 class RollerSupport(_Support):
@@ -1051,7 +1080,91 @@ class TensionerSupport(_Strict):
         return self
 
 
-Support = Annotated[Union[RollerSupport, StingerSupport, TensionerSupport], Field(discriminator="kind")]
+class ReelSupport(_Strict):
+    """A reel (drum) storing a line wrapped on it: the RFEs on the wrap window are pressed
+    against the drum (unilateral radial contact), held in its plane and gripped
+    tangentially by anchors that turn with the drum; the payout is the drum's rotation
+    times ``radius`` (rfesim.loads.reel). End A of the line lies on the wrap at the start,
+    ``stored_length`` back from the take-off point, and the stored pipe starts plastically
+    bent to the drum (rfesim.model.reels)."""
+
+    kind: Literal["reel"]
+    attach: str = Field("fixed", description='"fixed" (global frame) or a vessel name: the reel moves with it')
+    line: str = Field(..., description="Name of the line stored on the reel (from its end A)")
+    centre: Vector3 = _units("m", "Centre of the drum (attachment frame)")
+    axis: Vector3 = Field(..., description="Drum axis (attachment frame); the take-off point is at "
+                          "centre + radius * (axis x direction) [-]", json_schema_extra={"units": "1"})
+    direction: Vector3 = Field(..., description="Direction in which the pipe leaves the drum at the take-off "
+                               "point, normal to the axis (attachment frame) [-]", json_schema_extra={"units": "1"})
+    radius: float = _units("m", "Radius of the pipe axis on the drum (drum radius + pipe outer radius)", gt=0.0)
+    wrap_deg: float = _units("deg", "Wrap window: the angle back from the take-off point over which the drum "
+                             "holds the pipe", default=180.0, gt=0.0, le=270.0)
+    stored_length: float = _units("m", "Length of the line from end A wrapped on the drum at the start", ge=0.0)
+    contact_stiffness: float = _units("N/m/m", "Radial contact stiffness of the drum per unit length",
+                                      default=1.0e7, gt=0.0)
+    lateral_stiffness: float = _units("N/m/m", "Stiffness holding the pipe in the drum plane, per unit length",
+                                      default=1.0e7, gt=0.0)
+    grip_stiffness: float = _units("N/m/m", "Tangential grip stiffness per unit length", default=1.0e7, gt=0.0)
+    capacity: float = _units("N", "Largest tangential force the drum holds before the pipe slips", gt=0.0)
+    payout: Annotated[Union[PayoutTable, PayoutConstantTension], Field(discriminator="kind")] = Field(
+        default_factory=lambda: PayoutTable(kind="table", rows=[[0.0, 0.0]]),
+        description="Paid-out length (radius times the drum rotation) prescribed, or driven by the tension "
+                    "characteristic (default: the drum holds still)")
+
+    @model_validator(mode="after")
+    def _geometry(self):
+        _nonzero(self.axis, "axis")
+        _nonzero(self.direction, "direction")
+        a = [c / math.sqrt(sum(x * x for x in self.axis)) for c in self.axis]
+        d = [c / math.sqrt(sum(x * x for x in self.direction)) for c in self.direction]
+        if abs(sum(x * y for x, y in zip(a, d))) > 1e-6:
+            raise FieldError("direction", "must be normal to the drum axis (the pipe leaves the drum tangentially)")
+        wrap = self.radius * math.radians(self.wrap_deg)
+        if self.stored_length > wrap * (1.0 + 1e-12):
+            raise FieldError("stored_length", f"{self.stored_length} m is longer than the wrap window "
+                                              f"({wrap:.6g} m = radius x wrap_deg): widen wrap_deg or store less")
+        return self
+
+
+class StraightenerSupport(_Support):
+    """A straightener (aligner): ``rollers`` rollers (odd, 3 for a three-point bender) over
+    ``span`` along ``axis`` from ``entry``, their axes across. The even rollers (both ends)
+    hold the pipe axis on the straight line from ``entry``; the odd ones push it out by
+    ``offset`` towards ``side``, bending the pipe the other way (reverse bending). Compiles to
+    ordinary rollers (rfesim.loads.rollers, rfesim.model.reels.straightener_roller_set)."""
+
+    kind: Literal["straightener"]
+    entry: Vector3 = _units("m", "Pipe axis at the first roller (attachment frame)")
+    axis: Vector3 = Field(..., description="Direction of the pipe's travel through the straightener (attachment "
+                          "frame) [-]", json_schema_extra={"units": "1"})
+    side: Vector3 = Field(..., description="Bending side: the direction, normal to axis, in which the middle "
+                          "roller(s) push the pipe (attachment frame) [-]", json_schema_extra={"units": "1"})
+    span: float = _units("m", "Distance between the first and the last roller", gt=0.0)
+    offset: float = _units("m", "How far the middle roller(s) push the pipe axis out of the straight line",
+                           ge=0.0)
+    rollers: int = Field(3, ge=3, le=99, description="Number of rollers (odd)")
+    roller_radius: float = _units("m", "Roller radius", default=0.2, ge=0.0)
+    roller_width: float = _units("m", "Length of each roller's contact line", default=1.0, gt=0.0)
+
+    @model_validator(mode="after")
+    def _geometry(self):
+        _nonzero(self.axis, "axis")
+        _nonzero(self.side, "side")
+        if self.rollers % 2 == 0:
+            raise FieldError("rollers", f"must be odd (rollers alternate sides, both ends on one), got {self.rollers}")
+        e = [c / math.sqrt(sum(x * x for x in self.axis)) for c in self.axis]
+        n = [c / math.sqrt(sum(x * x for x in self.side)) for c in self.side]
+        if abs(sum(x * y for x, y in zip(e, n))) > 1e-6:
+            raise FieldError("side", "must be normal to the axis")
+        pitch = self.span / (self.rollers - 1)
+        if self.offset > 0.5 * pitch:
+            raise FieldError("offset", f"{self.offset} m is more than half the roller pitch ({pitch:.6g} m): "
+                                       f"steeper than 1 in 2")
+        return self
+
+
+Support = Annotated[Union[RollerSupport, StingerSupport, TensionerSupport, ReelSupport, StraightenerSupport],
+                    Field(discriminator="kind")]
 
 
 # --------------------------------------------------------------------------- analysis
@@ -1129,6 +1242,7 @@ class Analysis(_Strict):
 
 from .chains import ChainSpec, check_formulations  # noqa: E402 - chains.py builds on the models above
 from .bodies import Body  # noqa: E402 - bodies.py builds on the models above
+from .pipelay import PipelayTemplate  # noqa: E402 - pipelay.py builds on the models above
 
 
 class Scenario(_Strict):
@@ -1148,6 +1262,9 @@ class Scenario(_Strict):
                                          "flexible links (rfesim.scenario.chains)")
     bodies: dict[str, Body] = Field(default_factory=dict, description="Rigid bodies (payloads, buoys) on the "
                                     "end B of a line (rfesim.scenario.bodies)")
+    pipelay: dict[str, PipelayTemplate] = Field(default_factory=dict, description="Pipelay templates (s-lay, "
+                                                "j-lay, reel-lay), expanded into vessels, line_types, lines and "
+                                                "supports before validation (rfesim.scenario.expand); empty after")
 
     @model_validator(mode="after")
     def _formulations(self):

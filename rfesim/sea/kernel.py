@@ -39,7 +39,9 @@ from .waves import STRETCHING_CODES, wave_components, water_depth
 
 class SeaSpec(NamedTuple):
     has_waves: bool
-    amplitude: np.ndarray       # (nc,) m, wave component amplitudes
+    amplitude: np.ndarray       # (nc,) m, wave component amplitudes (elevation)
+    velocity: np.ndarray        # (nc,) m/s, velocity coefficient: u = velocity C cos, w = -velocity S sin
+                                #   (a omega for a linear component; the harmonic's own for Stokes 5th)
     omega: np.ndarray           # (nc,) rad/s
     wavenumber: np.ndarray      # (nc,) 1/m
     phase: np.ndarray           # (nc,) rad
@@ -65,6 +67,7 @@ def pack_sea(waves, current, surface_level: float) -> SeaSpec:
     return SeaSpec(
         has_waves=bool(nc > 0),
         amplitude=np.ascontiguousarray(waves.amplitude, dtype=np.float64),
+        velocity=np.ascontiguousarray(waves.velocity_coefficients(), dtype=np.float64),
         omega=np.ascontiguousarray(waves.omega, dtype=np.float64),
         wavenumber=np.ascontiguousarray(waves.wavenumber, dtype=np.float64),
         phase=np.ascontiguousarray(waves.phase, dtype=np.float64),
@@ -188,7 +191,7 @@ def sea_kinematics_into(ss, t, points, eta, vel, acc):
                     S = (ep - em) / denom
                 if above > 0.0:
                     C, S = C + above * k * S, S + above * k * C
-                aw = ss.amplitude[j] * ss.omega[j]
+                aw = ss.velocity[j]
                 aww = aw * ss.omega[j]
                 c = cth[j]
                 s = sth[j]

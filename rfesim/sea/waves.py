@@ -225,6 +225,15 @@ class WaveComponents:
     depth: float             # m, inf for deep water
     stretching: str          # "wheeler", "none", "vertical" or "linear"
     ramp_duration: float     # s
+    velocity: np.ndarray | None = None   # (nc,) m/s velocity coefficients; None: a omega (linear)
+
+    def velocity_coefficients(self) -> np.ndarray:
+        """Per component, the horizontal particle velocity at the still-water line of a
+        depth factor cosh(k(z+h))/sinh(kh) = 1: a omega for linear waves, the harmonic's
+        own coefficient for a Stokes 5th-order wave (rfesim.sea.stokes5)."""
+        if self.velocity is None:
+            return np.asarray(self.amplitude, float) * np.asarray(self.omega, float)
+        return np.asarray(self.velocity, float)
 
     def ramp(self, t: float) -> float:
         T = self.ramp_duration
@@ -274,6 +283,17 @@ def wave_components(waves, depth: float | None, gravity: float = 9.81) -> WaveCo
         raise ValueError("waves need the water depth (or deep_water: true)")
     beta = math.radians(waves.direction_deg)
     kind = waves.kind
+    if kind == "stokes5":
+        from .stokes5 import stokes5
+        try:
+            w = stokes5(waves.height, waves.period, h, gravity)
+        except ValueError as e:
+            raise ValueError(f"stokes5 waves: {e}") from None
+        j = np.arange(1, 6, dtype=float)
+        return WaveComponents(amplitude=w.elevation.copy(), omega=j * w.omega, wavenumber=j * w.wavenumber,
+                              phase=j * math.radians(waves.phase_deg), direction=np.full(5, beta), depth=h,
+                              stretching=waves.stretching, ramp_duration=waves.ramp_duration,
+                              velocity=w.velocity.copy())
     if kind == "airy":
         amplitude = np.array([0.5 * waves.height])
         omega = np.array([2.0 * math.pi / waves.period])

@@ -114,6 +114,7 @@ class Recorder:
                 "touchdown_arc_length": np.full(nt, np.nan),
                 "von_mises_stress": np.full((nt, li.elements), np.nan),
                 "utilisation": np.full((nt, li.elements), np.nan),
+                "residual_curvature": np.zeros((nt, li.elements)),
             }
         self.vessel_names = list(model.scenario.vessels)
         self.vessel_pos = np.zeros((nt, len(self.vessel_names), 3))
@@ -128,6 +129,12 @@ class Recorder:
         ntens = len(model.tensioners)
         self.tens_payout = np.zeros((nt, ntens))
         self.tens_force = np.zeros((nt, ntens))
+        nreel = len(getattr(model, "reels", []))
+        self.reel_payout = np.zeros((nt, nreel))
+        self.reel_force = np.zeros((nt, nreel))
+        if model.km.has_plastic:
+            self._residual = np.zeros(model.nsde)
+            self._residual_work = np.zeros((model.nsde, model.plastic_history_width))
         self.body_data = {b.name: {ch: np.zeros((nt, 3)) for ch in ("position", "velocity", "acceleration", "rotation",
                                                                     "angular_velocity", "connection_force")}
                           | {ch: np.zeros(nt) for ch in ("connection_tension", "submerged_fraction", "buoyancy")}
@@ -157,6 +164,11 @@ class Recorder:
                      ch["curvature"])
         k = self.k
         self.time[k] = state.t
+        if km.has_plastic:
+            # from the trial history of this evaluation: the state being recorded
+            from ..materials.residual_curvature import residual_curvature_into
+            residual_curvature_into(km.plastic_params, ws.plastic_hist_trial, km.sde_plastic, self._residual_work,
+                                    ws.out5, self._residual)
         for li in sysm.model.lines:
             d = self.line_data[li.name]
             line_points(ws, li.rfe_start, li.rfe_stop, li.sde_start, li.sde_stop, km.rfe_length, self._pts[li.name])
@@ -177,6 +189,8 @@ class Recorder:
                 pipe_stress_into(ws.sigma[li.sde_start:li.sde_stop], self._stress_geometry[li.name], out)
                 d["von_mises_stress"][k] = out[:, 5]
                 d["utilisation"][k] = out[:, 6]
+            if km.has_plastic:
+                d["residual_curvature"][k] = self._residual[li.sde_start:li.sde_stop]
             if km.has_seabed:
                 td = touchdown(km, ws, li)
                 if td is not None:
@@ -195,6 +209,13 @@ class Recorder:
                 self.tens_payout[k, ti.index] = tensioner_payout(km.tens_mode, km.tens_table_t, km.tens_table_d,
                                                                  km.tens_table_v, km.tens_count, ti.index, state.t, ws.tens_D)
                 self.tens_force[k, ti.index] = ws.tens_force[ti.index]
+        if km.has_reels:
+            from ..loads.tensioner import tensioner_payout
+            for ri in sysm.model.reels:
+                self.reel_payout[k, ri.index] = tensioner_payout(km.reel_mode, km.reel_table_t, km.reel_table_d,
+                                                                 km.reel_table_v, km.reel_count, ri.index, state.t,
+                                                                 ws.reel_D)
+                self.reel_force[k, ri.index] = ws.reel_force[ri.index]
         if sysm.model.bodies:
             self._record_bodies(k, ws, qdd)
         if km.has_rollers:
@@ -240,6 +261,9 @@ class Recorder:
         tensioners = {ti.name: TensionerResults(name=ti.name, line=ti.line, payout=self.tens_payout[:nt, ti.index].copy(),
                                                 grip_force=self.tens_force[:nt, ti.index].copy())
                       for ti in self.system.model.tensioners}
+        reels = {ri.name: TensionerResults(name=ri.name, line=ri.line, payout=self.reel_payout[:nt, ri.index].copy(),
+                                           grip_force=self.reel_force[:nt, ri.index].copy())
+                 for ri in getattr(self.system.model, "reels", [])}
         supports = {si.name: SupportResults(name=si.name, line=si.line, attach=si.attach,
                                             roller_position=si.position, roller_axis=si.axis,
                                             roller_reaction=self.roller_reaction[:nt, si.roller_start:si.roller_stop],
@@ -250,7 +274,7 @@ class Recorder:
                                       **{ch: arr[:nt] for ch, arr in self.body_data[b.name].items()})
                   for b in self.system.model.bodies}
         return Results(time=self.time[:nt].copy(), lines=lines, vessels=vessels, supports=supports, bodies=bodies,
-                       tensioners=tensioners,
+                       tensioners=tensioners, reels=reels,
                        **kw)
 
 

@@ -22,6 +22,7 @@ SLOW_STEP = 4                   # residual evaluations after which the next step
 REBASE_THRESHOLD = 0.5          # rad: re-base an RFE's reference rotation beyond this angle
 RUNAWAY_SPEED = 1.0e5           # m/s or rad/s: a state faster than this has diverged
 RUNAWAY_DISTANCE = 1.0e7        # m
+MAX_FRESH = 3                   # Jacobians formed within one Newton attempt before the step is given up
 
 # quantity codes in ``fail[2]``
 Q_POSITION, Q_VELOCITY, Q_NEWTON, Q_JACOBIAN = 0, 1, 2, 3
@@ -112,7 +113,10 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
     flags[0] = 1 when Fac holds a factorised Jacobian valid for this h (kept between calls:
     modified Newton); flags[1] = residual evaluations of the last step: a step that needed
     more than SLOW_STEP of them refreshes the Jacobian at the start of the next (a reused
-    Jacobian goes stale as the line turns). stats += [steps, newton iterations, jacobians,
+    Jacobian goes stale as the line turns). Within a step, an iteration that reduces the
+    residual by less than 4x forms a new Jacobian (so a step in trouble becomes full
+    Newton); a step that still fails restarts once from the constant-acceleration predictor
+    with a fresh Jacobian. stats += [steps, newton iterations, jacobians,
     rebases]. ``analytic``: Jacobian from the SDE tangent (rfesim.solvers.jacobian) instead
     of coloured finite differences; Ks, Kds, T, Fsde, Msde are its work arrays. The Newton
     predictor extrapolates the acceleration linearly from the last two steps (qdd_prev holds
@@ -139,9 +143,9 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
         converged = False
         evals = 0
         for attempt in range(2):
-            fresh = False
             need_new = flags[0] == 0 or (not reuse) or attempt > 0 or flags[1] > SLOW_STEP
             rn_prev = np.inf
+            nfresh = 0
             for it in range(maxit):
                 residual_q(km, att, q, ref, ws, 1.0, 1, Q0, V0, cq, cv, mask, qd_buf, A_buf, r)
                 if km.has_sea and attempt == 0 and it == 0:
@@ -156,7 +160,14 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
                 if rn <= tol:
                     converged = True
                     break
-                if it > 0 and rn > 0.25 * rn_prev and not fresh:
+                if it > 0 and rn > 0.25 * rn_prev:
+                    # slow: a new Jacobian at this iterate, also when this attempt already formed
+                    # one (a contact or friction state that changed since makes it wrong; a
+                    # stale tangent then cycles where full Newton converges in a few steps);
+                    # after MAX_FRESH of them the step is in real trouble: give up and let the
+                    # driver halve it (a snap load or a contact shock needs the smaller step)
+                    if nfresh >= MAX_FRESH:
+                        break
                     need_new = True
                 if need_new:
                     if analytic:
@@ -175,7 +186,7 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
                         flags[0] = 0
                         return 3
                     flags[0] = 1
-                    fresh = True
+                    nfresh += 1
                     need_new = False
                     # the residual is unchanged by forming J; solve with it
                 bt_solve(Fac, r, dq)
@@ -190,7 +201,7 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
                 if small:
                     converged = True
                     break
-            if converged or fresh:
+            if converged:
                 break
             # restart from the (constant-acceleration) predictor with a fresh Jacobian
             for i in range(n):

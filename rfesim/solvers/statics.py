@@ -170,18 +170,25 @@ def solve_statics(system: System, state: State | None = None, *, tolerance: floa
     mobilised = seabed_friction == "mobilised"
     system.set_friction_mode(1 if mobilised else 2)
     system.ws.waves_off[0] = 1          # statics: still water plus current
-    if model.km.has_tensioners:
-        # the tensioners grip the line where it starts (its initial shape), and hold it there
+    if model.km.has_tensioners or model.km.has_reels:
+        # the tensioners and reels grip the line where it starts (its initial shape), and hold it there
         st0 = (state or model.initial).copy()
         st0.qd[:] = 0.0
         system.evaluate(st0)
         ws = system.ws
-        ws.grip_a[:] = ws.grip_a_trial
-        ws.grip_on[:] = ws.grip_on_trial
+        # RFEs gripped already keep their anchors (a payout since the last solve pulls them
+        # along); the others are gripped where they are
+        for anchor, on, anchor_trial, on_trial in ((ws.grip_a, ws.grip_on, ws.grip_a_trial, ws.grip_on_trial),
+                                                   (ws.reel_grip_a, ws.reel_grip_on, ws.reel_grip_a_trial,
+                                                    ws.reel_grip_on_trial)):
+            new = (on == 0) | (on_trial == 0)
+            anchor[new] = anchor_trial[new]
+            on[:] = on_trial
         ws.tens_time[:] = st0.t
+        ws.reel_time[:] = st0.t
     try:
         st, info = _solve(system, state, tolerance, max_iterations, load_steps, progress)
-        if model.km.has_friction or model.km.has_plastic or model.km.has_tensioners:
+        if model.km.has_friction or model.km.has_plastic or model.km.has_tensioners or model.km.has_reels:
             # history of the final state: plastic state of the SDEs, friction anchors at the
             # mobilised forces or none (set at first touch)
             system.evaluate(st)

@@ -18,7 +18,9 @@ class System:
         self.km = km
         self.n = n
         self.ws = new_workspace(n, nsde, model.plastic_history_width, km.roller_attach.shape[0],
-                                km.tens_att.shape[0])
+                                km.tens_att.shape[0], km.reel_att.shape[0])
+        if getattr(model, "initial_plastic_history", None) is not None:
+            self.ws.plastic_hist[:] = model.initial_plastic_history     # pipe reeled on before t = 0
         self.vs = vessel_spec(model.motions)
         self.att = new_attachment_state(len(model.attachment_names))
         self.mask = model.dof_mask
@@ -39,7 +41,8 @@ class System:
         ws = self.ws
         return (ws.fric_anchor.copy(), ws.fric_anchored.copy(), ws.plastic_hist.copy(), ws.roller_anchor.copy(),
                 ws.roller_anchored.copy(), ws.grip_a.copy(), ws.grip_on.copy(), ws.tens_D.copy(),
-                ws.tens_time.copy())
+                ws.tens_time.copy(), ws.reel_grip_a.copy(), ws.reel_grip_on.copy(), ws.reel_D.copy(),
+                ws.reel_time.copy())
 
     def set_history(self, saved: tuple) -> None:
         ws = self.ws
@@ -52,6 +55,11 @@ class System:
         ws.grip_on[:] = saved[6]
         ws.tens_D[:] = saved[7]
         ws.tens_time[:] = saved[8]
+        if len(saved) > 9:
+            ws.reel_grip_a[:] = saved[9]
+            ws.reel_grip_on[:] = saved[10]
+            ws.reel_D[:] = saved[11]
+            ws.reel_time[:] = saved[12]
 
     def commit_history(self) -> None:
         """Accept the trial history written by the last evaluation."""

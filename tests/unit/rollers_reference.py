@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from rfesim.loads.rollers import CONTACT_ONSET
+
 
 def closest_points(centre, tangent, half_length, point, axis, half_width):
     """(s, u) minimising |centre + s tangent - point - u axis| over |s| <= h, |u| <= b."""
@@ -33,8 +35,9 @@ def closest_points(centre, tangent, half_length, point, axis, half_width):
 
 def roller_forces(roller_attach, roller_point, roller_axis, roller_half_width, roller_radius, roller_k, roller_c,
                   roller_mu, roller_kt, roller_lo, roller_hi, rfe_length, rfe_radius, att_p, att_R, att_v, att_w,
-                  R, r, v, w, anchor, anchored, mode):
-    """Returns F, M (n, 3) on the RFEs, roller_force (nr, 3), roller_normal (nr,),
+                  R, r, v, w, anchor, anchored, mode, roller_onset=None):
+    """``roller_onset`` (nr,): contact onset depths (default CONTACT_ONSET (a + rho)).
+    Returns F, M (n, 3) on the RFEs, roller_force (nr, 3), roller_normal (nr,),
     anchor_trial (nr,), anchored_trial (nr,)."""
     n = r.shape[0]
     nr = roller_attach.shape[0]
@@ -61,7 +64,15 @@ def roller_forces(roller_attach, roller_point, roller_axis, roller_half_width, r
             nrm = (Xp - Xr) / d
             v_pipe = v[i] + np.cross(w[i], Xp - r[i])
             v_roller = att_v[a_idx] + np.cross(att_w[a_idx], Xr - att_p[a_idx])
-            fn = roller_k[j] * penetration - roller_c[j] * (v_pipe - v_roller) @ nrm
+            # smooth onset over delta_0 = CONTACT_ONSET (a + rho): quadratic, then linear
+            onset = CONTACT_ONSET * (rfe_radius[i] + roller_radius[j]) if roller_onset is None else roller_onset[j]
+            if penetration < onset:
+                elastic = roller_k[j] * penetration ** 2 / (2.0 * onset)
+                ramp = penetration / onset
+            else:
+                elastic = roller_k[j] * (penetration - onset / 2.0)
+                ramp = 1.0
+            fn = elastic - ramp * roller_c[j] * (v_pipe - v_roller) @ nrm
             if fn > 0.0:
                 contacts.append((i, Xp, nrm, fn))
         total = sum(cn[3] for cn in contacts)

@@ -80,8 +80,14 @@ def test_link_without_joint_and_mixing_with_absolute_lines():
     assert "no joint carries" in errs["chains.c.links.spare"]
     mixed = copy.deepcopy(cantilever(4, []))
     mixed["chains"] = chain_scene()["chains"]
+    rfesim.Scenario.model_validate(mixed)          # chains with absolute lines: rfesim.formulations.mixed
+    mixed["analysis"]["dynamics"] = {"duration": 1.0, "integrator": {"kind": "rk4"}}
     errs = errors_of(mixed)
-    assert "not supported yet" in errs["lines.beam.formulation"] and "co-simulation" in errs["lines.beam.formulation"]
+    assert "use 'generalized-alpha'" in errs["analysis.dynamics.integrator.kind"]
+    mixed = copy.deepcopy(cantilever(4, []))
+    mixed["lines"]["other"] = dict(mixed["lines"]["beam"], formulation="modified")
+    errs = errors_of(mixed)
+    assert "not supported yet" in errs["lines.beam.formulation"]
 
 
 @pytest.mark.parametrize("formulation, change, field, words", [

@@ -8,7 +8,7 @@ import pytest
 
 import reference_impl as ref
 import rollers_reference as rref
-from rfesim.loads.rollers import commit_roller_friction, roller_forces, segment_closest_points
+from rfesim.loads.rollers import CONTACT_ONSET, commit_roller_friction, roller_forces, segment_closest_points
 
 SEEDS = [0, 1, 2, 3, 4, 5]
 
@@ -73,17 +73,21 @@ def random_rollers(rng, length, R, r, radius, att, nr):
             np.array(out["half_width"]), np.array(out["radius"]))
 
 
-def run_kernel(args, hint, anchor, anchored, mode):
+def run_kernel(args, hint, anchor, anchored, mode, onset=None):
+    """The kernel on a case; ``onset`` (nr,) the contact onset depths, by default
+    CONTACT_ONSET (pipe + roller radius) as rfesim.model.supports sets them."""
     (attach, point, axis, hw, rho, k, c, mu, kt, lo, hi, length, radius, att, R, r, v, w) = args
     n = r.shape[0]
     nr = attach.shape[0]
+    if onset is None:
+        onset = CONTACT_ONSET * (radius[0] + rho)      # the cases have one pipe radius
     F = np.zeros((n, 3))
     M = np.zeros((n, 3))
     force = np.zeros((nr, 3))
     normal = np.zeros(nr)
     at = np.zeros(nr)
     adt = np.zeros(nr, np.int64)
-    roller_forces(attach, point, axis, hw, rho, k, c, mu, kt, lo, hi, length, radius, att[0], att[1], att[2],
+    roller_forces(attach, point, axis, hw, rho, k, c, mu, kt, onset, lo, hi, length, radius, att[0], att[1], att[2],
                   att[3], R, r, v, w, F, M, hint, force, normal, anchor, anchored, at, adt,
                   np.array([mode], np.int64), np.zeros(32))
     return F, M, force, normal, at, adt
@@ -183,6 +187,10 @@ def test_segment_closest_points_against_a_grid(seed):
         assert out[0] == pytest.approx(s_ref, abs=1e-9) and out[1] == pytest.approx(u_ref, abs=1e-9)
 
 
+# normal force of flat_roller_case: k (penetration - onset / 2), beyond the smooth onset
+FLAT_PRESS = 1e6 * (0.01 - 0.5 * CONTACT_ONSET * (0.15 + 0.1))
+
+
 def flat_roller_case(mu, k=1e6, kt=1e6):
     """One RFE lying across one fixed roller (axis along y), pressed by 1 cm."""
     att = (np.zeros((1, 3)), np.eye(3)[None], np.zeros((1, 3)), np.zeros((1, 3)))
@@ -203,11 +211,11 @@ def test_friction_sticks_then_slips_along_the_axis_only():
     anchor = np.zeros(1)
     anchored = np.zeros(1, np.int64)
     F, M, force, normal, at, adt = run_kernel(tuple(args), hint, anchor, anchored, 0)
-    assert normal[0] == pytest.approx(1e6 * 0.01, rel=1e-12)       # k * penetration
-    assert F[0] == pytest.approx([0.0, 0.0, 1e4], abs=1e-9)          # first touch: no friction yet
+    assert normal[0] == pytest.approx(FLAT_PRESS, rel=1e-12)       # k (penetration - onset / 2)
+    assert F[0] == pytest.approx([0.0, 0.0, FLAT_PRESS], abs=1e-9)   # first touch: no friction yet
     commit_roller_friction(anchor, anchored, at, adt)
     assert anchored[0] == 1 and anchor[0] == pytest.approx(0.0, abs=1e-15)
-    # slide 1 mm sideways (along the roller axis): stick spring kt * 1e-3 = 1000 N < mu N = 3000 N
+    # slide 1 mm sideways (along the roller axis): stick spring kt * 1e-3 = 1000 N < mu N = 2812.5 N
     args[15] = args[15] + np.array([[0.0, 1e-3, 0.0]])
     F, M, force, normal, at, adt = run_kernel(tuple(args), hint, anchor, anchored, 0)
     assert F[0, 1] == pytest.approx(-1000.0, rel=1e-9)
@@ -215,8 +223,8 @@ def test_friction_sticks_then_slips_along_the_axis_only():
     # slide 1 cm: the force is capped at mu N and the anchor follows the pipe
     args[15] = args[15] + np.array([[0.0, 9e-3, 0.0]])
     F, M, force, normal, at, adt = run_kernel(tuple(args), hint, anchor, anchored, 0)
-    assert F[0, 1] == pytest.approx(-0.3 * 1e4, rel=1e-12)
-    assert at[0] == pytest.approx(0.01 - 3000.0 / 1e6, rel=1e-12)
+    assert F[0, 1] == pytest.approx(-0.3 * FLAT_PRESS, rel=1e-12)
+    assert at[0] == pytest.approx(0.01 - 0.3 * FLAT_PRESS / 1e6, rel=1e-12)
     # moving along the pipe (the roller turns): no friction at all
     args[15] = args[15] + np.array([[0.5, 0.0, 0.0]])
     F2, *_ = run_kernel(tuple(args), hint, anchor, anchored, 0)
@@ -233,7 +241,7 @@ def test_damping_acts_only_while_pressed_and_never_pulls():
     z = (np.zeros(1), np.zeros(1, np.int64))
     args[16] = np.array([[0.0, 0.0, -0.02]])     # moving into the roller: stiffer
     F, *_ = run_kernel(tuple(args), hint, *z, 2)
-    assert F[0, 2] == pytest.approx(1e4 + 2e5 * 0.02, rel=1e-12)
+    assert F[0, 2] == pytest.approx(FLAT_PRESS + 2e5 * 0.02, rel=1e-12)
     args[16] = np.array([[0.0, 0.0, 0.2]])       # leaving fast: the force would be tensile, it is zero
     F, M, force, normal, *_ = run_kernel(tuple(args), hint, *z, 2)
     assert F[0, 2] == 0.0 and normal[0] == 0.0

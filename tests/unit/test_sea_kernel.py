@@ -22,6 +22,7 @@ def reference_sea(waves: WaveComponents, current: CurrentProfile, surface_level:
     x, y, z = points[:, 0:1], points[:, 1:2], points[:, 2]
     a, w, k, phi = waves.amplitude, waves.omega, waves.wavenumber, waves.phase
     cb, sb = np.cos(waves.direction), np.sin(waves.direction)
+    V = waves.velocity_coefficients()           # a omega for linear components
     T = waves.ramp_duration
     if T > 0.0 and t < T:
         ramp = 0.0 if t <= 0.0 else 0.5 * (1.0 - math.cos(math.pi * t / T))
@@ -52,12 +53,12 @@ def reference_sea(waves: WaveComponents, current: CurrentProfile, surface_level:
         C = np.cosh(k * (ze + h)) / np.sinh(k * h)
         S = np.sinh(k * (ze + h)) / np.sinh(k * h)
     C, S = C + above[:, None] * k * S, S + above[:, None] * k * C
-    u_x = np.sum(a * w * C * np.cos(theta) * cb, axis=1)
-    u_y = np.sum(a * w * C * np.cos(theta) * sb, axis=1)
-    u_z = np.sum(-a * w * S * np.sin(theta), axis=1)
-    du_x = np.sum(-a * w ** 2 * C * np.sin(theta) * cb, axis=1)
-    du_y = np.sum(-a * w ** 2 * C * np.sin(theta) * sb, axis=1)
-    du_z = np.sum(-a * w ** 2 * S * np.cos(theta), axis=1)
+    u_x = np.sum(V * C * np.cos(theta) * cb, axis=1)
+    u_y = np.sum(V * C * np.cos(theta) * sb, axis=1)
+    u_z = np.sum(-V * S * np.sin(theta), axis=1)
+    du_x = np.sum(-V * w * C * np.sin(theta) * cb, axis=1)
+    du_y = np.sum(-V * w * C * np.sin(theta) * sb, axis=1)
+    du_z = np.sum(-V * w * S * np.cos(theta), axis=1)
     vel = ramp * np.stack([u_x, u_y, u_z], axis=1)
     acc = ramp * np.stack([du_x, du_y, du_z], axis=1) + ramp_rate * np.stack([u_x, u_y, u_z], axis=1)
     surface = surface_level + eta
@@ -66,12 +67,15 @@ def reference_sea(waves: WaveComponents, current: CurrentProfile, surface_level:
     return surface, vel, acc
 
 
-def random_sea(rng, depth, stretching, ramp, nc=7):
+def random_sea(rng, depth, stretching, ramp, nc=7, own_velocity=False):
+    """Random linear components; with ``own_velocity`` each has its own velocity coefficient
+    (as the harmonics of a Stokes 5th-order wave do) instead of a omega."""
     omega = rng.uniform(0.3, 2.0, nc)
     return WaveComponents(amplitude=rng.uniform(0.1, 1.2, nc), omega=omega,
                           wavenumber=np.asarray(wave_number(omega, depth, GRAVITY)),
                           phase=rng.uniform(0.0, 2.0 * np.pi, nc), direction=rng.uniform(-np.pi, np.pi, nc),
-                          depth=math.inf if depth is None else depth, stretching=stretching, ramp_duration=ramp)
+                          depth=math.inf if depth is None else depth, stretching=stretching, ramp_duration=ramp,
+                          velocity=rng.uniform(-2.0, 2.0, nc) if own_velocity else None)
 
 
 def random_current(rng):
@@ -94,7 +98,7 @@ def run_kernel(spec, t, points):
 def test_kernel_equals_the_readable_formulas(stretching, depth, seed):
     rng = np.random.default_rng(seed)
     surface_level = rng.uniform(-2.0, 2.0)
-    waves = random_sea(rng, depth, stretching, ramp=15.0)
+    waves = random_sea(rng, depth, stretching, ramp=15.0, own_velocity=seed == 1)
     current = random_current(rng)
     spec = pack_sea(waves, current, surface_level)
     # points below, near, at and above the surface, and under the seabed

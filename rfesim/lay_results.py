@@ -1,0 +1,160 @@
+"""Pipelay outputs of a run (issue 3, item 8): top tension, departure angle, touchdown,
+sagbend and overbend maxima (moment, curvature, strain), roller reactions, residual
+curvature and range graphs, for a line laid from a vessel (end A on board, end B on the
+seabed), as the pipelay templates make it (rfesim.scenario.pipelay), or any line with
+supports.
+
+    res = rfesim.simulate("scenarios/s_lay_template.json")
+    out = lay_summary(res)                 # the line with supports, or lay_summary(res, "lay")
+    out["top_tension"]                     # (nt,) N, held by the tensioner / collar
+    out["departure_angle"]                 # (nt,) deg below horizontal at the lift-off point
+
+The lift-off point is the most downstream support exit along the line: the stinger tip
+(last roller station), the exit of a tensioner / collar track, or a roller. The scenario
+is read from the results (``scenario_json``: the expanded scenario), so results read back
+from a file work as well.
+"""
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+
+
+def _rotation(roll_pitch_yaw_deg) -> np.ndarray:
+    """R = Rz(yaw) Ry(pitch) Rx(roll) (eq. 8.73), angles in degrees."""
+    phi, theta, psi = np.radians(roll_pitch_yaw_deg)
+    cz, sz, cy, sy, cx, sx = math.cos(psi), math.sin(psi), math.cos(theta), math.sin(theta), math.cos(phi), \
+        math.sin(phi)
+    return np.array([[cz * cy, cz * sy * sx - sz * cx, cz * sy * cx + sz * sx],
+                     [sz * cy, sz * sy * sx + cz * cx, sz * sy * cx - cz * sx],
+                     [-sy, cy * sx, cy * cx]])
+
+
+def _exit_points(sup: dict) -> np.ndarray:
+    """Points (attachment frame) where the line leaves a support."""
+    kind = sup.get("kind")
+    if kind == "tensioner":
+        axis = np.asarray(sup["axis"], float)
+        return (np.asarray(sup["entry"], float) + sup["length"] * axis / np.linalg.norm(axis))[None, :]
+    if kind == "stinger":
+        from .model.supports import stinger_frame
+        T, N0, _ = stinger_frame(sup["direction"])
+        R = sup["radius"]
+        th = math.floor(sup["length"] / sup["spacing"] + 1e-9) * sup["spacing"] / R
+        return (np.asarray(sup["start"], float) + R * math.sin(th) * T + R * (1.0 - math.cos(th)) * N0)[None, :]
+    if kind == "rollers":
+        return np.asarray([r["position"] for r in sup["rollers"]], float)
+    for key in ("exit", "end"):               # other guiding structures that name their exit
+        if isinstance(sup.get(key), list) and len(sup[key]) == 3:
+            return np.asarray(sup[key], float)[None, :]
+    return np.zeros((0, 3))
+
+
+def _pick_line(sc: dict, res, line: str | None) -> str:
+    if line is not None:
+        res.line(line)
+        return line
+    laid = sorted({s.get("line") for s in (sc.get("supports") or {}).values() if s.get("line") in res.lines})
+    if len(laid) != 1:
+        raise ValueError(f"give the line: lines with supports: {laid or 'none'}")
+    return laid[0]
+
+
+def lay_summary(res, line: str | None = None, *, outer_diameter: float | None = None,
+                t_from: float | None = None) -> dict:
+    """Pipelay outputs of ``line`` (default: the one line with supports).
+
+    ``outer_diameter``: steel diameter for the strains (default: the line type's
+    outer_diameter; give it for a coated pipe, whose line type has the coated diameter).
+    ``t_from``: range graphs and maxima from this time on (default: the whole run).
+
+    Returns a dict: ``time`` (nt,); ``top_tension`` (nt,) N, the axial force the most
+    downstream tensioner (or collar) holds, or the force at end A without one;
+    ``departure_angle`` (nt,) deg below horizontal of the line just past the lift-off
+    point, ``departure_arc_length`` (nt,) m; ``touchdown_position`` (nt, 3) m,
+    ``touchdown_arc_length`` (nt,) m; ``sagbend_moment``, ``sagbend_curvature``,
+    ``sagbend_strain``, ``overbend_moment``, ``overbend_curvature``, ``overbend_strain``
+    (maxima over the run; sagbend: concave-up part above the touchdown, overbend: concave
+    down, on the stinger/aligner); ``roller_reactions`` {support: (nt, nroller) N};
+    ``roller_reaction_max`` {support: (nroller,) N}; ``range_graphs`` {channel: {arc_length,
+    min, max, mean}} for tension, bend_moment, curvature, bending_strain, position_z;
+    ``residual_curvature`` (nsde,) 1/m at the last time, curvature - M/EI (the curvature
+    left after elastic unloading; 0 for an elastic pipe up to round-off), and
+    ``residual_curvature_max`` beyond the lift-off point."""
+    sc = json.loads(res.scenario_json) if res.scenario_json else {}
+    name = _pick_line(sc, res, line)
+    lr = res.line(name)
+    lt = sc["line_types"][sc["lines"][name]["type"]]
+    D = float(outer_diameter or lt.get("outer_diameter") or 0.0)
+    if lt.get("EIy") is not None:
+        EI = float(lt["EIy"])
+    else:
+        Do, t = lt["outer_diameter"], lt["wall_thickness"]
+        EI = lt["youngs_modulus"] * math.pi / 64.0 * (Do ** 4 - (Do - 2.0 * t) ** 4)
+    time = np.asarray(res.time)
+    nt = len(time)
+    pos = np.asarray(lr.position)
+    s_pts = np.asarray(lr.arc_length)
+    s_sde = np.asarray(lr.sde_arc_length)
+    keep = np.ones(nt, bool) if t_from is None else time >= t_from
+    # lift-off: the most downstream support exit, followed with its vessel
+    supports = {k: v for k, v in (sc.get("supports") or {}).items() if v.get("line") == name}
+    dep_index = np.zeros(nt, int)
+    for k in range(nt):
+        best = 0
+        for sup in supports.values():
+            pts = _exit_points(sup)
+            if pts.shape[0] == 0:
+                continue
+            att = sup.get("attach", "fixed")
+            if att in res.vessels:
+                vr = res.vessels[att]
+                pts = np.asarray(vr.position[k]) + pts @ _rotation(vr.rotation[k]).T
+            d = np.linalg.norm(pos[k][None, :, :] - pts[:, None, :], axis=2)
+            best = max(best, int(d.argmin(axis=1).max()))
+        dep_index[k] = min(best, pos.shape[1] - 2)
+    tangent = pos[np.arange(nt), dep_index + 1] - pos[np.arange(nt), dep_index]
+    departure = np.degrees(np.arctan2(-tangent[:, 2], np.hypot(tangent[:, 0], tangent[:, 1])))
+    # top tension: the most downstream tensioner's grip force
+    top = np.linalg.norm(np.asarray(lr.end_a_force), axis=1)
+    tens = [(n, s) for n, s in supports.items() if s.get("kind") == "tensioner" and n in res.tensioners]
+    if tens:
+        def exit_arc(item):
+            p = _exit_points(item[1])[0]
+            att = item[1].get("attach", "fixed")
+            if att in res.vessels:
+                vr = res.vessels[att]
+                p = np.asarray(vr.position[0]) + _rotation(vr.rotation[0]) @ p
+            return int(np.linalg.norm(pos[0] - p[None, :], axis=1).argmin())
+        top = np.asarray(res.tensioners[max(tens, key=exit_arc)[0]].grip_force, float)
+    # sagbend / overbend: sign of z'' along the line above the touchdown point
+    moment = np.asarray(lr.bend_moment)
+    curv = np.asarray(lr.curvature)
+    td = np.asarray(lr.touchdown_arc_length) if lr.touchdown_arc_length is not None else np.full(nt, np.nan)
+    out = {"sagbend_moment": 0.0, "sagbend_curvature": 0.0, "overbend_moment": 0.0, "overbend_curvature": 0.0}
+    for k in np.flatnonzero(keep):
+        zpp = np.gradient(np.gradient(pos[k, :, 2], s_pts), s_pts)
+        zpp_sde = np.interp(s_sde, s_pts, zpp)
+        above = s_sde <= (td[k] if np.isfinite(td[k]) else s_sde[-1])
+        for part, mask in (("sagbend", above & (zpp_sde > 0.0)), ("overbend", above & (zpp_sde < 0.0))):
+            if mask.any():
+                out[f"{part}_moment"] = max(out[f"{part}_moment"], float(moment[k][mask].max()))
+                out[f"{part}_curvature"] = max(out[f"{part}_curvature"], float(curv[k][mask].max()))
+    out["sagbend_strain"] = out["sagbend_curvature"] * 0.5 * D
+    out["overbend_strain"] = out["overbend_curvature"] * 0.5 * D
+    graphs = {ch: lr.range_graph(ch, t_from, time) for ch in ("tension", "bend_moment", "curvature", "position_z")}
+    graphs["bending_strain"] = {"arc_length": graphs["curvature"]["arc_length"],
+                                **{q: graphs["curvature"][q] * 0.5 * D for q in ("min", "max", "mean")}}
+    residual = curv[-1] - moment[-1] / EI
+    beyond = s_sde > s_pts[dep_index[-1]]
+    sup_res = {n: res.supports[n] for n in supports if n in res.supports}
+    out.update(
+        line=name, time=time, top_tension=top, departure_angle=departure, departure_arc_length=s_pts[dep_index],
+        touchdown_position=np.asarray(lr.touchdown_position), touchdown_arc_length=td,
+        roller_reactions={n: np.asarray(r.roller_reaction) for n, r in sup_res.items()},
+        roller_reaction_max={n: np.asarray(r.roller_reaction)[keep].max(axis=0) for n, r in sup_res.items()},
+        range_graphs=graphs, residual_curvature=residual,
+        residual_curvature_max=float(np.abs(residual[beyond]).max()) if beyond.any() else 0.0)
+    return out

@@ -1,0 +1,621 @@
+"""Pipelay templates (top-level ``pipelay``): S-lay, J-lay and reel-lay set-ups that expand
+into ordinary scenario sections before the rest of the scenario is validated.
+
+    "pipelay": {"lay1": {"method": "s-lay", "vessel": "barge", "tension": 150e3,
+                         "pipe": {"outer_diameter": 0.3239, "wall_thickness": 0.0159, "grade": "X65"},
+                         "stinger": {"radius": 100.0}}}
+
+expands (:func:`expand`) into a vessel (when given inline), a line type (the pipe), the
+line (end A free at the tensioner's entry, end B pinned on the seabed ``laid_length``
+beyond the natural-catenary touchdown), its supports (S-lay: tensioner and stinger; J-lay:
+the collar, a tensioner-kind track along the tower; reel-lay: reel, aligner, straightener and
+tensioner on the ramp) and, without one, a seabed. The suspended pipe follows the natural
+catenary (``rfesim.catenary.natural_catenary``) with the horizontal lay tension H from
+its lift-off point (stinger tip, tower or ramp exit) to the touchdown point, so statics
+starts next to its solution. Geometry is in the vessel frame; the pipe leaves along the
+vessel's x axis (turn the vessel with ``heading_deg`` to lay elsewhere).
+
+Names made: the line ``line`` (default: the template's name), line type ``<line>_pipe``,
+vessel ``<name>_vessel`` (inline vessels), supports ``<line>_tensioner``, ``<line>_stinger``,
+``<line>_collar``, ``<line>_reel``, ``<line>_aligner``, ``<line>_straightener``. A name
+that is already taken is refused. Units SI, angles in degrees.
+"""
+from __future__ import annotations
+
+import copy
+import math
+from typing import Annotated, Any, Literal, Union
+
+from pydantic import Field, TypeAdapter, ValidationError, model_validator
+
+from .schema import (FieldError, PayoutConstantTension, PayoutTable, Vector3, Vessel, _Strict,
+                     _units)
+
+# API 5L specified minimum yield strength (Pa)
+GRADE_YIELD = {"X52": 359e6, "X56": 386e6, "X60": 414e6, "X65": 448e6, "X70": 483e6, "X80": 552e6}
+STEEL_E = 2.07e11
+STEEL_DENSITY = 7850.0
+
+
+class PipeSpec(_Strict):
+    """The pipe: steel geometry and grade, optional coating and contents, sea-load coefficients."""
+
+    outer_diameter: float = _units("m", "Steel outer diameter", gt=0.0)
+    wall_thickness: float = _units("m", "Steel wall thickness", gt=0.0)
+    grade: Literal["X52", "X56", "X60", "X65", "X70", "X80"] = Field(
+        "X65", description="API 5L steel grade: the yield stress of an elastoplastic pipe (SMYS)")
+    material: Literal["elastic", "elastoplastic"] | None = Field(
+        None, description="Steel law: elastic, or elastoplastic (bilinear from the grade's yield stress). "
+                          "Default: elastoplastic for reel-lay, elastic otherwise")
+    hardening_ratio: float = Field(0.01, ge=0.0, lt=1.0, description="Bilinear hardening E_t/E of an "
+                                   "elastoplastic pipe [-]", json_schema_extra={"units": "1"})
+    youngs_modulus: float = _units("Pa", "Young's modulus of the steel", default=STEEL_E, gt=0.0)
+    density: float = _units("kg/m^3", "Steel density", default=STEEL_DENSITY, gt=0.0)
+    coating_thickness: float = _units("m", "Coating thickness (concrete, insulation); the hydrodynamic and "
+                                      "contact diameter is outer_diameter + 2 coating_thickness", default=0.0,
+                                      ge=0.0)
+    coating_density: float | None = _units("kg/m^3", "Coating density (needed with a coating)", default=None,
+                                           gt=0.0)
+    contents_density: float = _units("kg/m^3", "Density of the pipe contents", default=0.0, ge=0.0)
+    drag_normal: float = Field(1.0, ge=0.0, le=10.0, description="Normal drag coefficient [-]")
+    drag_axial: float = Field(0.008, ge=0.0, le=10.0, description="Axial drag coefficient [-]")
+    added_mass_normal: float = Field(1.0, ge=0.0, le=10.0, description="Normal added-mass coefficient [-]")
+    damping_ratio: float = Field(0.05, ge=0.0, le=2.0, description="Structural damping ratio of the axial and "
+                                 "bending element modes [-]")
+
+    @model_validator(mode="after")
+    def _geometry(self):
+        if self.wall_thickness >= 0.5 * self.outer_diameter:
+            raise FieldError("wall_thickness", f"{self.wall_thickness} m is not less than the outer radius "
+                                               f"{0.5 * self.outer_diameter} m")
+        if self.coating_thickness > 0.0 and self.coating_density is None:
+            raise FieldError("coating_density", "a coating (coating_thickness > 0) needs its density")
+        return self
+
+
+class TensionerSpec(_Strict):
+    """The tensioner (S-lay, reel-lay) or the hang-off collar (J-lay): a straight track that
+    holds the pipe (rfesim.loads.tensioner)."""
+
+    length: float | None = _units("m", "Track length (default: 10 m, at least three elements)", default=None,
+                                  gt=0.0)
+    capacity: float | None = _units("N", "Largest axial force the track holds (default: three times the top "
+                                    "tension of the natural catenary, at least 1 MN)", default=None, gt=0.0)
+    lateral_stiffness: float = _units("N/m/m", "Pad stiffness holding the pipe on the axis", default=1.0e7,
+                                      gt=0.0)
+    grip_stiffness: float = _units("N/m/m", "Axial grip stiffness", default=1.0e7, gt=0.0)
+    payout: Annotated[Union[PayoutTable, PayoutConstantTension], Field(discriminator="kind")] | None = Field(
+        None, description="Payout: a table, or the constant-tension characteristic (default: holds the pipe)")
+
+
+class StingerSpec(_Strict):
+    """S-lay stinger: an arc of V-roller stations from the vessel's deck line."""
+
+    radius: float = _units("m", "Radius of the arc of roller stations", default=100.0, gt=0.0)
+    length: float | None = _units("m", "Arc length (default: the tip angle equals the catenary's departure "
+                                  "angle)", default=None, gt=0.0)
+    start: Vector3 = _units("m", "First roller station (V bottom), vessel frame", default=[0.0, 0.0, 2.0])
+    spacing: float = _units("m", "Distance between roller stations", default=6.0, gt=0.0)
+    roller_radius: float = _units("m", "Roller radius", default=0.15, ge=0.0)
+    roller_width: float = _units("m", "Contact length of each roller", default=0.6, gt=0.0)
+    v_angle_deg: float = _units("deg", "Rise of each half of the V-rollers (0: flat rollers)", default=30.0,
+                                ge=0.0, lt=80.0)
+    stiffness: float = _units("N/m", "Contact stiffness of each roller", default=1.0e7, gt=0.0)
+    damping: float = _units("N*s/m", "Contact damping of each roller", default=1.0e4, ge=0.0)
+    friction: float = Field(0.1, ge=0.0, le=10.0, description="Roller friction across the pipe [-]")
+
+
+class _Template(_Strict):
+    line: str | None = Field(None, description="Name of the pipe line (default: the template's name)",
+                             min_length=1, max_length=200)
+    vessel: Union[str, Vessel] = Field(default_factory=Vessel, description="A vessel name of `vessels`, or a "
+                                       "vessel (position, heading_deg, motion) made as <name>_vessel")
+    pipe: PipeSpec
+    tension: float | None = _units("N", "Horizontal lay tension H of the suspended pipe (the bottom tension)",
+                                   default=None)
+    laid_length: float = _units("m", "Pipe on the seabed beyond the touchdown point, to the pinned end B",
+                                default=50.0, gt=0.0, le=1.0e5)
+    element_length: float | None = _units("m", "Target element length (default: set by the method; or give "
+                                          "elements)", default=None, gt=0.0)
+    elements: int | None = Field(None, ge=4, le=100000, description="Number of elements of the line (instead "
+                                 "of element_length)")
+    seabed_stiffness: float = _units("N/m/m", "Seabed normal stiffness, used when the scene has no seabed",
+                                     default=1.0e6, gt=0.0)
+    tensioner: TensionerSpec = Field(default_factory=TensionerSpec)
+
+    @model_validator(mode="after")
+    def _common(self):
+        if self.tension is not None and not self.tension > 0.0:
+            raise FieldError("tension", f"must be > 0 N, got {self.tension}")
+        if self.element_length is not None and self.elements is not None:
+            raise FieldError("elements", "give elements or element_length, not both")
+        return self
+
+
+class SLayTemplate(_Template):
+    """S-lay: tensioner on deck, then over a stinger of rollers, down to the seabed."""
+
+    method: Literal["s-lay"]
+    stinger: StingerSpec = Field(default_factory=StingerSpec)
+
+    @model_validator(mode="after")
+    def _tension(self):
+        if self.tension is None:
+            raise FieldError("tension", "required for s-lay: the horizontal lay tension H (N)")
+        return self
+
+
+class JLayTemplate(_Template):
+    """J-lay: the pipe hangs from a collar on a steep tower and leaves it at the tower angle."""
+
+    method: Literal["j-lay"]
+    tower_angle_deg: float | None = _units("deg", "Tower angle from the horizontal (90: vertical), 70 to 90; "
+                                           "default: the catenary's departure angle for the given tension",
+                                           default=None)
+    exit: Vector3 = _units("m", "Tower exit (the foot of the collar, where the pipe leaves), vessel frame",
+                           default=[0.0, 0.0, 0.0])
+
+    @model_validator(mode="after")
+    def _angle(self):
+        if self.tower_angle_deg is not None and self.tension is not None:
+            raise FieldError("tension", "j-lay takes the tower angle or the tension, not both: the catenary that "
+                                        "leaves the tower at its angle fixes the tension")
+        if self.tower_angle_deg is None and self.tension is None:
+            raise FieldError("tower_angle_deg", "give the tower angle (70 to 90 deg) or the lay tension")
+        if self.tower_angle_deg is not None and not 70.0 <= self.tower_angle_deg < 90.0:
+            raise FieldError("tower_angle_deg", f"must be in [70, 90) deg, got {self.tower_angle_deg} (a vertical "
+                                                f"departure needs zero horizontal tension)")
+        return self
+
+
+class ReelSpec(_Strict):
+    """Reel-lay reel (drum) and ramp."""
+
+    radius: float = _units("m", "Drum (hub) radius the pipe is spooled on; the reel stands behind the aligner, "
+                           "the pipe leaving its top horizontally", default=8.0, gt=0.0)
+
+
+class ReelLayTemplate(_Template):
+    """Reel-lay: from the reel over the aligner, through the straightener and the tensioner
+    on the ramp, leaving at the ramp angle."""
+
+    method: Literal["reel-lay"]
+    ramp_angle_deg: float | None = _units("deg", "Ramp angle from the horizontal, 20 to 90; default: the "
+                                          "catenary's departure angle for the given tension", default=None)
+    exit: Vector3 = _units("m", "Ramp exit (the foot of the tensioner), vessel frame", default=[0.0, 0.0, 0.0])
+    reel: ReelSpec = Field(default_factory=ReelSpec)
+    aligner_radius: float = _units("m", "Radius of the aligner wheel arc at the top of the ramp", default=9.0,
+                                   gt=0.0)
+    straightener_offset: float = _units("m", "Set of the straightener's middle track (reverse bend)",
+                                        default=0.0, ge=0.0)
+
+    @model_validator(mode="after")
+    def _angle(self):
+        if self.ramp_angle_deg is not None and self.tension is not None:
+            raise FieldError("tension", "reel-lay takes the ramp angle or the tension, not both")
+        if self.ramp_angle_deg is None and self.tension is None:
+            raise FieldError("ramp_angle_deg", "give the ramp angle (20 to 90 deg) or the lay tension")
+        if self.ramp_angle_deg is not None and not 20.0 <= self.ramp_angle_deg < 90.0:
+            raise FieldError("ramp_angle_deg", f"must be in [20, 90) deg, got {self.ramp_angle_deg}")
+        return self
+
+
+PipelayTemplate = Annotated[Union[SLayTemplate, JLayTemplate, ReelLayTemplate], Field(discriminator="method")]
+
+_TEMPLATES = TypeAdapter(dict[str, PipelayTemplate])
+
+DEFAULT_ELEMENT_LENGTH = {"s-lay": 4.0, "j-lay": 10.0, "reel-lay": 2.0}
+
+
+# --------------------------------------------------------------------------- expansion
+
+def expand(data: dict) -> dict:
+    """The scenario dict with its ``pipelay`` templates expanded into ordinary sections.
+
+    Returns a new dict (the input is not modified) without the ``pipelay`` key, or the
+    input itself when it has no templates. Raises ScenarioError naming the template field
+    (``pipelay.lay1.tension: ...``) for bad templates or names that clash. Deterministic:
+    the same input gives the same output."""
+    from ..errors import ScenarioError
+    if not isinstance(data, dict) or "pipelay" not in data:
+        return data
+    raw = data.get("pipelay")
+    if raw is None or raw == {}:
+        out = dict(data)
+        out.pop("pipelay")
+        return out
+    try:
+        templates = _TEMPLATES.validate_python(raw)
+    except ValidationError as exc:
+        from .load import validation_errors
+        raise ScenarioError(validation_errors(exc, prefix=("pipelay",))) from None
+    env = _environment(data)
+    if env is None:
+        out = copy.deepcopy(data)   # the environment's own errors are reported by the validation
+        out.pop("pipelay")
+        return out
+    out = copy.deepcopy(data)
+    del out["pipelay"]
+    errors: list[tuple[str, str]] = []
+    for name, tpl in templates.items():
+        try:
+            _expand_one(out, name, tpl, raw[name], env)
+        except FieldError as exc:
+            errors.append((f"pipelay.{name}.{exc.field}" if exc.field else f"pipelay.{name}", exc.reason))
+    if errors:
+        raise ScenarioError(errors)
+    return out
+
+
+def _environment(data: dict):
+    from .schema import Environment
+    try:
+        return Environment.model_validate(data.get("environment") or {})
+    except (ValidationError, ValueError):
+        return None
+
+
+def _add(out: dict, group: str, key: str, value: dict, field: str) -> None:
+    """out[group][key] = value, refusing a name that is taken."""
+    section = out.setdefault(group, {})
+    if not isinstance(section, dict):
+        raise FieldError(field, f"cannot add '{key}': {group} is not a mapping")
+    if key in section:
+        raise FieldError(field, f"the name '{key}' is already used in {group}: rename the template's "
+                                f"{'line' if group == 'lines' else 'object'} (or the existing one)")
+    section[key] = value
+
+
+class _Pipe:
+    """Section numbers of the template's pipe."""
+
+    def __init__(self, pipe: PipeSpec, method: str, env):
+        D, t = pipe.outer_diameter, pipe.wall_thickness
+        d = D - 2.0 * t
+        self.steel_diameter = D
+        self.contact_diameter = D + 2.0 * pipe.coating_thickness
+        self.area = math.pi / 4.0 * (D * D - d * d)
+        self.inertia = math.pi / 64.0 * (D ** 4 - d ** 4)
+        self.EA = pipe.youngs_modulus * self.area
+        self.EI = pipe.youngs_modulus * self.inertia
+        Dc = self.contact_diameter
+        coating_area = math.pi / 4.0 * (Dc * Dc - D * D)
+        self.mass = pipe.density * self.area + (pipe.coating_density or 0.0) * coating_area \
+            + pipe.contents_density * math.pi / 4.0 * d * d
+        g = env.gravity
+        rho_w = env.water.density if env.water is not None else 0.0
+        self.weight = self.mass * g                                     # N/m in air
+        self.submerged_weight = self.weight - rho_w * g * math.pi / 4.0 * Dc * Dc
+        self.material = pipe.material or ("elastoplastic" if method == "reel-lay" else "elastic")
+        self.yield_stress = GRADE_YIELD[pipe.grade]
+        self.spec = pipe
+
+    def line_type(self) -> dict:
+        p = self.spec
+        common = {"drag_normal": p.drag_normal, "drag_axial": p.drag_axial, "added_mass_normal": p.added_mass_normal,
+                  "damping": {"axial_ratio": p.damping_ratio, "bending_ratio": p.damping_ratio}}
+        if self.material == "elastoplastic":
+            if p.coating_thickness > 0.0:
+                raise FieldError("pipe.coating_thickness", "an elastoplastic pipe is modelled by its steel wall "
+                                                           "and cannot carry a coating here (drop the coating or "
+                                                           "use material: elastic)")
+            material = {"kind": "elastoplastic", "law": "bilinear", "yield_stress": self.yield_stress,
+                        "hardening_ratio": p.hardening_ratio}
+        else:
+            material = {"kind": "elastic"}
+        if p.coating_thickness == 0.0:
+            return {"outer_diameter": p.outer_diameter, "wall_thickness": p.wall_thickness,
+                    "youngs_modulus": p.youngs_modulus, "density": p.density,
+                    "contents_density": p.contents_density, "material": material, **common}
+        # a coated pipe: the steel's stiffness, the coated section's mass and diameter
+        from ..model.sections import cowper_shear_coefficient
+        D, d = p.outer_diameter, p.outer_diameter - 2.0 * p.wall_thickness
+        nu = 0.3
+        G = p.youngs_modulus / (2.0 * (1.0 + nu))
+        Dc = self.contact_diameter
+        rotary = p.density * self.inertia + p.coating_density * math.pi / 64.0 * (Dc ** 4 - D ** 4)
+        return {"outer_diameter": Dc, "EA": self.EA, "EIy": self.EI, "EIz": self.EI, "GJ": 2.0 * G * self.inertia,
+                "GA": cowper_shear_coefficient(D, d, nu) * G * self.area, "mass_per_length": self.mass,
+                "rotary_inertia": rotary, "material": material, **common}
+
+
+def _vessel_pose(out: dict, name: str, tpl, raw_tpl: dict) -> tuple[str, list, float]:
+    """(vessel name, rest position, heading in rad); an inline vessel is added to ``vessels``."""
+    if isinstance(tpl.vessel, str):
+        vname = tpl.vessel
+        vessels = out.get("vessels") or {}
+        if not isinstance(vessels, dict) or vname not in vessels:
+            known = ", ".join(sorted(vessels)) if isinstance(vessels, dict) and vessels else "none defined"
+            raise FieldError("vessel", f"unknown vessel '{vname}' (vessels: {known})")
+        try:
+            v = Vessel.model_validate(vessels[vname])
+        except (ValidationError, ValueError):
+            v = Vessel()        # its own errors are reported by the validation of vessels
+    else:
+        vname = f"{name}_vessel"
+        v = tpl.vessel
+        _add(out, "vessels", vname, copy.deepcopy(raw_tpl.get("vessel", {})), "vessel")
+    return vname, list(v.position), math.radians(v.heading_deg)
+
+
+def _to_global(position, heading, p):
+    c, s = math.cos(heading), math.sin(heading)
+    return [position[0] + c * p[0] - s * p[1], position[1] + s * p[0] + c * p[1], position[2] + p[2]]
+
+
+def _seabed(out: dict, env, tpl) -> tuple[float, float]:
+    """(seabed z, normal stiffness); adds a seabed when the scene has none."""
+    if env.water is None:
+        raise FieldError("", "a pipelay template needs sea water (environment.water with its depth)")
+    sb = env.seabed
+    if sb is None:
+        if env.water.depth is None:
+            raise FieldError("", "a pipelay template needs the water depth (environment.water.depth) or a seabed")
+        out.setdefault("environment", {})["seabed"] = {"normal_stiffness": tpl.seabed_stiffness,
+                                                       "damping_ratio": 0.2, "friction": 0.5}
+        return env.water.surface_level - env.water.depth, tpl.seabed_stiffness
+    if sb.profile is not None or sb.slope_deg != 0.0:
+        raise FieldError("", "the pipelay templates need a flat seabed (no slope_deg, no profile)")
+    return env.seabed_z(), sb.normal_stiffness
+
+
+def _element_count(tpl, length: float) -> int:
+    if tpl.elements is not None:
+        return tpl.elements
+    target = tpl.element_length or DEFAULT_ELEMENT_LENGTH[tpl.method]
+    return max(4, int(math.ceil(length / target - 1e-9)))
+
+
+def _track_length(tpl, length_estimate: float) -> float:
+    """Tensioner/collar length: given, or 10 m and at least three elements."""
+    if tpl.tensioner.length is not None:
+        return tpl.tensioner.length
+    n = _element_count(tpl, length_estimate)
+    return max(10.0, 3.0 * length_estimate / n)
+
+
+def _tensioner(tpl, line: str, vname: str, entry, axis, length: float, top_tension: float) -> dict:
+    spec = tpl.tensioner
+    out = {"kind": "tensioner", "attach": vname, "line": line, "entry": [float(c) for c in entry],
+           "axis": [float(c) for c in axis], "length": length,
+           "lateral_stiffness": spec.lateral_stiffness, "grip_stiffness": spec.grip_stiffness,
+           "capacity": spec.capacity if spec.capacity is not None else max(1.0e6, 3.0 * top_tension)}
+    if spec.payout is not None:
+        out["payout"] = spec.payout.model_dump(mode="json")
+    return out
+
+
+def _expand_one(out: dict, name: str, tpl, raw_tpl: dict, env) -> None:
+    from ..catenary import natural_catenary
+    line = tpl.line or name
+    if any(c in line for c in "/:\\") or line.strip() != line:
+        raise FieldError("line", f"bad name {line!r}: no '/', ':' or '\\', no outer spaces")
+    if line in (out.get("lines") or {}):
+        raise FieldError("line", f"the line '{line}' is already defined in lines: give the template another "
+                                 f"line name (pipelay.{name}.line)")
+    pipe = _Pipe(tpl.pipe, tpl.method, env)
+    if not pipe.submerged_weight > 0.0:
+        raise FieldError("pipe", f"the pipe floats (submerged weight {pipe.submerged_weight:.4g} N/m): the "
+                                 f"templates lay a pipe that sinks")
+    vname, vpos, heading = _vessel_pose(out, name, tpl, raw_tpl)
+    seabed_z, k_bed = _seabed(out, env, tpl)
+    w = pipe.submerged_weight
+    radius = 0.5 * pipe.contact_diameter
+    z_bed_axis = seabed_z + radius - w / k_bed       # the laid pipe's axis (sunk w/k into the seabed)
+    build = {"s-lay": _s_lay, "j-lay": _j_lay, "reel-lay": _reel_lay}[tpl.method]
+    geo = build(tpl, pipe, vpos, heading, z_bed_axis, natural_catenary)
+    # the line: end A free at the first track's entry, end B pinned on the seabed
+    length = geo["length"]
+    n = _element_count(tpl, length)
+    if length / n > geo["max_element"]:
+        raise FieldError("element_length" if tpl.elements is None else "elements",
+                         f"elements of {length / n:.3g} m are longer than {geo['max_element']:.3g} m: the "
+                         f"{geo['max_element_reason']}")
+    type_name = f"{line}_pipe"
+    _add(out, "line_types", type_name, pipe.line_type(), "line")
+    _add(out, "lines", line, {
+        "type": type_name, "length": length, "elements": n,
+        "end_a": {"attach": "free", "position": geo["end_a"], "direction": geo["end_a_direction"]}
+        if geo["end_a"] is not None else {"attach": "free"},
+        "end_b": {"attach": "fixed", "position": geo["end_b"], "connection": "pinned"}}, "line")
+    for key, support in geo["supports"].items():
+        support = dict(support, line=line)
+        if support.get("attach") is None:
+            support["attach"] = vname
+        _add(out, "supports", f"{line}_{key}", support, "line")
+    if not out.get("name"):
+        out["name"] = f"{tpl.method} of a {tpl.pipe.outer_diameter:.4g} m pipe"
+
+
+def _catenary_h(tpl, h: float, angle_deg: float | None, w: float, what: str) -> tuple[float, float]:
+    """(H, departure angle in deg): H given, or from the angle at the lift-off point h above
+    the laid pipe's axis: tan(theta) = sqrt(h^2 + 2 a h) / a, a = H / w, so
+    H = w h cos(theta) / (1 - cos(theta))."""
+    if h <= 0.0:
+        raise FieldError("exit", f"the {what} is {-h:.4g} m below the seabed: it must be above it")
+    if tpl.tension is not None:
+        a = tpl.tension / w
+        angle = math.degrees(math.atan2(math.sqrt(h * h + 2.0 * a * h), a))
+        return tpl.tension, angle
+    c = math.cos(math.radians(angle_deg))
+    return w * h * c / (1.0 - c), angle_deg
+
+
+def _s_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
+    """S-lay: the tensioner on the deck line, 2 m of free pipe, the stinger arc to its tip;
+    the tip angle equals the departure angle of the natural catenary from the tip (unless
+    the stinger length is given)."""
+    st = tpl.stinger
+    w, H = pipe.submerged_weight, tpl.tension
+    a = H / w
+    lift = (0.5 * pipe.contact_diameter + st.roller_radius) / math.cos(math.radians(st.v_angle_deg))
+    Rp = st.radius + lift                 # radius of the pipe axis on the rollers
+    x0, y0, z0 = st.start
+    zA = z0 + lift                         # pipe axis on the deck line (vessel frame)
+
+    def height(theta):                     # tip (pipe axis) above the laid pipe's axis
+        return vpos[2] + zA - Rp * (1.0 - math.cos(theta)) - z_bed
+
+    def departure(theta):                  # catenary angle at the tip (rad)
+        h = max(height(theta), 0.0)
+        return math.atan2(math.sqrt(h * h + 2.0 * a * h), a)
+
+    if height(0.0) <= 0.0:
+        raise FieldError("stinger.start", "the stinger starts below the seabed")
+    if st.length is not None:
+        theta = st.length / st.radius
+        if height(theta) <= 0.0:
+            raise FieldError("stinger.length", f"{st.length} m puts the stinger tip below the seabed")
+    else:
+        from scipy.optimize import brentq
+        hi = 0.5 * math.pi
+        if height(hi) <= 0.0:              # the arc reaches the seabed first
+            hi = math.acos(1.0 - (height(0.0) - 1e-6) / Rp)
+        theta = brentq(lambda th: departure(th) - th, 1e-9, hi, xtol=1e-12)
+    length_stinger = st.radius * theta
+    if length_stinger < st.spacing:
+        raise FieldError("stinger.spacing", f"{st.spacing} m is longer than the stinger ({length_stinger:.4g} m "
+                                            f"to the tip angle {math.degrees(theta):.3g} deg)")
+    stations = max(1, round(length_stinger / st.spacing))
+    spacing = length_stinger / stations    # a station exactly at the tip
+    h = height(theta)
+    nat = natural_catenary(w, h, H)
+    gap = 2.0                              # free pipe between the tensioner and the stinger
+
+    def geometry(track):
+        tip = [x0 + Rp * math.sin(theta), y0, zA - Rp * (1.0 - math.cos(theta))]
+        tip_g = _to_global(vpos, heading, tip)
+        u = [math.cos(heading), math.sin(heading), 0.0]
+        along = nat["horizontal_span"] + tpl.laid_length
+        return {"length": track + gap + Rp * theta + nat["suspended_length"] + tpl.laid_length,
+                "end_a": _to_global(vpos, heading, [x0 - gap - track, y0, zA]),
+                "end_a_direction": u,
+                "end_b": [tip_g[0] + along * u[0], tip_g[1] + along * u[1], z_bed]}
+
+    track = _track_length(tpl, geometry(10.0)["length"])
+    geo = geometry(track)
+    top = H + w * h + pipe.weight * max(zA + vpos[2], 0.0)
+    layer = math.sqrt(pipe.EI / H)
+    geo.update(
+        max_element=min(layer, 0.5 * track),
+        max_element_reason=f"bending boundary layer sqrt(EI/H) = {layer:.3g} m and half the tensioner "
+                           f"({0.5 * track:.3g} m) must each span at least one element",
+        supports={
+            "tensioner": _tensioner(tpl, "", None, [x0 - gap - track, y0, zA], [1.0, 0.0, 0.0], track, top),
+            "stinger": {"kind": "stinger", "start": list(st.start), "direction": [1.0, 0.0, 0.0],
+                        "radius": st.radius, "length": length_stinger, "spacing": spacing,
+                        "roller_width": st.roller_width, "roller_radius": st.roller_radius,
+                        "v_angle_deg": st.v_angle_deg, "stiffness": st.stiffness, "damping": st.damping,
+                        "friction": st.friction}})
+    for sup in geo["supports"].values():
+        sup.pop("line", None)
+        sup["attach"] = None
+    return geo
+
+
+def _j_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
+    """J-lay: the pipe hangs from the collar (a tensioner-kind track along the tower, ending
+    at the tower exit) and leaves at the tower angle on the natural catenary."""
+    exit_local = list(tpl.exit)
+    exit_g = _to_global(vpos, heading, exit_local)
+    w = pipe.submerged_weight
+    h = exit_g[2] - z_bed
+    H, angle = _catenary_h(tpl, h, tpl.tower_angle_deg, w, "tower exit")
+    if tpl.tension is not None and not 70.0 <= angle < 90.0:
+        raise FieldError("tension", f"{tpl.tension} N leaves the tower exit {h:.4g} m above the seabed at "
+                                    f"{angle:.3g} deg: a J-lay tower stands at 70 to 90 deg (give a smaller tension "
+                                    f"or use s-lay)")
+    th = math.radians(angle)
+    axis = [math.cos(th), 0.0, -math.sin(th)]     # down the tower, leaning towards the lay direction
+    nat = natural_catenary(w, h, H)
+    u = [math.cos(heading), math.sin(heading), 0.0]
+
+    def geometry(track):
+        along = nat["horizontal_span"] + tpl.laid_length
+        entry = [exit_local[k] - track * axis[k] for k in range(3)]
+        c, s = math.cos(heading), math.sin(heading)
+        return {"length": track + nat["suspended_length"] + tpl.laid_length,
+                "end_a": _to_global(vpos, heading, entry),
+                "end_a_direction": [c * axis[0] - s * axis[1], s * axis[0] + c * axis[1], axis[2]],
+                "end_b": [exit_g[0] + along * u[0], exit_g[1] + along * u[1], z_bed], "entry": entry}
+
+    track = _track_length(tpl, geometry(10.0)["length"])
+    geo = geometry(track)
+    layer = math.sqrt(pipe.EI / H)
+    collar = _tensioner(tpl, "", None, geo.pop("entry"), axis, track, H + w * h)
+    collar.pop("line")
+    collar["attach"] = None
+    geo.update(max_element=min(layer, 0.5 * track),
+               max_element_reason=f"bending boundary layer sqrt(EI/H) = {layer:.3g} m and half the collar "
+                                  f"({0.5 * track:.3g} m) must each span at least one element",
+               supports={"collar": collar})
+    return geo
+
+
+def _reel_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
+    """Reel-lay, up the ramp from its exit: tensioner, 2 m, straightener, 2 m, the aligner
+    arc (stinger kind, from horizontal down to the ramp angle), 2 m of horizontal pipe to
+    the take-off point at the top of the reel; end A lies on the reel's wrap
+    (rfesim.model.reels). The catenary leaves the exit at the ramp angle."""
+    exit_local = list(tpl.exit)
+    exit_g = _to_global(vpos, heading, exit_local)
+    w = pipe.submerged_weight
+    h = exit_g[2] - z_bed
+    H, angle = _catenary_h(tpl, h, tpl.ramp_angle_deg, w, "ramp exit")
+    if tpl.tension is not None and not 20.0 <= angle < 90.0:
+        raise FieldError("tension", f"{tpl.tension} N leaves the ramp exit at {angle:.3g} deg: the ramp stands "
+                                    f"at 20 to 90 deg")
+    al = math.radians(angle)
+    e = [math.cos(al), 0.0, -math.sin(al)]
+    side = [math.sin(al), 0.0, math.cos(al)]
+    nat = natural_catenary(w, h, H)
+    u = [math.cos(heading), math.sin(heading), 0.0]
+    rp = 0.5 * pipe.contact_diameter
+    gap, span = 2.0, 6.0
+    roller_radius = 0.15
+    lift = rp + roller_radius                       # flat aligner rollers
+    Rp = tpl.aligner_radius + lift
+    reel_radius = tpl.reel.radius + rp               # the pipe axis on the drum
+    stored = 0.5 * math.pi * reel_radius             # a quarter turn on the drum at the start
+
+    def geometry(track):
+        entry_t = [exit_local[k] - track * e[k] for k in range(3)]
+        entry_s = [entry_t[k] - (gap + span) * e[k] for k in range(3)]
+        arc_end = [entry_s[k] - gap * e[k] for k in range(3)]
+        arc_start = [arc_end[0] - Rp * math.sin(al), arc_end[1], arc_end[2] + Rp * (1.0 - math.cos(al))]
+        take_off = [arc_start[0] - gap, arc_start[1], arc_start[2]]
+        along = nat["horizontal_span"] + tpl.laid_length
+        return {"length": stored + gap + Rp * al + gap + span + gap + track + nat["suspended_length"]
+                          + tpl.laid_length,
+                "end_a": None, "end_a_direction": None,
+                "end_b": [exit_g[0] + along * u[0], exit_g[1] + along * u[1], z_bed],
+                "entry_t": entry_t, "entry_s": entry_s, "arc_start": arc_start, "take_off": take_off}
+
+    track = _track_length(tpl, geometry(10.0)["length"])
+    geo = geometry(track)
+    layer = math.sqrt(pipe.EI / H)
+    tensioner = _tensioner(tpl, "", None, geo.pop("entry_t"), e, track, H + w * h)
+    entry_s, arc_start, take_off = geo.pop("entry_s"), geo.pop("arc_start"), geo.pop("take_off")
+    arc = tpl.aligner_radius * al
+    stations = max(2, round(arc / 1.0))
+    geo.update(
+        max_element=min(layer, 0.5 * track, 0.25 * reel_radius, 0.25 * tpl.aligner_radius),
+        max_element_reason=f"bending boundary layer sqrt(EI/H) = {layer:.3g} m, half the tensioner, a quarter "
+                           f"of the reel and aligner radii must each span at least one element",
+        supports={
+            "reel": {"kind": "reel", "centre": [take_off[0], take_off[1], take_off[2] - reel_radius],
+                     "axis": [0.0, -1.0, 0.0], "direction": [1.0, 0.0, 0.0], "radius": reel_radius,
+                     "wrap_deg": 180.0, "stored_length": stored,
+                     "capacity": max(1.0e6, 3.0 * (H + w * h))},
+            "aligner": {"kind": "stinger", "start": [arc_start[0], arc_start[1], arc_start[2] - lift],
+                        "direction": [1.0, 0.0, 0.0], "radius": tpl.aligner_radius, "length": arc,
+                        "spacing": arc / stations, "roller_width": 0.6, "roller_radius": roller_radius,
+                        "v_angle_deg": 0.0, "stiffness": 1.0e7, "damping": 1.0e4, "friction": 0.0},
+            "straightener": {"kind": "straightener", "entry": entry_s, "axis": e, "side": side, "span": span,
+                             "offset": tpl.straightener_offset, "rollers": 3, "roller_radius": 0.2,
+                             "roller_width": 1.0, "stiffness": 1.0e7, "damping": 1.0e4},
+            "tensioner": tensioner})
+    for sup in geo["supports"].values():
+        sup.pop("line", None)
+        sup["attach"] = None
+    return geo
