@@ -331,6 +331,17 @@ def write_section(text: str, path: Path) -> None:
     path.write_text(new)
 
 
+def store_entry(report_path: Path, key: str, value) -> None:
+    """Set one entry of benchmarks.json (next to the report), keeping the others."""
+    json_path = report_path.parent / "benchmarks.json"
+    try:
+        raw = json.loads(json_path.read_text())
+    except (OSError, ValueError):
+        raw = {}
+    raw[key] = value
+    json_path.write_text(json.dumps(raw, indent=1, default=float))
+
+
 def _previous(path: Path) -> dict:
     """The results of the last run (benchmarks.json), H1 rows as H1Run again."""
     try:

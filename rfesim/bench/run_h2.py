@@ -26,7 +26,7 @@ from pathlib import Path
 
 from .h1 import H1Run, assign_errors, time_to_reach
 from .h2 import run_rfesim_h2
-from .run import _fmt, converged_text, log, replace_section, results_table, rfesim_grid_runs
+from .run import _fmt, converged_text, log, replace_section, results_table, rfesim_grid_runs, store_entry
 from .run import _moordyn_run as _moordyn_row
 from .run import plot_work_precision as _plot_work_precision
 
@@ -261,18 +261,11 @@ def as_json(h2: dict) -> dict:
 def run_h2_and_write(quick: bool, with_moordyn: bool, report_path: Path) -> str:
     """Run H2, draw the plot, write the H2 section of ``report_path`` and the ``h2`` entry
     of benchmarks.json next to it (other entries kept); return the section's text."""
-    import json
     h2 = run_h2(quick, with_moordyn)
     img = report_path.parent / "img"
     img.mkdir(parents=True, exist_ok=True)
     plot_work_precision(h2, img / PLOT_NAME)
     text = report(h2)
     write_section(text, report_path)
-    json_path = report_path.parent / "benchmarks.json"
-    try:
-        raw = json.loads(json_path.read_text())
-    except (OSError, ValueError):
-        raw = {}
-    raw["h2"] = as_json(h2)
-    json_path.write_text(json.dumps(raw, indent=1, default=float))
+    store_entry(report_path, "h2", as_json(h2))
     return text

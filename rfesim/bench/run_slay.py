@@ -7,12 +7,11 @@ docs/benchmarks.json (other entries kept).
 """
 from __future__ import annotations
 
-import json
 import os
 import platform
 from pathlib import Path
 
-from .run import log, replace_section
+from .run import log, replace_section, store_entry
 from .slay import DEPARTURE_DEG, DEPTH, HS, SEED, STINGER_RADIUS, TP, geometry, run_slay
 
 MARK_BEGIN = "<!-- slay-bench -->"
@@ -125,11 +124,5 @@ def run_slay_and_write(quick: bool, report_path: Path) -> str:
     b = run_bench(quick)
     text = report(b)
     write_section(text, report_path)
-    json_path = report_path.parent / "benchmarks.json"
-    try:
-        raw = json.loads(json_path.read_text())
-    except (OSError, ValueError):
-        raw = {}
-    raw["slay"] = b
-    json_path.write_text(json.dumps(raw, indent=1, default=float))
+    store_entry(report_path, "slay", b)
     return text
