@@ -29,6 +29,13 @@ def _static_state(system: System, sc: Scenario, progress=None):
     s = sc.analysis.statics
     state, info = solve_statics(system, tolerance=s.tolerance, max_iterations=s.max_iterations,
                                 load_steps=s.load_steps, progress=progress, seabed_friction=s.seabed_friction)
+    if system.km.has_reels:
+        # reels that hold a back tension: turn the drums until they do (rfesim.solvers.reel_statics)
+        from .solvers.reel_statics import settle_back_tension
+        state, info = settle_back_tension(
+            system, sc, state, info,
+            lambda st: solve_statics(system, st, tolerance=s.tolerance, max_iterations=s.max_iterations,
+                                     seabed_friction=s.seabed_friction))
     return state, info
 
 

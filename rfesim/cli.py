@@ -143,7 +143,7 @@ def _run_summary(res, wall: float) -> list[str]:
 def cmd_check(args) -> int:
     sc = _load(args.scenario)
     if getattr(args, "expand", False):
-        # the scenario with its pipelay templates expanded (rfesim.scenario.expand), as JSON
+        # the scenario with its pipelay and crane templates expanded (rfesim.scenario.expand), as JSON
         import json
 
         from .scenario import expand, parse_text
@@ -403,7 +403,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("check", parents=[common], help="validate a scenario only")
     p.add_argument("scenario", metavar="SCENARIO")
     p.add_argument("--expand", action="store_true",
-                   help="print the scenario with its pipelay templates expanded (JSON)")
+                   help="print the scenario with its pipelay and crane templates expanded (JSON)")
     p.set_defaults(func=cmd_check)
 
     p = sub.add_parser("bench", parents=[common], help="work-precision report (extra options go to the runner)")

@@ -52,6 +52,23 @@ def _exit_points(sup: dict) -> np.ndarray:
     return np.zeros((0, 3))
 
 
+def _tension_past(res, lr, sup: dict, pos: np.ndarray) -> np.ndarray:
+    """(nt,) tension of the first SDE past the exit of tensioner ``sup`` (followed with its
+    vessel). pos (nt, npoints, 3): end A, the SDEs, end B."""
+    tension = np.asarray(lr.tension)
+    p0 = _exit_points(sup)[0]
+    att = sup.get("attach", "fixed")
+    out = np.zeros(pos.shape[0])
+    for k in range(pos.shape[0]):
+        p = p0
+        if att in res.vessels:
+            vr = res.vessels[att]
+            p = np.asarray(vr.position[k]) + _rotation(vr.rotation[k]) @ p0
+        j = int(np.linalg.norm(pos[k, 1:-1] - p[None, :], axis=1).argmin())   # nearest SDE
+        out[k] = tension[k, min(j + 1, tension.shape[1] - 1)]
+    return out
+
+
 def _pick_line(sc: dict, res, line: str | None) -> str:
     if line is not None:
         res.line(line)
@@ -71,7 +88,9 @@ def lay_summary(res, line: str | None = None, *, outer_diameter: float | None = 
     ``t_from``: range graphs and maxima from this time on (default: the whole run).
 
     Returns a dict: ``time`` (nt,); ``top_tension`` (nt,) N, the axial force the most
-    downstream tensioner (or collar) holds, or the force at end A without one;
+    downstream tensioner (or collar) holds, or the force at end A without one (a line
+    stored on a reel: the tension just past that tensioner's exit, which the reel's back
+    tension and the tensioner hold together);
     ``departure_angle`` (nt,) deg below horizontal of the line just past the lift-off
     point, ``departure_arc_length`` (nt,) m; ``touchdown_position`` (nt, 3) m,
     ``touchdown_arc_length`` (nt,) m; ``sagbend_moment``, ``sagbend_curvature``,
@@ -81,7 +100,8 @@ def lay_summary(res, line: str | None = None, *, outer_diameter: float | None = 
     ``roller_reaction_max`` {support: (nroller,) N}; ``range_graphs`` {channel: {arc_length,
     min, max, mean}} for tension, bend_moment, curvature, bending_strain, position_z;
     ``residual_curvature`` (nsde,) 1/m at the last time, curvature - M/EI (the curvature
-    left after elastic unloading; 0 for an elastic pipe up to round-off), and
+    left after elastic unloading; 0 for an elastic pipe up to round-off; for an elasto-plastic
+    pipe the ``residual_curvature`` channel, from the plastic memory), and
     ``residual_curvature_max`` beyond the lift-off point."""
     sc = json.loads(res.scenario_json) if res.scenario_json else {}
     name = _pick_line(sc, res, line)
@@ -128,7 +148,12 @@ def lay_summary(res, line: str | None = None, *, outer_diameter: float | None = 
                 vr = res.vessels[att]
                 p = np.asarray(vr.position[0]) + _rotation(vr.rotation[0]) @ p
             return int(np.linalg.norm(pos[0] - p[None, :], axis=1).argmin())
-        top = np.asarray(res.tensioners[max(tens, key=exit_arc)[0]].grip_force, float)
+        last = max(tens, key=exit_arc)
+        top = np.asarray(res.tensioners[last[0]].grip_force, float)
+        if any(s.get("kind") == "reel" for s in supports.values()):
+            # reel-lay: the reel holds a back tension too; the top tension is the line's
+            # tension just past the tensioner's exit (the catenary's top)
+            top = _tension_past(res, lr, last[1], pos)
     # sagbend / overbend: sign of z'' along the line above the touchdown point
     moment = np.asarray(lr.bend_moment)
     curv = np.asarray(lr.curvature)
@@ -148,6 +173,8 @@ def lay_summary(res, line: str | None = None, *, outer_diameter: float | None = 
     graphs["bending_strain"] = {"arc_length": graphs["curvature"]["arc_length"],
                                 **{q: graphs["curvature"][q] * 0.5 * D for q in ("min", "max", "mean")}}
     residual = curv[-1] - moment[-1] / EI
+    if lr.residual_curvature is not None and (lt.get("material") or {}).get("kind") == "elastoplastic":
+        residual = np.asarray(lr.residual_curvature)[-1]        # from the plastic memory (reverse yield too)
     beyond = s_sde > s_pts[dep_index[-1]]
     sup_res = {n: res.supports[n] for n in supports if n in res.supports}
     out.update(

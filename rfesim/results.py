@@ -36,6 +36,9 @@ CHANNELS: dict[str, tuple[str, str]] = {
     "end_a_direction": ("1", "Unit tangent of the line at end A (axis of the end RFE, global)"),
     "end_b_direction": ("1", "Unit tangent of the line at end B (axis of the end RFE, global)"),
     "arc_length": ("m", "Arc length from end A of the line points"),
+    "drive_angle": ("deg", "Prescribed angle of each drive of the line's end-A join (its table, monotone cubic)"),
+    "drive_torque": ("N*m", "Moment of the join on the line about each drive's current axis (global): the drive "
+                            "torque"),
     "sde_arc_length": ("m", "Arc length from end A of the SDEs"),
     "vessel_position": ("m", "Position of the vessel origin (global)"),
     "vessel_rotation": ("deg", "Vessel roll, pitch, yaw (ZYX angles)"),
@@ -54,7 +57,15 @@ CHANNELS: dict[str, tuple[str, str]] = {
     "connection_tension": ("N", "Magnitude of the line's force on the body (the rope tension at the body)"),
     "submerged_fraction": ("1", "Submerged fraction of the body's vertical extent"),
     "buoyancy": ("N", "Buoyancy force on the body (rho g V times the submerged fraction)"),
+    "winch_payout": ("m", "Rope paid out by the winch since the start (negative: hauled in)"),
+    "winch_speed": ("m/s", "Payout speed of the winch (negative: hauling in)"),
+    "winch_tension": ("N", "Rope tension at the winch (axial force of the line's first SDE)"),
+    "winch_suspended_length": ("m", "Unstretched length of the rope out of the winch (the line's length)"),
+    "winch_rope_mass_suspended": ("kg", "Mass of the rope out of the winch"),
+    "winch_rope_mass_drum": ("kg", "Mass of the rope left on the drum"),
 }
+
+WINCH_CHANNELS = ("payout", "speed", "tension", "suspended_length", "rope_mass_suspended", "rope_mass_drum")
 
 BODY_CHANNELS = ("position", "velocity", "acceleration", "rotation", "angular_velocity", "connection_force",
                  "connection_tension", "submerged_fraction", "buoyancy")
@@ -63,6 +74,8 @@ LINE_CHANNELS = ("position", "tension", "shear_force", "bend_moment", "torque", 
                  "end_b_force", "end_a_moment", "end_b_moment", "seabed_force", "end_a_direction",
                  "end_b_direction", "seabed_friction", "touchdown_position", "touchdown_arc_length",
                  "von_mises_stress", "utilisation", "residual_curvature")
+# channels of a line whose end A is a join with drives only (rfesim.model.joins)
+DRIVE_CHANNELS = ("drive_angle", "drive_torque")
 
 
 @dataclass
@@ -89,6 +102,9 @@ class LineResults:
     von_mises_stress: np.ndarray = None     # (nt, nsde) Pa, NaN for lines without a yield stress
     utilisation: np.ndarray = None          # (nt, nsde) -, NaN for lines without a yield stress
     residual_curvature: np.ndarray = None   # (nt, nsde) 1/m, zero-moment curvature from the plastic memory
+    drive_angle: np.ndarray = None          # (nt, ndrive) deg, drives of a joined end A (rfesim.model.joins)
+    drive_torque: np.ndarray = None         # (nt, ndrive) N*m, joint moment on the line about each drive axis
+    drive_names: tuple = ()                 # names of those drives, in the scenario's order
 
     @property
     def top_tension(self) -> np.ndarray:
@@ -158,7 +174,7 @@ class LineResults:
         return out
 
     def _truncate(self, nt: int) -> None:
-        for name in LINE_CHANNELS:
+        for name in LINE_CHANNELS + DRIVE_CHANNELS:
             if getattr(self, name) is not None:
                 setattr(self, name, getattr(self, name)[:nt])
 
@@ -214,6 +230,20 @@ class BodyResults:
 
 
 @dataclass
+class WinchResults:
+    """Payout and rope tension of one winch."""
+
+    name: str
+    line: str                          # the rope line it pays out
+    payout: np.ndarray                 # (nt,) m, paid out since the start (negative: hauled in)
+    speed: np.ndarray                  # (nt,) m/s
+    tension: np.ndarray                # (nt,) N, rope tension at the winch (first SDE of the line)
+    suspended_length: np.ndarray       # (nt,) m, unstretched rope length out of the winch
+    rope_mass_suspended: np.ndarray    # (nt,) kg
+    rope_mass_drum: np.ndarray         # (nt,) kg
+
+
+@dataclass
 class VesselResults:
     name: str
     position: np.ndarray              # (nt, 3) m
@@ -232,6 +262,7 @@ class Results:
     supports: dict[str, SupportResults] = field(default_factory=dict)
     tensioners: dict[str, TensionerResults] = field(default_factory=dict)
     reels: dict[str, TensionerResults] = field(default_factory=dict)   # payout and tangential grip force
+    winches: dict = field(default_factory=dict)    # WinchResults by winch name
     status: int = 0
     message: str = ""
     counters: dict = field(default_factory=dict)
@@ -254,6 +285,13 @@ class Results:
             return self.bodies[name]
         except KeyError:
             raise KeyError(f"no body '{name}' in the results (bodies: {', '.join(self.bodies) or 'none'})") from None
+
+    def winch(self, name: str) -> WinchResults:
+        try:
+            return self.winches[name]
+        except KeyError:
+            raise KeyError(f"no winch '{name}' in the results (winches: {', '.join(self.winches) or 'none'})") \
+                from None
 
     def support(self, name: str) -> SupportResults:
         try:
@@ -350,6 +388,11 @@ def _write_netcdf(res: Results, path: str) -> None:
             _var(g, "utilisation", ("time", "sde"), lr.utilisation)
             if lr.residual_curvature is not None:
                 _var(g, "residual_curvature", ("time", "sde"), lr.residual_curvature)
+            if lr.drive_angle is not None:
+                g.dimensions["drive"] = len(lr.drive_names)
+                g.attrs["drive_names"] = json.dumps(list(lr.drive_names))
+                _var(g, "drive_angle", ("time", "drive"), lr.drive_angle)
+                _var(g, "drive_torque", ("time", "drive"), lr.drive_torque)
         for group, items in (("tensioners", res.tensioners), ("reels", res.reels)):
             if not items:
                 continue
@@ -387,6 +430,15 @@ def _write_netcdf(res: Results, path: str) -> None:
                     dims = ("time", "xyz") if np.ndim(data) == 2 else ("time",)
                     _var(g, ch, dims, data, ch if ch in ("connection_force", "connection_tension",
                                                          "submerged_fraction", "buoyancy") else f"body_{ch}")
+        if res.winches:
+            wg = f.create_group("winches")
+            for name, wr in res.winches.items():
+                g = wg.create_group(name)
+                g.attrs["line"] = wr.line
+                g.dimensions = {"time": nt}
+                _var(g, "time", ("time",), res.time)
+                for ch in WINCH_CHANNELS:
+                    _var(g, ch, ("time",), getattr(wr, ch), f"winch_{ch}")
         if res.vessels:
             vg = f.create_group("vessels")
             for name, vr in res.vessels.items():
@@ -414,7 +466,9 @@ def open_results(path: str | os.PathLike) -> Results:
             time = g["time"][()]
             lines[name] = LineResults(
                 name=name, arc_length=g["arc_length"][()], sde_arc_length=g["sde_arc_length"][()],
-                **{ch: g[ch][()] for ch in LINE_CHANNELS if ch in g})
+                **{ch: g[ch][()] for ch in LINE_CHANNELS + DRIVE_CHANNELS if ch in g})
+            if "drive_names" in g.attrs:
+                lines[name].drive_names = tuple(json.loads(_s(g.attrs["drive_names"])))
         vessels = {}
         for name, g in f.get("vessels", {}).items():
             if not lines:
@@ -438,8 +492,11 @@ def open_results(path: str | os.PathLike) -> Results:
                                             attach=_s(g.attrs.get("attach", "")),
                                             **{ch: g[ch][()] for ch in ("roller_position", "roller_axis",
                                                                          "roller_reaction", "roller_force")})
+        winches = {name: WinchResults(name=name, line=_s(g.attrs.get("line", "")),
+                                      **{ch: g[ch][()] for ch in WINCH_CHANNELS})
+                   for name, g in f.get("winches", {}).items()}
         return Results(time=time, lines=lines, vessels=vessels, supports=supports, bodies=bodies,
-                       tensioners=tensioners, reels=reels, status=int(_scalar(attrs.get("status", 0))),
+                       tensioners=tensioners, reels=reels, winches=winches, status=int(_scalar(attrs.get("status", 0))),
                        message=_s(attrs.get("message", "")), counters=json.loads(_s(attrs.get("counters", "{}"))),
                        scenario_json=_s(attrs.get("scenario", "")), version=_s(attrs.get("rfesim_version", "")),
                        kind=_s(attrs.get("kind", "dynamics")))

@@ -331,6 +331,16 @@ def write_section(text: str, path: Path) -> None:
     path.write_text(new)
 
 
+def write_marked_section(text: str, path: Path, begin: str, end: str) -> None:
+    """Replace the part of the report ``path`` between the markers ``begin`` and ``end`` by
+    ``text`` (which carries the markers), or append ``text`` when the report has none."""
+    old = path.read_text() if path.exists() else "# Benchmarks\n"
+    new = replace_section(old, text, begin, end)
+    if new is None:
+        new = old.rstrip("\n") + "\n\n" + text + "\n"
+    path.write_text(new)
+
+
 def store_entry(report_path: Path, key: str, value) -> None:
     """Set one entry of benchmarks.json (next to the report), keeping the others."""
     json_path = report_path.parent / "benchmarks.json"
@@ -364,7 +374,8 @@ def main(argv=None) -> int:
     p = argparse.ArgumentParser(prog="rfesim bench", description=__doc__)
     p.add_argument("--quick", action="store_true", help="a small grid (a few minutes)")
     p.add_argument("--no-moordyn", action="store_true", help="skip the MoorDyn comparison")
-    p.add_argument("--only", choices=["h1", "h2", "scaling", "startup", "validation", "formulations", "slay"],
+    p.add_argument("--only", choices=["h1", "h2", "scaling", "startup", "validation", "formulations", "slay",
+                                        "crane"],
                    action="append",
                    help="run only these parts (repeatable)")
     p.add_argument("--output", default=str(DOCS / "benchmarks.md"), help="report file (its core section is replaced)")
@@ -400,6 +411,12 @@ def main(argv=None) -> int:
         # S-lay in irregular waves (issue 3): its own section and "slay" entry of benchmarks.json
         from .run_slay import run_slay_and_write
         print(run_slay_and_write(args.quick, out_path))
+        if not parts & {"h1", "scaling", "startup", "formulations"}:
+            return 0
+    if "crane" in parts:
+        # the column crane in irregular waves (issue 5): its own section and "crane" entry of benchmarks.json
+        from .run_crane import run_crane_and_write
+        print(run_crane_and_write(args.quick, out_path))
         if not parts & {"h1", "scaling", "startup", "formulations"}:
             return 0
     if "formulations" in parts:
@@ -438,9 +455,10 @@ def main(argv=None) -> int:
     h2_previous = _previous(out_path.parent / "benchmarks.json").get("h2")
     if h2_previous is not None:
         raw["h2"] = h2_previous
-    slay_previous = _previous(out_path.parent / "benchmarks.json").get("slay")
-    if slay_previous is not None:
-        raw["slay"] = slay_previous
+    for key in ("slay", "crane"):
+        kept = _previous(out_path.parent / "benchmarks.json").get(key)
+        if kept is not None:
+            raw[key] = kept
     (out_path.parent / "benchmarks.json").write_text(json.dumps(raw, indent=1, default=float))
     print(text)
     return 0

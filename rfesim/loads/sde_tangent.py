@@ -12,7 +12,15 @@ The tangent K = -df/dx is
   identity: an error of the order of the relative rotation theta of neighbouring RFEs
   (0.01-0.05 rad), which leaves Newton's convergence linear with a tiny rate.
 
-Tested against finite differences of ``sde_forces`` in tests/unit/test_sde_tangent.py.
+Rest rotations (``rfesim.loads.sde.sde_geometry_rest``): the spatial variation of
+R_a* = R_a R0 is that of R_a (d R_a* = [da_a]x R_a*, i.e. R_a* [R0^T R_a^T da_a]x), so B
+and the geometric terms keep their form with the geometry (R', J_r, W) of R_a*; the
+tangent is as exact with rest rotations as without. The position dependence of the drive
+rate R_a omega0 in the damping (a velocity-level term) is left out, like the position
+dependence of the other damping terms.
+
+Tested against finite differences of ``sde_forces`` in tests/unit/test_sde_tangent.py
+(and with rest rotations in tests/unit/test_sde_rest_rotation.py).
 """
 from __future__ import annotations
 
@@ -20,15 +28,25 @@ import numpy as np
 from numba import njit
 
 from ..kinematics import matmul_into, matvec_into, skew_into
-from .sde import sde_geometry
+from .sde import sde_geometry_rest
 
 
 @njit(cache=True)
 def sde_tangent(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiffness, sde_damping, R, rbase, roff,
                 sigma, K, Kd):
+    """``sde_tangent_rest`` for SDEs straight at rest."""
+    sde_tangent_rest(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiffness, sde_damping,
+                     np.zeros(0, np.int64), np.zeros((0, 3, 3)), np.zeros((0, 3, 3)), R, rbase, roff, sigma, K, Kd)
+
+
+@njit(cache=True)
+def sde_tangent_rest(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiffness, sde_damping, rest_flag,
+                     rest_static, rest_eff, R, rbase, roff, sigma, K, Kd):
     """K (nsde, 12, 12): tangent stiffness -df/dx; Kd (nsde, 12, 12): B^T D B.
-    ``sigma`` (nsde, 6) are the SDE forces of the evaluated state (F', M' in {i'})."""
+    ``sigma`` (nsde, 6) are the SDE forces of the evaluated state (F', M' in {i'});
+    rest rotations as in ``rfesim.loads.sde.sde_geometry_rest``."""
     B = np.zeros((6, 12))
+    Ras = np.empty((3, 3))
     Rrel = np.empty((3, 3))
     Rh = np.empty((3, 3))
     Rp = np.empty((3, 3))
@@ -58,7 +76,8 @@ def sde_tangent(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiffness,
         a = sde_left[s]
         b = sde_right[s]
         Rb = R[b]
-        sde_geometry(a, b, sde_arm_left[s], sde_arm_right[s], R, rbase, roff, pa, pb, g, Rrel, th, Rh, Rp, Jri, Jrh)
+        sde_geometry_rest(s, sde_left, sde_right, sde_arm_left, sde_arm_right, rest_flag, rest_static, rest_eff, R,
+                          rbase, roff, pa, pb, g, Rrel, th, Rh, Rp, Jri, Jrh, Ras)
         # W = Rp Jrh Jri Rb^T
         matmul_into(Jrh, Jri, T1)
         matmul_into(Rp, T1, T2)

@@ -14,15 +14,28 @@ plastic correction ran before to fill it).
 """
 from __future__ import annotations
 
+import numpy as np
 from numba import njit
 
-from .sde import apply_section_force, sde_geometry_scratch
+from .sde import apply_section_force, sde_geometry_rest_scratch
 
 
 @njit(cache=True)
 def tension_only_correction(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiffness, sde_tension_only,
                             R, rbase, roff, sigma, F, M, k_tangent, fill, v3, m33):
-    """Remove the compressive axial force of the tension-only SDEs from F, M and sigma."""
+    """``tension_only_correction_rest`` for SDEs straight at rest."""
+    tension_only_correction_rest(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiffness, sde_tension_only,
+                                 np.zeros(0, np.int64), np.zeros((0, 3, 3)), np.zeros((0, 3, 3)), R, rbase, roff,
+                                 sigma, F, M, k_tangent, fill, v3, m33)
+
+
+@njit(cache=True)
+def tension_only_correction_rest(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiffness, sde_tension_only,
+                                 rest_flag, rest_static, rest_eff, R, rbase, roff, sigma, F, M, k_tangent, fill, v3,
+                                 m33):
+    """Remove the compressive axial force of the tension-only SDEs from F, M and sigma
+    (rest rotations as in ``rfesim.loads.sde.sde_geometry_rest``: the mean frame {i'} of
+    the SDE kernel's evaluation)."""
     pa = v3[0]
     pb = v3[1]
     g = v3[2]
@@ -47,7 +60,8 @@ def tension_only_correction(sde_left, sde_right, sde_arm_left, sde_arm_right, sd
         k_tangent[s, 0] = 0.0
         a = sde_left[s]
         b = sde_right[s]
-        sde_geometry_scratch(s, sde_left, sde_right, sde_arm_left, sde_arm_right, R, rbase, roff, v3, m33)
+        sde_geometry_rest_scratch(s, sde_left, sde_right, sde_arm_left, sde_arm_right, rest_flag, rest_static,
+                                  rest_eff, R, rbase, roff, v3, m33)
         Fp[0] = -sigma[s, 0]
         Fp[1] = 0.0
         Fp[2] = 0.0

@@ -141,6 +141,18 @@ class KernelModel(NamedTuple):
     reel_gain: np.ndarray = np.ones(0)               # (nl,) N*s/m
     reel_vmax: np.ndarray = np.zeros(0)              # (nl,) m/s
     has_reels: bool = False
+    # --- rest rotations and drives of SDEs (joints between lines, rfesim.loads.drives);
+    # zero-size defaults mean "every SDE straight at rest" (build them with ``joint_arrays``)
+    sde_rest: np.ndarray = np.zeros((0, 3, 3))       # (nsde, 3, 3) rest rotation R0: R_a* = R_a R0 (identity: none)
+    sde_has_rest: np.ndarray = np.zeros(0, np.int64)  # (nsde,) int64: 0 identity, 1 constant R0, 2 driven R0(t)
+    drive_sde: np.ndarray = np.zeros(0, np.int64)    # (nd,) int64, SDE of each drive (rows of one SDE consecutive)
+    drive_axis: np.ndarray = np.zeros((0, 3))        # (nd, 3) unit axis in the left (parent) RFE's body frame
+    drive_t: np.ndarray = np.zeros((0, 2))           # (nd, K) s, angle table times
+    drive_angle: np.ndarray = np.zeros((0, 2))       # (nd, K) rad, angle table
+    drive_slope: np.ndarray = np.zeros((0, 2))       # (nd, K) rad/s, monotone cubic (PCHIP) slopes at the rows
+    drive_count: np.ndarray = np.zeros(0, np.int64)  # (nd,) int64 rows of the table
+    drive_phi0: np.ndarray = np.zeros(0)             # (nd,) rad, table value at t = 0 (dphi = phi(t) - phi0)
+    has_drives: bool = False
 
 
 class Workspace(NamedTuple):
@@ -210,6 +222,8 @@ class Workspace(NamedTuple):
     reel_D: np.ndarray = np.zeros(1)                 # (nreel,) m, committed paid-out length of driven reels
     reel_force: np.ndarray = np.zeros(1)             # (nreel,) N, tangential force each reel holds
     reel_time: np.ndarray = np.zeros(2)              # (2,) s: [time of the last commit, of the last evaluation]
+    sde_rest_eff: np.ndarray = np.zeros((0, 3, 3))   # (nsde, 3, 3) rest rotation R0(t) of the driven SDEs (evaluation time)
+    sde_rest_rate: np.ndarray = np.zeros((0, 3))     # (nsde, 3) rad/s, its angular velocity omega0 (left RFE's body frame)
 
 
 class Reference(NamedTuple):
@@ -255,7 +269,108 @@ def new_workspace(n: int, nsde: int, nh: int = 1, nroller: int = 0, ntens: int =
         roller_anchored_trial=np.zeros(nroller, np.int64), roller_scratch=np.zeros(32), waves_off=np.zeros(1, np.int64), point1=np.zeros((1, 3)), sea_frozen=np.zeros(1, np.int64),
         reel_grip_a=np.zeros(n), reel_grip_on=np.zeros(n, np.int64), reel_grip_a_trial=np.zeros(n),
         reel_grip_on_trial=np.zeros(n, np.int64), reel_D=np.zeros(max(nreel, 1)), reel_force=np.zeros(max(nreel, 1)),
-        reel_time=np.zeros(2))
+        reel_time=np.zeros(2), sde_rest_eff=_identities(nsde), sde_rest_rate=np.zeros((nsde, 3)))
+
+
+def _identities(m: int) -> np.ndarray:
+    out = np.zeros((m, 3, 3))
+    out[:] = np.eye(3)
+    return out
+
+
+def joint_arrays(nsde: int, rest=None, drives=()) -> dict:
+    """KernelModel fields of the SDE rest rotations and drives (rfesim.loads.drives).
+
+    rest: None, an (nsde, 3, 3) array or a dict {SDE index: (3, 3) rotation}; identity
+    elsewhere. drives: dicts {"sde": s, "axis": unit axis (3,) in the body frame of the
+    SDE's left RFE at t = 0, "table": [[t (s), angle (rad)], ...]} in the order their
+    rotations compose (R0(t) = Rot(a_1, dphi_1) Rot(a_2, dphi_2) ... sde_rest[s]); the rows
+    are sorted stably by SDE. ``sde_has_rest`` is 2 for driven SDEs, 1 for a constant rest
+    rotation that is not the identity, 0 otherwise."""
+    from .supports import _pchip_slopes
+    from ..loads.drives import drive_table
+    R0 = _identities(nsde)
+    if rest is not None:
+        if isinstance(rest, dict):
+            for s, Rs in rest.items():
+                R0[int(s)] = np.asarray(Rs, float)
+        else:
+            R0[:] = np.asarray(rest, float).reshape(nsde, 3, 3)
+    flags = rest_flags(R0, np.zeros(0, np.int64))
+    rows = sorted(enumerate(drives), key=lambda kv: (int(kv[1]["sde"]), kv[0]))
+    nd = len(rows)
+    K = max([2] + [len(d["table"]) for _, d in rows])
+    out = dict(drive_sde=np.zeros(nd, np.int64), drive_axis=np.zeros((nd, 3)), drive_t=np.zeros((nd, K)),
+               drive_angle=np.zeros((nd, K)), drive_slope=np.zeros((nd, K)), drive_count=np.zeros(nd, np.int64),
+               drive_phi0=np.zeros(nd))
+    for j, (_, d) in enumerate(rows):
+        s = int(d["sde"])
+        if not 0 <= s < nsde:
+            raise ValueError(f"drive {j}: SDE index {s} outside 0..{nsde - 1}")
+        ax = np.asarray(d["axis"], float)
+        norm = float(np.linalg.norm(ax))
+        if not norm > 0.0:
+            raise ValueError(f"drive {j}: axis must not be zero")
+        table = np.asarray(d["table"], float).reshape(-1, 2)
+        if table.shape[0] < 1 or np.any(np.diff(table[:, 0]) <= 0.0):
+            raise ValueError(f"drive {j}: table times must increase")
+        if table.shape[0] == 1:
+            table = np.vstack([table, table + [1.0, 0.0]])
+        c = table.shape[0]
+        flags[s] = 2
+        out["drive_sde"][j] = s
+        out["drive_axis"][j] = ax / norm
+        out["drive_t"][j, :c] = table[:, 0]
+        out["drive_angle"][j, :c] = table[:, 1]
+        out["drive_slope"][j, :c] = _pchip_slopes(table[:, 0], table[:, 1])
+        out["drive_count"][j] = c
+        out["drive_phi0"][j] = drive_table(table[:, 0], table[:, 1], out["drive_slope"][j, :c], 0.0)[0]
+    out.update(sde_rest=R0, sde_has_rest=flags, has_drives=nd > 0)
+    return out
+
+
+def rest_flags(sde_rest: np.ndarray, drive_sde: np.ndarray) -> np.ndarray:
+    """``sde_has_rest`` from the rest rotations and the drive rows: 2 for a driven SDE, 1
+    for a constant rest rotation other than the identity, 0 otherwise."""
+    eye = np.eye(3)
+    flags = np.array([0 if np.array_equal(Rs, eye) else 1 for Rs in sde_rest], np.int64).reshape(-1)
+    flags[np.asarray(drive_sde, np.int64)] = 2
+    return flags
+
+
+def complete_joint_arrays(km):
+    """The KernelModel with ``sde_has_rest`` derived from ``sde_rest`` and the drive rows
+    (a compile step that fills only those gets the flags the kernels read), checked."""
+    nsde = km.sde_left.shape[0]
+    if km.sde_rest.shape[0] == 0 and not km.has_drives:
+        return km
+    if km.sde_rest.shape != (nsde, 3, 3):
+        raise ValueError(f"sde_rest must be ({nsde}, 3, 3), got {km.sde_rest.shape}")
+    km = km._replace(sde_rest=np.ascontiguousarray(km.sde_rest, dtype=float),
+                     sde_has_rest=rest_flags(km.sde_rest, km.drive_sde))
+    check_joint_arrays(km)
+    return km
+
+
+def check_joint_arrays(km) -> None:
+    """Raise ValueError when the rest-rotation arrays of a KernelModel disagree (a rest
+    rotation the kernels would skip, a driven SDE without drives, bad shapes)."""
+    nsde = km.sde_left.shape[0]
+    if km.sde_rest.shape[0] == 0 and km.sde_has_rest.shape[0] == 0 and not km.has_drives:
+        return
+    if km.sde_rest.shape != (nsde, 3, 3) or km.sde_has_rest.shape != (nsde,):
+        raise ValueError(f"sde_rest must be ({nsde}, 3, 3) and sde_has_rest ({nsde},): got "
+                         f"{km.sde_rest.shape} and {km.sde_has_rest.shape} (build them with joint_arrays)")
+    eye = np.eye(3)
+    driven = set(int(s) for s in km.drive_sde)
+    if km.has_drives != bool(driven):
+        raise ValueError("has_drives must be True exactly when there are drive rows")
+    for s in range(nsde):
+        f = int(km.sde_has_rest[s])
+        if f == 0 and not np.array_equal(km.sde_rest[s], eye):
+            raise ValueError(f"SDE {s} has a rest rotation but sde_has_rest[{s}] = 0 (build with joint_arrays)")
+        if (f == 2) != (s in driven):
+            raise ValueError(f"sde_has_rest[{s}] = {f} disagrees with the drive rows (2 exactly for driven SDEs)")
 
 
 def new_attachment_state(natt: int) -> AttachmentState:

@@ -26,12 +26,13 @@ from ..loads.bodies import body_hydro_forces
 from ..loads.gravity import gravity_forces
 from ..loads.hydro import buoyancy_forces, morison_forces, submergence
 from ..loads.point import point_loads
-from ..loads.sde import sde_forces_into, commit_plastic, plastic_sde_correction
+from ..loads.drives import drive_rest_into
+from ..loads.sde import sde_forces_rest_into, commit_plastic, plastic_sde_correction
 from ..loads.rollers import commit_roller_friction, roller_forces
 from ..loads.seabed import commit_friction, seabed_forces
 from ..loads.tensioner import commit_tensioners, tensioner_forces
 from ..loads.reel import reel_forces
-from ..loads.tension_only import tension_only_correction
+from ..loads.tension_only import tension_only_correction_rest
 from ..sea.kernel import sea_kinematics_into
 
 
@@ -107,9 +108,7 @@ def accumulate_forces(km, att, ws, scale):
         for k in range(3):
             ws.F[i, k] = 0.0
             ws.M[i, k] = 0.0
-    sde_forces_into(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, km.sde_stiffness,
-                    km.sde_damping, ws.R, ws.rbase, ws.roff, ws.v, ws.w, ws.F, ws.M, ws.eps, ws.sigma, ws.sde_point,
-                    ws.v3, ws.m33)
+    sde_forces_all(km, att, ws, ws.F, ws.M)
     if km.has_plastic:
         plastic_forces(km, ws, ws.M)
     if km.has_tension_only:
@@ -118,19 +117,40 @@ def accumulate_forces(km, att, ws, scale):
 
 
 @njit(cache=True)
+def drive_rests(km, att, ws):
+    """Rest rotations R0(t) and their rates of the driven SDEs at the attachments' time
+    (rfesim.loads.drives), into ws.sde_rest_eff and ws.sde_rest_rate."""
+    if km.has_drives:
+        drive_rest_into(km.drive_sde, km.drive_axis, km.drive_t, km.drive_angle, km.drive_slope, km.drive_count,
+                        km.drive_phi0, km.sde_rest, att.time[0], ws.sde_rest_eff, ws.sde_rest_rate, ws.m33[8],
+                        ws.m33[9], ws.m33[10])
+
+
+@njit(cache=True)
+def sde_forces_all(km, att, ws, F, M):
+    """The elastic and damping SDE forces (with rest rotations and drives) added to F, M;
+    ws.eps, ws.sigma, ws.sde_point are written."""
+    drive_rests(km, att, ws)
+    sde_forces_rest_into(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, km.sde_stiffness,
+                         km.sde_damping, km.sde_has_rest, km.sde_rest, ws.sde_rest_eff, ws.sde_rest_rate, ws.R,
+                         ws.rbase, ws.roff, ws.v, ws.w, F, M, ws.eps, ws.sigma, ws.sde_point, ws.v3, ws.m33)
+
+
+@njit(cache=True)
 def plastic_forces(km, ws, M):
     """The elasto-plastic bending correction of the SDEs (after the elastic SDE forces)."""
     plastic_sde_correction(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, km.sde_stiffness,
                            km.sde_length, km.sde_plastic, km.plastic_params, ws.plastic_hist, ws.plastic_hist_trial,
-                           ws.R, ws.rbase, ws.roff, ws.eps, ws.sigma, M, ws.k_tangent, ws.out5, ws.v3, ws.m33)
+                           ws.R, ws.rbase, ws.roff, ws.eps, ws.sigma, M, ws.k_tangent, ws.out5, ws.v3, ws.m33,
+                           km.sde_has_rest, km.sde_rest, ws.sde_rest_eff)
 
 
 @njit(cache=True)
 def tension_only_forces(km, ws, F, M):
     """Ropes: no compressive axial SDE force (after the elastic and plastic SDE forces)."""
-    tension_only_correction(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, km.sde_stiffness,
-                            km.sde_tension_only, ws.R, ws.rbase, ws.roff, ws.sigma, F, M, ws.k_tangent,
-                            not km.has_plastic, ws.v3, ws.m33)
+    tension_only_correction_rest(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, km.sde_stiffness,
+                                 km.sde_tension_only, km.sde_has_rest, km.sde_rest, ws.sde_rest_eff, ws.R, ws.rbase,
+                                 ws.roff, ws.sigma, F, M, ws.k_tangent, not km.has_plastic, ws.v3, ws.m33)
 
 
 @njit(cache=True)

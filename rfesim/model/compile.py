@@ -22,8 +22,11 @@ from .arrays import (KIND_CLAMPED, KIND_FREE, KIND_PINNED, AttachmentState, Kern
                      new_attachment_state)
 from .sections import Section, section_from_type
 from .supports import compile_supports, compile_tensioners, resting_points, supported_start
-from .reels import compile_reels, reel_tail, reel_wrap_start, reeled_history
+from .reels import compile_reels, reel_tail, reel_wrap_start, reeled_history, track_points
 from .bodies import append_body, body_arrays, body_pose
+from .joins import JoinInfo, drive_rows, joint_rows
+from .arrays import joint_arrays
+from ..scenario.joins import join_parent, join_strings
 
 log = logging.getLogger("rfesim")
 
@@ -99,6 +102,8 @@ class Model:
     bodies: list = field(default_factory=list)     # rfesim.model.bodies.BodyInfo, one per body
     reels: list = field(default_factory=list)      # rfesim.model.reels.ReelInfo, one per reel
     initial_plastic_history: np.ndarray | None = None   # (nsde, nh) plastic history at t = 0 (reeled pipe)
+    winches: list = field(default_factory=list)    # rfesim.model.winches.WinchInfo, one per winch
+    joins: list = field(default_factory=list)      # rfesim.model.joins.JoinInfo, one per line-to-line join
 
     @property
     def n(self) -> int:
@@ -332,9 +337,17 @@ def compile_scenario(sc, start: str | None = None) -> Model:
     problems: list[tuple[str, str]] = []
     tension_flags: list[int] = []          # per SDE: 1 for a tension-only line type (a rope)
     body_infos: list = []                  # rfesim.model.bodies.BodyInfo
+    join_infos: list[JoinInfo] = []        # line-to-line joins (rfesim.model.joins)
+    join_drives: list = []                 # (joint SDE, parent end rotation at t = 0, schema drives)
+    end_b_of: dict[str, dict] = {}         # per line: its end-B RFE, point, frame and SDE data (joins)
 
-    for lname, line in sc.lines.items():
+    # the lines of a joined string get consecutive RFEs, parent then child
+    for lname in [name for string in join_strings(sc) for name in string]:
+        line = sc.lines[lname]
         base = f"lines.{lname}"
+        parent = join_parent(line.end_a)
+        if parent is not None and parent not in end_b_of:
+            continue                       # the parent failed (its problem is reported)
         lt = sc.line_types[line.type]
         sec = section_from_type(lt)
         nseg = line.elements
@@ -363,7 +376,8 @@ def compile_scenario(sc, start: str | None = None) -> Model:
         # --- ends
         ends = {}
         for end_name, end, j in (("end_a", line.end_a, 0), ("end_b", line.end_b, nseg)):
-            if end.attach == "free" or end.attach in sc.bodies:      # a body: its own RFE (model.bodies)
+            if end.attach == "free" or end.attach in sc.bodies or join_parent(end) is not None:
+                # a body: its own RFE (model.bodies); a join: an SDE to the parent (model.joins)
                 ends[end_name] = dict(kind=KIND_FREE, att=-1, offset=np.zeros(3))
             else:
                 att = attachment_names.index(end.attach)
@@ -394,6 +408,15 @@ def compile_scenario(sc, start: str | None = None) -> Model:
         dA = _glob_dir("end_a", line.end_a)
         dB = _glob_dir("end_b", line.end_b)
         down = np.array([0.0, 0.0, -1.0]) if env.gravity > 0 else np.array([1.0, 0.0, 0.0])
+        if parent is not None:
+            # a join: end A starts at the parent's end B
+            PB = end_b_of[parent]["point"]
+            if A is not None and float(np.linalg.norm(A - PB)) > 1e-6:
+                problems.append((f"{base}.end_a.position", f"{np.round(A, 9).tolist()} is "
+                                 f"{float(np.linalg.norm(A - PB)):.6g} m from end B of line '{parent}' at the start "
+                                 f"{np.round(PB, 9).tolist()}: leave it out or make them agree within 1e-6 m"))
+                continue
+            A = PB.copy()
         wrap = reel_wrap_start(sc, lname, attachment_names, att0)
         if wrap is not None:
             A = wrap[1][0]          # stored on a reel: end A lies on the wrap (rfesim.model.reels)
@@ -405,6 +428,13 @@ def compile_scenario(sc, start: str | None = None) -> Model:
                                                                         f"position of end A of line '{lname}'"))
                 continue
             B, dB = body_pose_b[2], None
+        if parent is not None and dA is None:
+            # toward end B when it is placed, else along the parent's end tangent
+            chord = None if B is None else B - A
+            if chord is not None and float(np.linalg.norm(chord)) > 1e-9 * L:
+                dA = chord / np.linalg.norm(chord)
+            else:
+                dA = end_b_of[parent]["frame"][:, 0].copy()
         curve = None
         if A is not None and B is not None:
             chord = B - A
@@ -436,7 +466,8 @@ def compile_scenario(sc, start: str | None = None) -> Model:
             curve = _supported_curve(A, B, L, rest, sec, sc)
         if wrap is not None:
             # from end A along the wrap to the take-off point, then over the rollers
-            ts, tX = reel_tail(wrap[1][-1], wrap[2], L - wrap[0][-1], rest, B)
+            ts, tX = reel_tail(wrap[1][-1], wrap[2], L - wrap[0][-1], rest, B, tail=_catenary_tail(sec, sc),
+                               track=track_points(sc, lname, attachment_names, att0) if B is not None else None)
             curve = _Curve(np.concatenate([wrap[0], wrap[0][-1] + ts[1:]]), np.vstack([wrap[1], tX[1:]]))
         joints = curve.joints(lengths, B if (A is not None and B is not None) else None)
         if A is None:
@@ -502,6 +533,35 @@ def compile_scenario(sc, start: str | None = None) -> Model:
             else:
                 c_len = 0.0
             rfe["seabed_c"].append(c_len)
+        # --- the joint SDE to the parent (rfesim.model.joins), numbered before the line's own SDEs
+        if parent is not None:
+            pe = end_b_of[parent]
+            dxm = 0.5 * (pe["dx"] + dx)
+            free_ends = {"end_a": {"kind": KIND_FREE}, "end_b": {"kind": KIND_FREE}}
+            rows_k, rows_c = [], []
+            for sec_j, shear_j, damping_j in ((pe["section"], pe["shear_model"], pe["damping"]),
+                                              (sec, shear_model, lt.damping)):
+                cj = _sde_coefficients(sec_j, dxm, shear_j)
+                rows_k.append(cj)
+                rows_c.append(_sde_damping(damping_j, sec_j, dxm, cj, np.array([pe["mass"], masses[0]]),
+                                           np.vstack([pe["inertia"], inertia[0]]), free_ends)[0])
+            stiffness_j, damping_j = joint_rows(line.end_a.connection, rows_k, rows_c)
+            sde["left"].append(pe["rfe"])
+            sde["right"].append(n_total)
+            sde["arm_left"].append([0.5 * pe["length"], 0.0, 0.0])
+            sde["arm_right"].append([-0.5 * lengths[0], 0.0, 0.0])
+            sde["stiffness"].append(stiffness_j)
+            sde["damping"].append(damping_j)
+            sde["length"].append(dxm)
+            plastic_rows.append(np.zeros(2))
+            plastic_flags.append(0)
+            tension_flags.append(0)
+            rest = pe["frame"].T @ frames[0]
+            join_infos.append(JoinInfo(parent=parent, child=lname, connection=line.end_a.connection, sde=nsde_total,
+                                       parent_rfe=pe["rfe"], child_rfe=n_total, rest=rest))
+            if line.end_a.drives:
+                join_drives.append((nsde_total, pe["frame"], list(line.end_a.drives)))
+            nsde_total += 1
         # --- SDEs
         coef = _sde_coefficients(sec, dx, shear_model)
         material = getattr(lt, "material", None)
@@ -544,6 +604,9 @@ def compile_scenario(sc, start: str | None = None) -> Model:
         lines.append(LineInfo(name=lname, rfe_start=n_total, rfe_stop=n_total + nseg + 1, sde_start=nsde_total,
                               sde_stop=nsde_total + nseg, length=L, elements=nseg, dx=dx, section=sec,
                               shear_model=shear_model, end_a=line.end_a, end_b=line.end_b))
+        end_b_of[lname] = dict(rfe=n_total + nseg, point=centres[-1] + 0.5 * lengths[-1] * frames[-1][:, 0],
+                               frame=frames[-1].copy(), dx=dx, length=lengths[-1], section=sec,
+                               shear_model=shear_model, damping=lt.damping, mass=masses[-1], inertia=inertia[-1])
         n_total += nseg + 1
         nsde_total += nseg
         tension_flags.extend([1 if getattr(lt, "tension_only", False) else 0] * nseg)
@@ -588,7 +651,17 @@ def compile_scenario(sc, start: str | None = None) -> Model:
     roller_arrays, support_infos = compile_supports(sc, attachment_names, lines)
     tens_arrays, tens_infos = compile_tensioners(sc, attachment_names, lines)
     reel_arrays, reel_infos = compile_reels(sc, attachment_names, lines)
+    join_arrays = {}
+    if join_infos:                                  # rest rotations and drives of the joints (model.joins)
+        join_arrays = joint_arrays(nsde_total, {ji.sde: ji.rest for ji in join_infos}, drive_rows(join_drives))
+    row = 0
+    for ji in join_infos:
+        count = sum(len(d) for s, _, d in join_drives if s == ji.sde)
+        ji.drive_start, ji.drive_stop = row, row + count
+        ji.drive_names = [d.name for s, _, ds in join_drives if s == ji.sde for d in ds]
+        row += count
     km = KernelModel(
+        **join_arrays,
         **roller_arrays,
         **tens_arrays,
         has_tensioners=bool(tens_arrays["tens_att"].shape[0] > 0),
@@ -630,6 +703,8 @@ def compile_scenario(sc, start: str | None = None) -> Model:
         sde_tension_only=np.asarray(tension_flags, np.int64), has_tension_only=bool(any(tension_flags)),
         **body_arrays(sc, body_infos),
     )
+    from .arrays import complete_joint_arrays
+    km = complete_joint_arrays(km)          # sde_has_rest: which SDEs the kernels give a rest rotation
     dof_mask = np.ones((n, 6), dtype=bool)
     dof_mask[km.rfe_kind == KIND_PINNED, :3] = False
     dof_mask[km.rfe_kind == KIND_CLAMPED, :] = False
@@ -639,15 +714,25 @@ def compile_scenario(sc, start: str | None = None) -> Model:
     model = Model(scenario=sc, km=km, lines=lines, attachment_names=attachment_names, motions=motions,
                   plastic_history_width=int(plastic_width), supports=support_infos, tensioners=tens_infos,
                   dof_mask=dof_mask, initial=initial, line_index={li.name: k for k, li in enumerate(lines)},
-                  bodies=body_infos, reels=reel_infos)
+                  bodies=body_infos, reels=reel_infos, joins=join_infos)
     if reel_infos and km.has_plastic:
         model.initial_plastic_history = reeled_history(sc, lines, ref.R, km.plastic_params, int(plastic_width))
+    if getattr(sc, "winches", None):
+        from .winches import compile_winches
+        model.winches = compile_winches(sc, model)
     return model
 
 
 def _supported_curve(A: np.ndarray, B: np.ndarray | None, L: float, rest: np.ndarray, sec: Section, sc) -> _Curve:
     """Initial shape of a line over rollers: A, the resting points on the rollers, then
     the catenary to end B with the remaining length (rfesim.model.supports)."""
+    s, X = supported_start(A, B, L, rest, _catenary_tail(sec, sc))
+    return _Curve(s, X)
+
+
+def _catenary_tail(sec: Section, sc):
+    """tail(G, B, remaining) -> (s, X): the catenary (or the straight line when taut) from a
+    support's last point G to end B with the remaining length."""
     env = sc.environment
     seabed = env.seabed
 
@@ -664,8 +749,7 @@ def _supported_curve(A: np.ndarray, B: np.ndarray | None, L: float, rest: np.nda
                 c = _sagged_curve(G, Bp, remaining)
         return c.s, c.X
 
-    s, X = supported_start(A, B, L, rest, tail)
-    return _Curve(s, X)
+    return tail
 
 
 def _sagged_curve(A: np.ndarray, B: np.ndarray, L: float) -> _Curve:

@@ -132,12 +132,33 @@ def reel_wrap_start(sc, line_name: str, attachment_names, att0, points_per_radia
     return R * (phi_a - phi), X, d
 
 
-def reel_tail(P0: np.ndarray, d: np.ndarray, length: float, rest: np.ndarray | None, B: np.ndarray | None):
-    """(s, X) from the take-off point P0: through the resting points on rollers (in the
-    order of their distance along d), then straight on (or to end B when it is placed)."""
+def track_points(sc, line_name: str, attachment_names, att0) -> np.ndarray | None:
+    """Global points (t = 0) of the entry and exit of every tensioner track that holds line
+    ``line_name`` (its axis), or None: the start shape of a reeled line passes through them."""
+    pts = []
+    for sup in (getattr(sc, "supports", None) or {}).values():
+        if sup.kind != "tensioner" or sup.line != line_name:
+            continue
+        at = attachment_names.index(sup.attach)
+        R, p = att0.R[at], att0.p[at]
+        e = np.asarray(sup.axis, float)
+        e = e / np.linalg.norm(e)
+        entry = np.asarray(sup.entry, float)
+        pts.extend([p + R @ entry, p + R @ (entry + sup.length * e)])
+    return np.asarray(pts) if pts else None
+
+
+def reel_tail(P0: np.ndarray, d: np.ndarray, length: float, rest: np.ndarray | None, B: np.ndarray | None,
+              tail=None, track: np.ndarray | None = None):
+    """(s, X) from the take-off point P0: through the resting points on rollers and the
+    tensioner track points (in the order of their distance along d), then, when end B is
+    placed, ``tail(G, B, remaining) -> (s, X)`` from the last of them G to B (the catenary
+    with the remaining length; without ``tail``: straight to B), else straight on."""
     pts = [P0]
-    if rest is not None and len(rest):
-        ahead = rest[(rest - P0) @ d > 0.0]
+    cand = [c for c in (rest, track) if c is not None and len(c)]
+    if cand:
+        allp = np.vstack(cand)
+        ahead = allp[(allp - P0) @ d > 0.0]
         pts.extend(ahead[np.argsort((ahead - P0) @ d)])
     X = np.asarray(pts)
     s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(X, axis=0), axis=1))])
@@ -146,6 +167,9 @@ def reel_tail(P0: np.ndarray, d: np.ndarray, length: float, rest: np.ndarray | N
         from ..errors import ScenarioError
         raise ScenarioError([("supports", f"the line leaves the reel with {length:.6g} m but reaches the last "
                                           f"roller only after {s[-1]:.6g} m: make it longer")])
+    if B is not None and tail is not None:
+        ts, tX = tail(X[-1], np.asarray(B, float), remaining)
+        return np.concatenate([s, s[-1] + ts[1:]]), np.vstack([X, tX[1:]])
     if B is not None:
         end = np.asarray(B, float)
     else:

@@ -309,6 +309,11 @@ def _check_chain_ends(sc) -> None:
         for end_name in ("end_a", "end_b"):
             end = getattr(ln, end_name)
             base = f"lines.{name}.{end_name}"
+            if ":" in end.attach:           # a line-to-line join, checked by rfesim.scenario.joins
+                if end.at is not None:
+                    raise FieldError(f"{base}.at", "only for an end attached to a chain link "
+                                                   "(attach: '<chain>.<link>')")
+                continue
             cp = chain_point(sc, end.attach)
             if cp is None:
                 if end.at is not None:
@@ -339,6 +344,8 @@ def _check_chain_ends(sc) -> None:
 def check_formulations(sc) -> None:
     """Cross-field checks of chains and non-absolute lines; raise FieldError naming the field."""
     import numpy as np
+    from .joins import check_join_formulations
+    check_join_formulations(sc)
     others = {n: ln for n, ln in sc.lines.items() if ln.formulation != "absolute"}
     absolute = [n for n, ln in sc.lines.items() if ln.formulation == "absolute"]
     if absolute and others:

@@ -44,7 +44,7 @@ def _union_member(tp, tag):
     for member in typing.get_args(tp):
         m = _unwrap(member)
         if isinstance(m, type) and issubclass(m, BaseModel):
-            kind = m.model_fields.get("kind") or m.model_fields.get("method")    # discriminators
+            kind = m.model_fields.get("kind") or m.model_fields.get("method") or m.model_fields.get("type")
             if kind is not None and tag in typing.get_args(_unwrap(kind.annotation)):
                 return m
             if tag == m.__name__:
@@ -146,8 +146,11 @@ def _kinds(tp) -> list[str]:
     out = []
     for member in typing.get_args(_unwrap(tp)) if tp is not None else ():
         m = _unwrap(member)
-        if isinstance(m, type) and issubclass(m, BaseModel) and "kind" in m.model_fields:
-            out += [str(v) for v in typing.get_args(_unwrap(m.model_fields["kind"].annotation))]
+        if isinstance(m, type) and issubclass(m, BaseModel):
+            for key in ("kind", "method", "type"):     # discriminators
+                if key in m.model_fields:
+                    out += [str(v) for v in typing.get_args(_unwrap(m.model_fields[key].annotation))]
+                    break
     return out
 
 
@@ -267,7 +270,7 @@ def check_references(sc: Scenario) -> list[tuple[str, str]]:
         for end_name in ("end_a", "end_b"):
             end = getattr(line, end_name)
             if end.attach not in RESERVED_ATTACH and end.attach not in vessel_names and end.attach not in sc.bodies \
-                    and not _on_chain(sc, end.attach):
+                    and not _on_chain(sc, end.attach) and ":" not in end.attach:     # joins: scenario.joins
                 known = ", ".join(["fixed", "free"] + sorted(vessel_names) + sorted(sc.bodies))
                 errors.append((f"{base}.{end_name}.attach",
                                f"unknown attachment '{end.attach}' (use one of: {known})"))
@@ -307,6 +310,10 @@ def check_references(sc: Scenario) -> list[tuple[str, str]]:
             errors.append((f"{base}.attach", f"unknown attachment '{sup.attach}' (use one of: {known})"))
     from .bodies import check_body_references
     errors.extend(check_body_references(sc))
+    from .winches import check_winch_references
+    errors.extend(check_winch_references(sc))
+    from .joins import check_join_references
+    errors.extend(check_join_references(sc))
     an = sc.analysis
     if an.dynamics.enabled and an.dynamics.duration > 0 and an.dynamics.output_interval is not None:
         if an.dynamics.output_interval > an.dynamics.duration:
@@ -323,8 +330,8 @@ def validate_dict(obj: Any, _raw: Callable | None = None) -> Scenario:
         raise ScenarioError([("", f"a scenario must be a JSON/YAML object (a mapping of keys to values), "
                                   f"got {what}")])
     raw = _raw or (lambda o: super(Scenario, Scenario).model_validate(o))
-    from .pipelay import expand
-    obj = expand(obj)              # pipelay templates -> ordinary sections (rfesim.scenario.pipelay)
+    from .templates import expand
+    obj = expand(obj)              # pipelay and crane templates -> ordinary sections (rfesim.scenario.templates)
     try:
         sc = raw(obj)
     except ValidationError as exc:

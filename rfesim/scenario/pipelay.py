@@ -173,6 +173,14 @@ class ReelSpec(_Strict):
 
     radius: float = _units("m", "Drum (hub) radius the pipe is spooled on; the reel stands behind the aligner, "
                            "the pipe leaving its top horizontally", default=8.0, gt=0.0)
+    back_tension: float | None = _units("N", "Back tension the reel holds on the pipe at the start (statics "
+                                        "turns the drum until it does). Default: 10 % of the catenary's top "
+                                        "tension", default=None, gt=0.0)
+    grip_stiffness: float = _units("N/m/m", "Tangential stiffness per unit length with which the drum holds the "
+                                   "pipe: the compliance of the reel drive (hydraulic motors, torque control), "
+                                   "much softer than the steel pipe so that the reel and the tensioner, both "
+                                   "paying out by the same law, do not fight over millimetres of path length",
+                                   default=1.0e5, gt=0.0)
 
 
 class ReelLayTemplate(_Template):
@@ -552,6 +560,18 @@ def _j_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
     return geo
 
 
+def _reel_payout(tpl) -> dict:
+    """The reel turns with the tensioner: the same payout table; under a constant-tension
+    tensioner it is driven by the same characteristic about half the back tension."""
+    pay = tpl.tensioner.payout
+    if pay is None:
+        return {}
+    if pay.kind == "table":
+        return {"payout": pay.model_dump(mode="json")}
+    return {"payout": {"kind": "constant-tension", "tension": 0.5 * (tpl.reel.back_tension or pay.tension * 0.1),
+                       "dead_band": 0.0, "gain": pay.gain, "max_speed": pay.max_speed}}
+
+
 def _reel_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
     """Reel-lay, up the ramp from its exit: tensioner, 2 m, straightener, 2 m, the aligner
     arc (stinger kind, from horizontal down to the ramp angle), 2 m of horizontal pipe to
@@ -606,7 +626,9 @@ def _reel_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
             "reel": {"kind": "reel", "centre": [take_off[0], take_off[1], take_off[2] - reel_radius],
                      "axis": [0.0, -1.0, 0.0], "direction": [1.0, 0.0, 0.0], "radius": reel_radius,
                      "wrap_deg": 180.0, "stored_length": stored,
-                     "capacity": max(1.0e6, 3.0 * (H + w * h))},
+                     "capacity": max(1.0e6, 3.0 * (H + w * h)),
+                     "back_tension": tpl.reel.back_tension or 0.1 * (H + w * h),
+                     "grip_stiffness": tpl.reel.grip_stiffness, **_reel_payout(tpl)},
             "aligner": {"kind": "stinger", "start": [arc_start[0], arc_start[1], arc_start[2] - lift],
                         "direction": [1.0, 0.0, 0.0], "radius": tpl.aligner_radius, "length": arc,
                         "spacing": arc / stations, "roller_width": 0.6, "roller_radius": roller_radius,

@@ -851,9 +851,36 @@ class LineType(_Strict):
 
 # --------------------------------------------------------------------------- lines
 
+DriveAngleRow = Annotated[list[float], _fixed_length_numbers(2, "[t, angle]"), Field(min_length=2, max_length=2)]
+
+
+class Drive(_Strict):
+    """A prescribed rotation of a clamped line-to-line join (slewing, luffing): the joint's
+    rest rotation turns by angle(t) - angle(0) about ``axis`` (rfesim.model.joins)."""
+
+    name: str = Field(..., min_length=1, max_length=100, description="Name of the drive (output column)")
+    axis: Vector3 = Field(..., description="Rotation axis, global at t = 0 (any length, not zero); it turns "
+                          "with the parent line's end [-]", json_schema_extra={"units": "1"})
+    angle: list[DriveAngleRow] = Field(..., min_length=1, description="Rows [t (s), angle (deg)]: monotone "
+                                       "cubic (PCHIP) between rows, held beyond the ends",
+                                       json_schema_extra={"units": "s, deg"})
+
+    @model_validator(mode="after")
+    def _check(self):
+        if math.sqrt(sum(c * c for c in self.axis)) < 1e-12:
+            raise FieldError("axis", "must not be the zero vector")
+        for i in range(1, len(self.angle)):
+            if not self.angle[i][0] > self.angle[i - 1][0]:
+                raise FieldError(f"angle.{i}", f"time {self.angle[i][0]} s does not increase (previous "
+                                               f"{self.angle[i - 1][0]} s)")
+        return self
+
+
 class LineEnd(_Strict):
-    attach: str = Field("free", description='"fixed" (global frame), "free", a vessel name, or (end B) a body '
-                                            'name (position: the attachment point in the body frame)')
+    attach: str = Field("free", description='"fixed" (global frame), "free", a vessel name, (end B) a body '
+                                            'name (position: the attachment point in the body frame), or (end '
+                                            'A) "<line>:end_b": joined to end B of another absolute line '
+                                            '(rfesim.model.joins; position optional)')
     position: Vector3 | None = _units("m", "Position of the end: global for fixed and free ends, in the vessel "
                                       "frame for a vessel", default=None)
     direction: Vector3 | None = Field(None, description="Unit tangent of the line at this end, pointing from "
@@ -864,6 +891,8 @@ class LineEnd(_Strict):
                               "point on the link (default: its tip); position is then the offset from that point "
                               "in the link's axes (default: none) and direction is in the link's axes",
                               default=None, ge=0.0)
+    drives: list[Drive] = Field(default_factory=list, description='Prescribed rotations of a clamped join '
+                                '("<line>:end_b"), applied in the listed order (slewing before luffing)')
 
     @model_validator(mode="after")
     def _direction(self):
@@ -871,6 +900,19 @@ class LineEnd(_Strict):
             n = math.sqrt(sum(c * c for c in self.direction))
             if n < 1e-12:
                 raise FieldError("direction", "must not be the zero vector")
+        if ":" in self.attach:
+            parent, _, point = self.attach.partition(":")
+            if not parent or point != "end_b":
+                raise FieldError("attach", f"a join names end B of another line, '<line>:end_b' (got "
+                                           f"{self.attach!r})")
+        if self.drives:
+            if ":" not in self.attach or self.connection != "clamped":
+                raise FieldError("drives", 'drives act only on a clamped join ("attach": "<line>:end_b", '
+                                           '"connection": "clamped")')
+            names = [d.name for d in self.drives]
+            for i, nm in enumerate(names):
+                if nm in names[:i]:
+                    raise FieldError(f"drives.{i}.name", f"drive '{nm}' is given twice")
         return self
 
 
@@ -928,7 +970,11 @@ class Line(_Strict):
         if self.end_a.attach == "free" and self.end_b.attach == "free":
             pass  # a free-floating line is allowed in dynamics (statics will be singular and says so)
         # an end on a chain link ("<chain>.<link>", checked by scenario.chains) may omit its position
-        if self.end_a.position is None and self.end_a.attach != "free" and "." not in self.end_a.attach:
+        if ":" in self.end_b.attach:
+            raise FieldError("end_b.attach", "a join starts at end A of the child line (\"end_a\": {\"attach\": "
+                                             "\"<parent>:end_b\"}); reverse this line")
+        if self.end_a.position is None and self.end_a.attach != "free" and "." not in self.end_a.attach \
+                and ":" not in self.end_a.attach:
             raise FieldError("end_a.position", f"an end attached to '{self.end_a.attach}' needs a position")
         if self.end_b.position is None and self.end_b.attach != "free" and "." not in self.end_b.attach:
             raise FieldError("end_b.position", f"an end attached to '{self.end_b.attach}' needs a position")
@@ -1106,6 +1152,9 @@ class ReelSupport(_Strict):
                                       default=1.0e7, gt=0.0)
     grip_stiffness: float = _units("N/m/m", "Tangential grip stiffness per unit length", default=1.0e7, gt=0.0)
     capacity: float = _units("N", "Largest tangential force the drum holds before the pipe slips", gt=0.0)
+    back_tension: float | None = _units("N", "Back tension the drum holds on the line at the start: statics turns "
+                                        "the drum (shifts its payout) until its tangential force equals it "
+                                        "(default: the drum grips the line where it starts)", default=None, gt=0.0)
     payout: Annotated[Union[PayoutTable, PayoutConstantTension], Field(discriminator="kind")] = Field(
         default_factory=lambda: PayoutTable(kind="table", rows=[[0.0, 0.0]]),
         description="Paid-out length (radius times the drum rotation) prescribed, or driven by the tension "
@@ -1123,6 +1172,9 @@ class ReelSupport(_Strict):
         if self.stored_length > wrap * (1.0 + 1e-12):
             raise FieldError("stored_length", f"{self.stored_length} m is longer than the wrap window "
                                               f"({wrap:.6g} m = radius x wrap_deg): widen wrap_deg or store less")
+        if self.back_tension is not None and self.back_tension >= self.capacity:
+            raise FieldError("back_tension", f"{self.back_tension} N is not below the drum's capacity "
+                                             f"{self.capacity} N")
         return self
 
 
@@ -1242,7 +1294,9 @@ class Analysis(_Strict):
 
 from .chains import ChainSpec, check_formulations  # noqa: E402 - chains.py builds on the models above
 from .bodies import Body  # noqa: E402 - bodies.py builds on the models above
+from .winches import Winch  # noqa: E402 - winches.py builds on the models above
 from .pipelay import PipelayTemplate  # noqa: E402 - pipelay.py builds on the models above
+from .cranes import CraneTemplate  # noqa: E402 - cranes.py builds on the models above
 
 
 class Scenario(_Strict):
@@ -1262,9 +1316,14 @@ class Scenario(_Strict):
                                          "flexible links (rfesim.scenario.chains)")
     bodies: dict[str, Body] = Field(default_factory=dict, description="Rigid bodies (payloads, buoys) on the "
                                     "end B of a line (rfesim.scenario.bodies)")
+    winches: dict[str, Winch] = Field(default_factory=dict, description="Winches paying out or hauling in a "
+                                      "rope line (rfesim.scenario.winches)")
     pipelay: dict[str, PipelayTemplate] = Field(default_factory=dict, description="Pipelay templates (s-lay, "
                                                 "j-lay, reel-lay), expanded into vessels, line_types, lines and "
                                                 "supports before validation (rfesim.scenario.expand); empty after")
+    cranes: dict[str, CraneTemplate] = Field(default_factory=dict, description="Crane templates (column, "
+                                             "a-frame), expanded into vessels, line_types, lines, bodies and "
+                                             "winches before validation (rfesim.scenario.expand); empty after")
 
     @model_validator(mode="after")
     def _formulations(self):

@@ -114,6 +114,9 @@ def interp_clamped(xs, ys, x):
     return ys[lo] + f * (ys[hi] - ys[lo])
 
 
+SKIP_DEPTH = 1e-17      # a component below this fraction of the sea's velocity bound is skipped
+
+
 @njit(cache=True)
 def sea_kinematics_into(ss, t, points, eta, vel, acc):
     """Free-surface z, water velocity and wave acceleration at ``points`` (n, 3) at time t."""
@@ -138,6 +141,31 @@ def sea_kinematics_into(ss, t, points, eta, vel, acc):
         factor = interp_clamped(ss.current_time, ss.current_factor, t)
     cth = np.empty(nc)
     sth = np.empty(nc)
+    # per component, once per call (docs/theory.md 'Sea kinematics at depth'): denominators
+    # of the finite-depth profiles, exp(-2 k h), and the stretched height ``lim`` below which
+    # the component's velocity and acceleration are below SKIP_DEPTH of the whole sea's
+    # bound sum |a_w| (1 + omega) (negligible at round-off: it is not evaluated)
+    den = np.empty(nc)
+    e2 = np.empty(nc)
+    lim = np.empty(nc)
+    if waves:
+        vref = 0.0
+        for j in range(nc):
+            vref += abs(ss.velocity[j]) * (1.0 + ss.omega[j])
+        for j in range(nc):
+            k = ss.wavenumber[j]
+            if deep:
+                den[j] = 1.0
+                e2[j] = 0.0
+            else:
+                den[j] = -math.expm1(-2.0 * k * h)
+                e2[j] = math.exp(-2.0 * k * h)
+            # |C|, |S| <= 2 exp(k z_s) / den for z_s >= -h
+            bound = 2.0 * abs(ss.velocity[j]) * (1.0 + ss.omega[j]) / den[j]
+            if bound <= 0.0 or k <= 0.0:
+                lim[j] = np.inf
+            else:
+                lim[j] = math.log(SKIP_DEPTH * vref / bound) / k
     for i in range(n):
         x = points[i, 0]
         y = points[i, 1]
@@ -155,7 +183,7 @@ def sea_kinematics_into(ss, t, points, eta, vel, acc):
                     + ss.phase[j]
                 c = math.cos(th)
                 cth[j] = c
-                sth[j] = math.sin(th)
+                sth[j] = th               # the phase: its sine only where the component counts
                 e += ss.amplitude[j] * c
             e *= r
             zc = min(zr, e)                 # above the surface: the value at the surface
@@ -178,23 +206,24 @@ def sea_kinematics_into(ss, t, points, eta, vel, acc):
             if not deep and ze < -h:
                 ze = -h
             for j in range(nc):
+                if ze < lim[j]:
+                    continue                # decayed below round-off at this depth
                 k = ss.wavenumber[j]
                 # C = cosh(k(z+h))/sinh(kh), S = sinh(k(z+h))/sinh(kh), free of overflow
                 if deep:
                     C = math.exp(k * ze)
                     S = C
                 else:
-                    denom = -math.expm1(-2.0 * k * h)
                     ep = math.exp(k * ze)
-                    em = math.exp(-k * (ze + 2.0 * h))
-                    C = (ep + em) / denom
-                    S = (ep - em) / denom
+                    em = e2[j] / ep       # exp(-k (z + 2 h))
+                    C = (ep + em) / den[j]
+                    S = (ep - em) / den[j]
                 if above > 0.0:
                     C, S = C + above * k * S, S + above * k * C
                 aw = ss.velocity[j]
                 aww = aw * ss.omega[j]
                 c = cth[j]
-                s = sth[j]
+                s = math.sin(sth[j])
                 uh = aw * C * c
                 duh = -aww * C * s
                 vx += uh * ss.cos_direction[j]

@@ -20,6 +20,7 @@ from .banded import bt_matvec
 from .kernels import Q_JACOBIAN, Q_NEWTON, Q_POSITION, Q_VELOCITY, dp_advance, ga_advance, genalpha_parameters, \
     rk4_advance, _DP_A, _DP_B, _DP_C, _DP_E
 from .system import System
+from ..results import WINCH_CHANNELS
 
 log = logging.getLogger("rfesim")
 
@@ -116,6 +117,10 @@ class Recorder:
                 "utilisation": np.full((nt, li.elements), np.nan),
                 "residual_curvature": np.zeros((nt, li.elements)),
             }
+        for ji in getattr(model, "joins", []):     # drives of a joined line end (rfesim.model.joins)
+            if ji.drive_stop > ji.drive_start:
+                for ch in ("drive_angle", "drive_torque"):
+                    self.line_data[ji.child][ch] = np.zeros((nt, ji.drive_stop - ji.drive_start))
         self.vessel_names = list(model.scenario.vessels)
         self.vessel_pos = np.zeros((nt, len(self.vessel_names), 3))
         self.vessel_rot = np.zeros((nt, len(self.vessel_names), 3))
@@ -135,6 +140,8 @@ class Recorder:
         if model.km.has_plastic:
             self._residual = np.zeros(model.nsde)
             self._residual_work = np.zeros((model.nsde, model.plastic_history_width))
+        self.winch_data = {c.name: {ch: np.zeros(nt) for ch in WINCH_CHANNELS}
+                           for c in getattr(system, "controllers", ())}
         self.body_data = {b.name: {ch: np.zeros((nt, 3)) for ch in ("position", "velocity", "acceleration", "rotation",
                                                                     "angular_velocity", "connection_force")}
                           | {ch: np.zeros(nt) for ch in ("connection_tension", "submerged_fraction", "buoyancy")}
@@ -218,6 +225,11 @@ class Recorder:
                 self.reel_force[k, ri.index] = ws.reel_force[ri.index]
         if sysm.model.bodies:
             self._record_bodies(k, ws, qdd)
+        if getattr(sysm.model, "joins", None):
+            self._record_joins(k, ws, state.t)
+        for c in getattr(sysm, "controllers", ()):
+            for ch, value in c.channels().items():
+                self.winch_data[c.name][ch][k] = value
         if km.has_rollers:
             self.roller_reaction[k] = ws.roller_normal
             self.roller_force[k] = ws.roller_force
@@ -246,6 +258,20 @@ class Recorder:
             line["end_b_force"][k] = force
             line["end_b_moment"][k] = moment
 
+    def _record_joins(self, k: int, ws, t: float) -> None:
+        """The joint loads as the end loads of the two joined lines, and the drive channels."""
+        from ..model.joins import drive_outputs, joint_loads
+        km = self.system.km
+        for ji in self.system.model.joins:
+            loads = joint_loads(km, ws, ji, t)
+            child, parent = self.line_data[ji.child], self.line_data[ji.parent]
+            child["end_a_force"][k] = loads["child_force"]
+            child["end_a_moment"][k] = loads["child_moment"]
+            parent["end_b_force"][k] = loads["parent_force"]
+            parent["end_b_moment"][k] = loads["parent_moment"]
+            if ji.drive_stop > ji.drive_start:
+                child["drive_angle"][k], child["drive_torque"][k] = drive_outputs(km, ji, loads, t)
+
     def results(self, **kw):
         from ..results import LineResults, Results, VesselResults
         nt = self.k
@@ -255,6 +281,8 @@ class Recorder:
             lines[li.name] = LineResults(name=li.name, arc_length=li.point_arc_length,
                                          sde_arc_length=li.sde_arc_length,
                                          **{name: arr[:nt] for name, arr in d.items()})
+        for ji in getattr(self.system.model, "joins", []):
+            lines[ji.child].drive_names = tuple(ji.drive_names)
         vessels = {name: VesselResults(name=name, position=self.vessel_pos[:nt, j], rotation=self.vessel_rot[:nt, j])
                    for j, name in enumerate(self.vessel_names)}
         from ..results import SupportResults, TensionerResults
@@ -273,8 +301,12 @@ class Recorder:
         bodies = {b.name: BodyResults(name=b.name, line=b.line,
                                       **{ch: arr[:nt] for ch, arr in self.body_data[b.name].items()})
                   for b in self.system.model.bodies}
+        from ..results import WinchResults
+        winches = {c.name: WinchResults(name=c.name, line=c.info.line,
+                                        **{ch: arr[:nt].copy() for ch, arr in self.winch_data[c.name].items()})
+                   for c in getattr(self.system, "controllers", ())}
         return Results(time=self.time[:nt].copy(), lines=lines, vessels=vessels, supports=supports, bodies=bodies,
-                       tensioners=tensioners, reels=reels,
+                       tensioners=tensioners, reels=reels, winches=winches,
                        **kw)
 
 
@@ -339,6 +371,9 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
     system.set_friction_mode(0)
     st.qdd[:] = system.accelerations(st)
     system.commit_history()
+    controllers = getattr(system, "controllers", None)
+    for c in controllers or ():
+        c.start(st)                 # winches: tension and sheave position at the start
     if integ.kind == "generalized-alpha":
         h = float(integ.time_step)
     elif integ.kind == "rk4":
@@ -389,8 +424,33 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
         flags = np.zeros(3, np.int64)
         qdd_prev = st.qdd.copy()
         analytic = integ.jacobian == "analytic"
+
+        def one_step(trial, t0, hh):
+            return ga_advance(km, vs, att, ws, trial.q, trial.qd, trial.qdd, trial.aux, trial.ref, t0, hh, 1, am, af,
+                              beta, gamma, tol, integ.max_iterations, integ.jacobian_reuse, mask, system.length_scale,
+                              force_ref, system.J, system.Fac, system.Q0, system.V0, system.r, system.dq,
+                              system.qd_buf, system.A_buf, system.qp, system.rp, system.hs, flags, stats, fail,
+                              analytic, system.Ks, system.Kds, system.T, system.Fsde, system.Msde, qdd_prev)
+
         for k_out in range(1, n_out + 1):
             t_target = t_start + k_out * out_dt
+            if controllers:
+                # winches: one step at a time with the controllers' hooks (rfesim.solvers.controlled)
+                from .controlled import advance_controlled
+                try:
+                    st, status, t_fail = advance_controlled(system, st, t_target, h, one_step, flags, counters)
+                except SolverError as exc:
+                    if exc.results is None:
+                        counters.add(stats)
+                        exc.results = make_results(status=1, message=str(exc))
+                    raise
+                counters.add(stats)
+                stats[:] = 0
+                if status != 0:
+                    _raise(system, fail, status, make_results)
+                recorder.record(st, st.qdd)
+                report(st.t)
+                continue
             nsteps = int(round((t_target - st.t) / h))
             saved = st.copy()
             saved_history = system.history()

@@ -23,9 +23,8 @@ import numpy as np
 from numba import njit
 
 from ..kinematics import cross_into, matmul_into, matvec_into
-from ..loads.sde import sde_forces_into
-from ..loads.sde_tangent import sde_tangent
-from ..model.assemble import plastic_forces, tension_only_forces
+from ..loads.sde_tangent import sde_tangent_rest
+from ..model.assemble import plastic_forces, sde_forces_all, tension_only_forces
 from .residual import residual_general, residual_q
 
 
@@ -76,19 +75,18 @@ def jacobian_analytic(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd
         for k in range(3):
             Fsde[i, k] = 0.0
             Msde[i, k] = 0.0
-    sde_forces_into(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, km.sde_stiffness,
-                    km.sde_damping, ws.R, ws.rbase, ws.roff, ws.v, ws.w, Fsde, Msde, ws.eps, ws.sigma, ws.sde_point,
-                    ws.v3, ws.m33)
+    sde_forces_all(km, att, ws, Fsde, Msde)
     if km.has_plastic:
         plastic_forces(km, ws, Msde)
     if km.has_tension_only:
         tension_only_forces(km, ws, Fsde, Msde)     # slack ropes: axial tangent 0 in ws.k_tangent
     if km.has_plastic or km.has_tension_only:
-        sde_tangent(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, ws.k_tangent, km.sde_damping,
-                    ws.R, ws.rbase, ws.roff, ws.sigma, Ks, Kds)
+        sde_tangent_rest(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, ws.k_tangent, km.sde_damping,
+                         km.sde_has_rest, km.sde_rest, ws.sde_rest_eff, ws.R, ws.rbase, ws.roff, ws.sigma, Ks, Kds)
     else:
-        sde_tangent(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, km.sde_stiffness, km.sde_damping,
-                    ws.R, ws.rbase, ws.roff, ws.sigma, Ks, Kds)
+        sde_tangent_rest(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, km.sde_stiffness,
+                         km.sde_damping, km.sde_has_rest, km.sde_rest, ws.sde_rest_eff, ws.R, ws.rbase, ws.roff,
+                         ws.sigma, Ks, Kds)
     _maps(km, att, ws, T)
     cK = 1.0 if mode == 0 else cq
     cD = 0.0 if mode == 0 else cv

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import SolverError
+from ..loads.drives import rest_of_workspace
 from ..model.assemble import rebase
 from ..model.arrays import Reference
 from ..model.compile import State
@@ -94,6 +95,7 @@ def _rechain(system: System, st: State, dq: np.ndarray, alpha: float, trial: np.
     system.evaluate(st2, lam)
     R = ws.R.copy()
     r = ws.r.copy()
+    rest = rest_of_workspace(km, ws)       # SDE rest rotations (joints, rfesim.loads.drives)
     eps_target = eps_old + alpha * eps_dir
     for li in system.model.lines:
         i0, i1 = li.rfe_start, li.rfe_stop - 1
@@ -103,10 +105,11 @@ def _rechain(system: System, st: State, dq: np.ndarray, alpha: float, trial: np.
         chain[0] = r[i0]
         for j in range(nsde):
             a, b, sidx = i0 + j, i0 + j + 1, s0 + j
-            # mean frame R' = R_a exp(theta/2) of the new rotations
-            Rrel = R[a].T @ R[b]
+            # mean frame R' = R_a* exp(theta/2) of the new rotations, R_a* = R_a R0
+            Ras = R[a] @ rest[sidx]
+            Rrel = Ras.T @ R[b]
             theta = _log(Rrel)
-            Rp = R[a] @ _exp(0.5 * theta)
+            Rp = Ras @ _exp(0.5 * theta)
             g = Rp @ eps_target[sidx, :3]
             chain[j + 1] = chain[j] + R[a] @ km.sde_arm_left[sidx] + g - R[b] @ km.sde_arm_right[sidx]
         if km.rfe_kind[i1] != 0 and nsde > 0:

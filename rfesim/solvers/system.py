@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..model.arrays import new_attachment_state, new_workspace
+from ..model.arrays import check_joint_arrays, new_attachment_state, new_workspace
 from ..model.assemble import commit_history, evaluate, solve_accelerations
 from ..model.compile import Model, State
 from ..vessel_kernel import attachment_kinematics, vessel_spec
@@ -14,6 +14,7 @@ class System:
     def __init__(self, model: Model):
         self.model = model
         km = model.km
+        check_joint_arrays(km)              # rest rotations the kernels would skip: refuse
         n, nsde = model.n, model.nsde
         self.km = km
         self.n = n
@@ -34,6 +35,8 @@ class System:
         nsde = max(model.nsde, 1)
         self.Ks, self.Kds = z(nsde, 12, 12), z(nsde, 12, 12)
         self.T, self.Fsde, self.Msde = z(n, 6, 6), z(n, 3), z(n, 3)
+        from ..model.winches import make_controllers
+        self.controllers = make_controllers(self)     # winches: hooks around every dynamics step
 
     # ------------------------------------------------------------------ history
     def history(self) -> tuple:

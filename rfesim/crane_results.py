@@ -1,0 +1,143 @@
+"""Crane outputs of a run (issue 5, item 6), for a crane made by the ``cranes`` templates
+(rfesim.scenario.cranes): rope tension and its dynamic amplification factor, slack events
+and snap loads, hook and payload motion, pedestal base forces and moments, slewing and
+luffing torques, bending moments along the boom / legs, cylinder forces, crane-tip
+motion and acceleration.
+
+    res = rfesim.simulate("scenarios/column_crane.json")
+    out = crane_summary(res, "crane")
+    out["daf"], out["slack_events"], out["base_moment"]
+
+The lines are found by the template's names (``<crane>_pedestal``, ``<crane>_boom``,
+``<crane>_legs``, ``<crane>_rope``; the payload is the body on the rope's end B). The
+static reference of the dynamic amplification factor is the first output sample (a run
+starts from its statics), or ``static_tension``.
+"""
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+
+
+def _member(res, crane: str) -> tuple[str, str]:
+    """(structure line whose end A is the deck, the boom-like line carrying the drives)."""
+    if f"{crane}_pedestal" in res.lines:
+        return f"{crane}_pedestal", f"{crane}_boom"
+    if f"{crane}_legs" in res.lines:
+        return f"{crane}_stub", f"{crane}_legs"
+    raise ValueError(f"no crane '{crane}' in these results (lines: {', '.join(sorted(res.lines))})")
+
+
+def slack_events(time: np.ndarray, tension: np.ndarray, threshold: float, snap_window: float = 2.0) -> list[dict]:
+    """Intervals where ``tension`` < ``threshold`` and the snap load that follows each:
+    ``[{"start", "end", "snap_load", "snap_time"}]`` (s, s, N, s); ``end`` and the snap load
+    are NaN for a rope still slack at the end of the run. The snap load is the largest
+    tension within ``snap_window`` s after the rope is taut again."""
+    time = np.asarray(time, float)
+    tension = np.asarray(tension, float)
+    slack = tension < threshold
+    events = []
+    k = 0
+    n = len(time)
+    while k < n:
+        if not slack[k]:
+            k += 1
+            continue
+        start = k
+        while k < n and slack[k]:
+            k += 1
+        if k >= n:
+            events.append({"start": float(time[start]), "end": math.nan, "snap_load": math.nan,
+                           "snap_time": math.nan})
+            break
+        window = (time >= time[k]) & (time <= time[k] + snap_window)
+        j = int(np.flatnonzero(window)[np.argmax(tension[window])])
+        events.append({"start": float(time[start]), "end": float(time[k]), "snap_load": float(tension[j]),
+                       "snap_time": float(time[j])})
+    return events
+
+
+def _acceleration(time: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """Second derivative of x(t) (nt, 3) by central differences (one-sided at the ends)."""
+    if len(time) < 3:
+        return np.full_like(x, np.nan)
+    v = np.gradient(x, time, axis=0)
+    return np.gradient(v, time, axis=0)
+
+
+def cylinder_forces(torque: np.ndarray, angle_deg: np.ndarray, cylinder: dict, a_frame: bool) -> np.ndarray:
+    """Force per cylinder (N, positive pushing) from the luffing drive torque (N*m, the joint's
+    moment on the boom / legs about the drive axis, positive toward larger angles) and the
+    drive angle history; ``cylinder``: the template's cylinder (base [x, z], eye, count)."""
+    from .scenario.cranes import CylinderSpec, cylinder_lever
+    cyl = CylinderSpec.model_validate(cylinder)
+    out = np.empty(len(torque))
+    for k, (m, a) in enumerate(zip(torque, angle_deg)):
+        plane = math.radians(a)
+        if a_frame:                       # template angle: tilt from vertical; plane angle 90 - tilt
+            plane = 0.5 * math.pi - plane
+            m = -m                        # the drive turns toward larger tilt = smaller plane angle
+        _, lever = cylinder_lever(cyl, plane)
+        # the cylinders put on the boom / legs the moment the driven joint does: F * lever * count = m
+        out[k] = m / (lever * cyl.count) if abs(lever) > 1e-9 else math.nan
+    return out
+
+
+def crane_summary(res, crane: str, *, static_tension: float | None = None, slack_fraction: float = 0.01,
+                  cylinder: dict | None = None) -> dict:
+    """Crane outputs of ``crane`` (the name of its template). Returns a dict:
+
+    ``time``; ``rope_tension`` (nt,) N at the sheave (first rope SDE) and ``hook_tension``
+    (nt,) N at the payload; ``static_tension`` N and ``daf`` = max / static of the tension
+    at the sheave; ``slack_events`` (tension at the payload below ``slack_fraction`` of the
+    static one; see :func:`slack_events`) and ``snap_load_max`` N; ``payload_position``,
+    ``payload_velocity``, ``payload_acceleration`` (nt, 3); ``base_force``,
+    ``base_moment`` (nt, 3) N, N*m: the loads of the crane on the deck at the pedestal base
+    (A-frame: at the hinge); ``drive_angle``/``drive_torque`` {name: (nt,)} (slewing,
+    luffing); ``bend_moment_range`` {line: {arc_length, min, max, mean}} along the boom /
+    legs and the pedestal; ``tip_position``, ``tip_acceleration`` (nt, 3): the sheave;
+    ``cylinder_force`` (nt,) N per cylinder, pushing positive (with ``cylinder``, the
+    template's cylinder dict, or when the scenario names one)."""
+    base_line, boom_line = _member(res, crane)
+    rope = res.line(f"{crane}_rope")
+    time = np.asarray(res.time, float)
+    top = np.asarray(rope.tension, float)[:, 0]
+    body = next((b for b in res.bodies.values() if getattr(b, "line", None) == f"{crane}_rope"), None)
+    hook = np.asarray(body.tension, float) if body is not None else np.asarray(rope.tension, float)[:, -1]
+    static = float(static_tension) if static_tension is not None else float(top[0])
+    static_hook = float(hook[0])
+    events = slack_events(time, hook, slack_fraction * static_hook)
+    snaps = [e["snap_load"] for e in events if np.isfinite(e["snap_load"])]
+    base = res.line(base_line)
+    boom = res.line(boom_line)
+    tip_line = res.line(f"{crane}_crossbeam") if f"{crane}_crossbeam" in res.lines else boom
+    tip = np.asarray(tip_line.position, float)[:, -1, :]
+    out = {
+        "time": time, "rope_tension": top, "hook_tension": hook, "static_tension": static,
+        "daf": float(np.max(top) / static) if static > 0.0 else math.nan,
+        "slack_events": events, "snap_load_max": float(max(snaps)) if snaps else math.nan,
+        "base_force": np.asarray(base.end_a_force, float), "base_moment": np.asarray(base.end_a_moment, float),
+        "tip_position": tip, "tip_acceleration": _acceleration(time, tip),
+        "bend_moment_range": {boom_line: boom.range_graph("bend_moment"),
+                              base_line: base.range_graph("bend_moment")},
+        "drive_angle": {}, "drive_torque": {},
+    }
+    if body is not None:
+        out.update(payload_position=np.asarray(body.position, float),
+                   payload_velocity=np.asarray(body.velocity, float),
+                   payload_acceleration=np.asarray(body.acceleration, float))
+    sc = json.loads(res.scenario_json) if res.scenario_json else {}
+    drives = (((sc.get("lines") or {}).get(boom_line) or {}).get("end_a") or {}).get("drives") or []
+    angle = getattr(boom, "drive_angle", None)
+    torque = getattr(boom, "drive_torque", None)
+    for j, d in enumerate(drives):
+        if angle is not None and torque is not None:
+            out["drive_angle"][d["name"]] = np.asarray(angle, float)[:, j]
+            out["drive_torque"][d["name"]] = np.asarray(torque, float)[:, j]
+    if cylinder is not None and "luffing" in out["drive_torque"]:
+        a_frame = boom_line.endswith("_legs")
+        ang = out["drive_angle"]["luffing"]
+        out["cylinder_force"] = cylinder_forces(out["drive_torque"]["luffing"], ang, cylinder, a_frame)
+    return out

@@ -1,0 +1,159 @@
+"""Line-to-line joins in the absolute-coordinate model (rfesim.scenario.joins).
+
+A string of joined lines (pedestal -> boom -> rope -> body) gets consecutive RFE numbers,
+parent then child, and ONE more SDE -- the *joint* -- between the parent's last RFE
+(end B, half length) and the child's first RFE (end A, half length). Every SDE still
+joins RFEs i and i + 1, so the Jacobian stays block-tridiagonal and the SDE kernels see an
+ordinary SDE with a rest rotation:
+
+* stress-free state = the initial geometry: ``sde_rest[s] = R_parent_end(0)^T R_child_start(0)``
+  (the kernel measures the joint rotation from R_a sde_rest_eff, crane spec section 2);
+* clamped: all six stiffnesses are JOINT_STIFFNESS times the smaller of the two lines' SDE
+  values for an element of length (dx_parent + dx_child) / 2 (eqs. 8.88/8.89, the lines'
+  own shear models), the dampings sqrt(JOINT_STIFFNESS) times theirs (the same damping
+  ratio): the lines' own SDEs already carry the whole flexibility of the two members (each
+  SDE stands for its segment, Fig. 8.2), so the joint is nearly rigid -- with the plain
+  element values it added one element of compliance, a first-order error (3 % in the
+  L-frame tip deflection at 20 elements; tests/validation/test_line_joins_closed_forms.py).
+  The softer line sets it: 100 times one of its elements is rigid enough for both, and a
+  joint scaled on the stiffer one (a boom on a light rope) made the Newton matrix so
+  ill-conditioned that the A-frame's first step failed;
+  pinned (a sheave): JOINT_STIFFNESS times the softer line's largest translational value on
+  all three translations (isotropic: the joint's mean frame turns freely with the
+  rotation), bending and torsion 0
+  (the rotation of each end RFE is held by its own line's next SDE, so the Jacobian stays
+  regular without a rotational spring);
+* drives (clamped joins only): sde_rest_eff(t) = Rot(a_1, dphi_1(t)) ... Rot(a_m, dphi_m(t))
+  sde_rest with a_k the drive axis in the parent end RFE's body frame at t = 0 and
+  dphi_k(t) = phi_k(t) - phi_k(0), phi_k a monotone cubic (PCHIP) through the angle table.
+
+Outputs: the joint's force and moment on the child are the child's ``end_a_force`` /
+``end_a_moment`` with the sign of an attached end (force of the line on what holds it:
+here the parent), and the parent's ``end_b_force`` / ``end_b_moment`` (force of the parent
+on the child); ``drive_angle`` (deg) and ``drive_torque`` (N*m, the joint moment on the
+child about the drive's current axis) for a child with drives.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..kinematics import relative_rotation_terms
+
+JOINT_STIFFNESS = 100.0     # joint SDE / the stiffer line's SDE: nearly rigid (module text)
+
+
+@dataclass
+class JoinInfo:
+    """Where a join sits in the model arrays."""
+
+    parent: str             # line whose end B carries the join
+    child: str              # line whose end A is joined
+    connection: str         # "clamped" | "pinned"
+    sde: int                # the joint SDE
+    parent_rfe: int         # the parent's last RFE (SDE left)
+    child_rfe: int          # the child's first RFE (SDE right)
+    rest: np.ndarray        # (3, 3) R_parent_end(0)^T R_child_start(0)
+    drive_start: int = 0    # rows of the km.drive_* arrays
+    drive_stop: int = 0
+    drive_names: list[str] = field(default_factory=list)
+
+
+def joint_rows(connection: str, coefficients: list[np.ndarray], dampings: list[np.ndarray]) -> tuple[np.ndarray,
+                                                                                                     np.ndarray]:
+    """Stiffness and damping rows (6,) of a joint SDE from the two lines' SDE rows for the
+    joint's element length (see the module text)."""
+    coef = np.asarray(coefficients, float)              # (2, 6)
+    damp = np.asarray(dampings, float)
+    if connection == "pinned":
+        line = int(np.argmin(coef[:, :3].max(axis=1)))  # the softer line's largest translational value
+        k = JOINT_STIFFNESS * coef[line, :3].max()
+        c = math.sqrt(JOINT_STIFFNESS) * damp[line, :3].max()
+        return np.array([k] * 3 + [0.0] * 3), np.array([c] * 3 + [0.0] * 3)
+    pick = np.argmin(coef, axis=0)                      # the softer line, per component
+    stiffness = JOINT_STIFFNESS * coef[pick, np.arange(6)]
+    damping = math.sqrt(JOINT_STIFFNESS) * damp[pick, np.arange(6)]
+    return stiffness, damping
+
+
+def drive_rows(joins_drives: list[tuple[int, np.ndarray, list]]) -> list[dict]:
+    """Drive rows for rfesim.model.arrays.joint_arrays from (joint SDE, parent end rotation
+    R_p(0), schema drives) per join: axis in the parent end RFE's body frame at t = 0, angle
+    table in rad, in the listed order."""
+    rows = []
+    for s, Rp, drives in joins_drives:
+        for d in drives:
+            axis = np.asarray(d.axis, float)
+            table = np.asarray(d.angle, float)
+            rows.append(dict(sde=s, axis=Rp.T @ (axis / np.linalg.norm(axis)),
+                             table=np.column_stack([table[:, 0], np.radians(table[:, 1])])))
+    return rows
+
+
+def drive_angle(km, j: int, t: float) -> float:
+    """Prescribed angle (rad) of drive row j at time t (the kernel's monotone cubic)."""
+    from ..loads.drives import drive_table
+    c = int(km.drive_count[j])
+    return float(drive_table(km.drive_t[j, :c], km.drive_angle[j, :c], km.drive_slope[j, :c], t)[0])
+
+
+def axis_rotation(axis: np.ndarray, angle: float) -> np.ndarray:
+    """Rot(axis, angle) (Rodrigues; axis a unit vector)."""
+    K = np.array([[0.0, -axis[2], axis[1]], [axis[2], 0.0, -axis[0]], [-axis[1], axis[0], 0.0]])
+    return np.eye(3) + math.sin(angle) * K + (1.0 - math.cos(angle)) * (K @ K)
+
+
+def rest_rotation(km, info: JoinInfo, t: float) -> tuple[np.ndarray, list[np.ndarray]]:
+    """sde_rest_eff(t) of a joint and, per drive, its axis in the parent end RFE's frame at
+    time t (turned by the drives before it): crane spec section 3."""
+    rest = np.asarray(info.rest, float)
+    D = np.eye(3)
+    axes = []
+    for j in range(info.drive_start, info.drive_stop):
+        a = km.drive_axis[j]
+        axes.append(D @ a)
+        D = D @ axis_rotation(a, drive_angle(km, j, t) - float(km.drive_phi0[j]))
+    return D @ rest, axes
+
+
+def joint_loads(km, ws, info: JoinInfo, t: float) -> dict:
+    """Force and moment of the joint SDE of an evaluated workspace (its forces ws.sigma in
+    {i'}), applied as in rfesim.loads.sde.apply_section_force (eq. 8.90):
+
+    child_force/child_moment: force of the child on the parent and its moment about the
+    child's end-A point (the sign of an attached end); parent_force/parent_moment: force of
+    the parent on the child, moment about the parent's end-B point; drive_axes: the global
+    axis of each drive now."""
+    s = info.sde
+    a, b = info.parent_rfe, info.child_rfe
+    Ra, Rb = ws.R[a], ws.R[b]
+    rest, axes = rest_rotation(km, info, t)
+    Ras = Ra @ rest
+    pa = Ra @ km.sde_arm_left[s]
+    pb = Rb @ km.sde_arm_right[s]
+    g = (ws.r[b] + pb) - (ws.r[a] + pa)
+    th, Rh, Jri, Jrh = np.zeros(3), np.zeros((3, 3)), np.zeros((3, 3)), np.zeros((3, 3))
+    relative_rotation_terms(Ras.T @ Rb, th, Rh, Jri, Jrh)
+    Rp = Ras @ Rh                                  # eq. 8.77 from the rest-rotated frame
+    Fp = ws.sigma[s, :3]
+    Mp = ws.sigma[s, 3:]
+    Fg = Rp @ Fp                                   # eq. 8.90.1
+    mg = Rb @ (Jri.T @ Mp)                         # eq. 8.90.2
+    h = np.cross(Fg, g)
+    wth = Rb @ (Jri.T @ (Jrh.T @ (Rp.T @ h)))
+    # on the child (RFE b): -Fg and -mg - wth/2 about its end point
+    # on the parent (RFE a): +Fg and mg - h + wth/2 about its end point
+    return dict(child_force=Fg.copy(), child_moment=mg + 0.5 * wth,
+                parent_force=-Fg, parent_moment=-(mg - h + 0.5 * wth),
+                drive_axes=[Ra @ ax for ax in axes])
+
+
+def drive_outputs(km, info: JoinInfo, loads: dict, t: float) -> tuple[np.ndarray, np.ndarray]:
+    """(drive_angle deg, drive_torque N*m) of the drives of one join: the prescribed angle
+    and the joint moment on the child about each drive's current axis."""
+    on_child = -loads["child_moment"]
+    angles = np.array([math.degrees(drive_angle(km, j, t)) for j in range(info.drive_start, info.drive_stop)])
+    torques = np.array([float(on_child @ ax) for ax in loads["drive_axes"]])
+    return angles, torques

@@ -1,0 +1,399 @@
+"""Winches: payout of a rope line by uniform growth of its elements, and the winch controllers.
+
+A winch pays out (D > 0) or hauls in (D < 0) the line it acts on. The line keeps its n
+elements; every element length becomes Delta(t) = (L0 + D(t)) / n (an ALE-like mesh whose
+nodes stay at fixed fractions of the suspended length, docs/theory.md "Winches and rope
+payout"). Before every time step ``set_payout`` rewrites, in place, every model array that
+depends on Delta for the line's RFEs and SDEs:
+
+* RFE length, mass (mu Delta), inertia (polar and rotary parts ~ Delta, the m Delta^2/12
+  part ~ Delta^3), the pin arm of an attached end RFE, the arms of point loads on the line;
+* SDE length, arms, stiffness (eq. 8.88: EA/Delta, GA/Delta, GJ/Delta, EI/Delta; eq. 8.89:
+  12 EI/Delta^3 for shear) and damping (damping ratios: 2 zeta sqrt(c m_red) with the
+  current c and m_red; explicit coefficients: / Delta);
+* the arm on the line's side of any other SDE touching the line (a body connection, a
+  joint to a parent line), and the solver's length scale of the line's RFEs.
+
+Growing arms move the SDE ends apart from the RFE centres with no velocity of their own, so
+the Kelvin-Voigt damping (eq. 8.86) would read the payout rate as a deformation rate and
+pull with c_x * (rate the arms grow). That force is cancelled exactly by lengthening the
+SDE's rest gap by c_x * rate / k_x (``damping_offset``). A shock absorber replaces the
+first SDE of the line (at the winch) by the series spring k_r k_sa / (k_r + k_sa) with the
+absorber's damping.
+
+The controllers (one per winch) compute D(t_{n+1}) before each step from their mode (speed
+table, drum dynamics, constant tension) plus the heave compensation, and read the rope
+tension (first SDE of the line) and the end-A point after the step (explicit coupling).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import SolverError
+from .arrays import KIND_CLAMPED, KIND_FREE
+
+MIN_FRACTION = 0.05      # haul-in stops (SolverError) below this fraction of the initial length
+
+
+@dataclass
+class WinchInfo:
+    """Where a winch's line sits in the model arrays, and the arrays at zero payout."""
+
+    name: str
+    line: str
+    index: int
+    rfe_lo: int
+    rfe_hi: int
+    sde_lo: int
+    sde_hi: int
+    length0: float                  # m, line length at zero payout
+    mass_per_length: float          # kg/m
+    stored: float                   # m on the drum at the start
+    len0: np.ndarray                # (nr,) m, RFE lengths
+    mass0: np.ndarray               # (nr,) kg
+    inertia_lin0: np.ndarray        # (nr, 3) kg*m^2, part ~ Delta
+    inertia_cub0: np.ndarray        # (nr, 3) kg*m^2, part ~ Delta^3
+    pin_rfe: np.ndarray             # (np,) int64, attached end RFEs of the line
+    pin_arm0: np.ndarray            # (np, 3) m
+    arm_left0: np.ndarray           # (ns, 3) m
+    arm_right0: np.ndarray          # (ns, 3) m
+    stiffness0: np.ndarray          # (ns, 6)
+    stiffness_power: np.ndarray     # (6,) stiffness ~ Delta^-power
+    damping0: np.ndarray            # (ns, 6)
+    damping_form: int               # 0 none, 1 ratios (2 zeta sqrt(c m_red)), 2 explicit (/ Delta)
+    mred0: np.ndarray               # (ns, 6) reduced mass / inertia at zero payout (form 1)
+    ext_sde: np.ndarray             # (ne,) int64, other SDEs touching the line
+    ext_side: np.ndarray            # (ne,) int64, 0: their left RFE is on the line, 1: the right one
+    ext_arm0: np.ndarray            # (ne, 3) m, that arm at zero payout
+    load_idx: np.ndarray            # (nl,) int64, point loads on the line
+    load_arm0: np.ndarray           # (nl, 3) m
+    absorber_k: float = 0.0         # N/m, shock absorber in series with the first SDE (0: none)
+    absorber_c: float = 0.0         # N*s/m
+    spec: object = None             # the scenario Winch
+    payout: float = 0.0             # m, current payout (as last set)
+    speed: float = 0.0              # m/s
+    extra: dict = field(default_factory=dict)
+
+    @property
+    def elements(self) -> int:
+        return self.sde_hi - self.sde_lo
+
+    @property
+    def first_sde(self) -> int:
+        return self.sde_lo
+
+
+def _reduced(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    with np.errstate(divide="ignore", invalid="ignore"):
+        out = a * b / (a + b)
+    out = np.where(np.isinf(a), b, out)
+    return np.where(np.isinf(b), a, out)
+
+
+def reduced_masses(km, lo: int, hi: int) -> np.ndarray:
+    """(ns, 6) reduced masses (3 columns) and inertias (torsion, bend y, bend z) of the SDEs
+    lo..hi with clamped RFEs counting as infinitely heavy (as rfesim.model.compile._sde_damping)."""
+    a = km.sde_left[lo:hi]
+    b = km.sde_right[lo:hi]
+    m = km.rfe_mass.astype(float).copy()
+    inertia = km.rfe_inertia.astype(float).copy()
+    clamped = km.rfe_kind == KIND_CLAMPED
+    m[clamped] = np.inf
+    inertia[clamped] = np.inf
+    out = np.empty((hi - lo, 6))
+    out[:, :3] = _reduced(m[a], m[b])[:, None]
+    out[:, 3:] = _reduced(inertia[a], inertia[b])
+    return out
+
+
+def compile_winches(sc, model) -> list[WinchInfo]:
+    """WinchInfo of every winch (the arrays at zero payout), with the shock absorbers applied."""
+    km = model.km
+    infos = []
+    for k, (name, w) in enumerate(sc.winches.items()):
+        li = model.line(w.line)
+        lo, hi, slo, shi = li.rfe_start, li.rfe_stop, li.sde_start, li.sde_stop
+        lengths = km.rfe_length[lo:hi].copy()
+        mass = km.rfe_mass[lo:hi].copy()
+        cub = np.zeros((hi - lo, 3))
+        cub[:, 1] = cub[:, 2] = mass * lengths ** 2 / 12.0
+        lin = km.rfe_inertia[lo:hi] - cub
+        pin = np.array([i for i in range(lo, hi) if km.rfe_kind[i] != KIND_FREE], np.int64)
+        power = np.ones(6)
+        if li.shear_model == "fem":
+            power[1] = power[2] = 3.0
+        lt = sc.line_types[sc.lines[w.line].type]
+        spec = lt.damping
+        form = 0
+        if spec is not None:
+            form = 1 if (spec.axial_ratio is not None or spec.bending_ratio is not None) else 2
+        ext_sde, ext_side, ext_arm = [], [], []
+        for s in range(km.sde_left.shape[0]):
+            if slo <= s < shi:
+                continue
+            if lo <= km.sde_left[s] < hi:
+                ext_sde.append(s), ext_side.append(0), ext_arm.append(km.sde_arm_left[s].copy())
+            elif lo <= km.sde_right[s] < hi:
+                ext_sde.append(s), ext_side.append(1), ext_arm.append(km.sde_arm_right[s].copy())
+        loads = np.nonzero((km.load_rfe >= lo) & (km.load_rfe < hi))[0].astype(np.int64)
+        sa = w.shock_absorber
+        info = WinchInfo(
+            name=name, line=w.line, index=k, rfe_lo=lo, rfe_hi=hi, sde_lo=slo, sde_hi=shi, length0=li.length,
+            mass_per_length=li.section.mass_per_length, stored=float(w.stored), len0=lengths, mass0=mass,
+            inertia_lin0=lin, inertia_cub0=cub, pin_rfe=pin, pin_arm0=km.rfe_pin_arm[pin].copy(),
+            arm_left0=km.sde_arm_left[slo:shi].copy(), arm_right0=km.sde_arm_right[slo:shi].copy(),
+            stiffness0=km.sde_stiffness[slo:shi].copy(), stiffness_power=power,
+            damping0=km.sde_damping[slo:shi].copy(), damping_form=form, mred0=reduced_masses(km, slo, shi),
+            ext_sde=np.asarray(ext_sde, np.int64), ext_side=np.asarray(ext_side, np.int64),
+            ext_arm0=np.asarray(ext_arm, float).reshape(-1, 3), load_idx=loads, load_arm0=km.load_arm[loads].copy(),
+            absorber_k=float(sa.stiffness) if sa is not None else 0.0,
+            absorber_c=float(sa.damping) if sa is not None else 0.0, spec=w)
+        set_payout(km, info, 0.0, 0.0)
+        infos.append(info)
+    return infos
+
+
+def set_payout(km, info: WinchInfo, payout: float, speed: float, length_scale: np.ndarray | None = None) -> None:
+    """Rewrite in place every array of ``km`` that depends on the element length of the
+    winch's line for the payout D (m) and payout speed (m/s) (see the module text)."""
+    ratio = (info.length0 + payout) / info.length0
+    rate = speed / info.length0                     # d(ratio)/dt
+    lo, hi, slo, shi = info.rfe_lo, info.rfe_hi, info.sde_lo, info.sde_hi
+    km.rfe_length[lo:hi] = info.len0 * ratio
+    km.rfe_mass[lo:hi] = info.mass0 * ratio
+    km.rfe_inertia[lo:hi] = info.inertia_lin0 * ratio + info.inertia_cub0 * ratio ** 3
+    if info.pin_rfe.size:
+        km.rfe_pin_arm[info.pin_rfe] = info.pin_arm0 * ratio
+    if info.load_idx.size:
+        km.load_arm[info.load_idx] = info.load_arm0 * ratio
+    if length_scale is not None:
+        length_scale[lo:hi] = km.rfe_length[lo:hi]
+    km.sde_length[slo:shi] = (info.length0 + payout) / info.elements
+    stiffness = info.stiffness0 / ratio ** info.stiffness_power[None, :]
+    if info.damping_form == 1:
+        mred = reduced_masses(km, slo, shi)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            factor = np.sqrt(stiffness / info.stiffness0 * mred / info.mred0)
+        damping = info.damping0 * np.where(np.isfinite(factor), factor, 0.0)
+    elif info.damping_form == 2:
+        damping = info.damping0 / ratio
+    else:
+        damping = info.damping0.copy()
+    if info.absorber_k > 0.0:
+        kr = stiffness[0, 0]
+        stiffness[0, 0] = kr * info.absorber_k / (kr + info.absorber_k)
+        damping[0, 0] = info.absorber_c
+    km.sde_stiffness[slo:shi] = stiffness
+    km.sde_damping[slo:shi] = damping
+    # arms grow with the elements; the rest gap grows by c_x rate / k_x more (damping_offset)
+    grow = (np.abs(info.arm_left0[:, 0]) + np.abs(info.arm_right0[:, 0])) * rate
+    offset = damping_offset(damping[:, 0], stiffness[:, 0], grow)
+    km.sde_arm_left[slo:shi] = info.arm_left0 * ratio
+    km.sde_arm_left[slo:shi, 0] += offset
+    km.sde_arm_right[slo:shi] = info.arm_right0 * ratio
+    for j in range(info.ext_sde.shape[0]):
+        s = info.ext_sde[j]
+        arm0 = info.ext_arm0[j]
+        size = float(np.linalg.norm(arm0))
+        extra = 0.0
+        if size > 0.0 and km.sde_stiffness[s, 0] > 0.0:
+            extra = km.sde_damping[s, 0] * rate / km.sde_stiffness[s, 0]
+        if info.ext_side[j] == 0:
+            km.sde_arm_left[s] = arm0 * (ratio + extra)
+        else:
+            km.sde_arm_right[s] = arm0 * (ratio + extra)
+    info.payout = payout
+    info.speed = speed
+
+
+def damping_offset(damping: np.ndarray, stiffness: np.ndarray, grow_rate: np.ndarray) -> np.ndarray:
+    """Rest-gap lengthening (m) that cancels the damping force c * grow_rate of arms growing
+    at grow_rate (m/s): c * grow_rate / k (0 where k = 0)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        out = np.where(stiffness > 0.0, damping * grow_rate / stiffness, 0.0)
+    return out
+
+
+# ----------------------------------------------------------------------------- controllers
+
+def _table(rows, t: float) -> float:
+    ts = [r[0] for r in rows]
+    vs = [r[1] for r in rows]
+    return float(np.interp(t, ts, vs))
+
+
+class WinchController:
+    """The winch's payout in time: before_step sets D(t_{n+1}) into the model arrays,
+    after_step reads the tension and the end-A point of the converged step."""
+
+    def __init__(self, info: WinchInfo, system):
+        self.info = info
+        self.system = system
+        self.name = info.name
+        self.spec = info.spec
+        self.mode = info.spec.mode
+        self.hc = info.spec.heave_compensation
+        # state (saved and restored around a retried step)
+        self.t = 0.0
+        self.D = 0.0            # m, total payout
+        self.v = 0.0            # m/s, total payout speed
+        self.D_mode = 0.0       # m, payout of the mode (drum, tension)
+        self.v_mode = 0.0
+        self.D_c = 0.0          # m, payout of the heave compensation
+        self.v_c = 0.0
+        self.e_int = 0.0        # m*s, integral of the compensation error
+        self.e_prev = 0.0       # m, compensation error at the step before the last
+        self.e_cur = 0.0        # m, compensation error at the last accepted step
+        self.zeta = 0.0         # m, vertical motion of the end-A point since the start
+        self.zeta_dot = 0.0
+        self.zeta_dot_prev = 0.0
+        self.z0 = None
+        self.tension = 0.0
+        self.accel = 0.0        # m/s^2, drum payout acceleration (drum mode)
+
+    # ------------------------------------------------------------------ state
+    _FIELDS = ("t", "D", "v", "D_mode", "v_mode", "D_c", "v_c", "e_int", "e_prev", "e_cur", "zeta", "zeta_dot",
+               "zeta_dot_prev", "tension", "accel")
+
+    def save(self) -> tuple:
+        return tuple(getattr(self, f) for f in self._FIELDS)
+
+    def restore(self, saved: tuple) -> None:
+        for f, v in zip(self._FIELDS, saved):
+            setattr(self, f, v)
+        set_payout(self.system.km, self.info, self.D, self.v, self.system.length_scale)
+
+    # ------------------------------------------------------------------ measurements
+    def _end_a(self):
+        """(z, vertical velocity) of the line's end-A point from the evaluated workspace."""
+        ws = self.system.ws
+        i = self.info.rfe_lo
+        arm = ws.R[i] @ np.array([-0.5 * self.system.km.rfe_length[i], 0.0, 0.0])
+        return float(ws.r[i, 2] + arm[2]), float(ws.v[i, 2] + np.cross(ws.w[i], arm)[2])
+
+    def measure(self) -> None:
+        ws = self.system.ws
+        self.tension = float(ws.sigma[self.info.first_sde, 0])
+        z, vz = self._end_a()
+        if self.z0 is None:
+            self.z0 = z
+        self.zeta = z - self.z0
+        self.zeta_dot_prev = self.zeta_dot
+        self.zeta_dot = vz
+
+    def start(self, state) -> None:
+        """At the start of the dynamics (workspace evaluated at ``state``)."""
+        self.t = float(state.t)
+        self.measure()
+        self.zeta_dot_prev = self.zeta_dot
+        self.e_prev = self.e_cur = self.zeta - self.D_c
+        if self.mode.kind == "drum":
+            self.accel = self._drum_accel(self.t, self.v_mode)
+        elif self.mode.kind == "speed":
+            self.v_mode = speed_at(self.mode.rows, self.t)
+
+    # ------------------------------------------------------------------ modes
+    def _drum_accel(self, t: float, v: float) -> float:
+        m = self.mode
+        net = m.radius * self.tension - _table(m.torque, t)
+        if m.brake_torque > 0.0:
+            if abs(v) < 1e-12:
+                if abs(net) <= m.brake_torque:
+                    return 0.0
+                net -= math.copysign(m.brake_torque, net)
+            else:
+                net -= math.copysign(m.brake_torque, v)
+        return m.radius * net / m.inertia
+
+    def _tension_speed(self) -> float:
+        m = self.mode
+        T = self.tension
+        if T > m.tension + m.dead_band:
+            v = (T - m.tension - m.dead_band) / m.gain
+        elif T < m.tension - m.dead_band:
+            v = (T - m.tension + m.dead_band) / m.gain
+        else:
+            v = 0.0
+        return max(-m.max_speed, min(m.max_speed, v))
+
+    def before_step(self, km, t_next: float, h: float) -> None:
+        m = self.mode
+        if m.kind == "speed":
+            from ..scenario.winches import speed_payout
+            D_mode, v_mode = speed_payout(m.rows, t_next)
+        elif m.kind == "drum":
+            v_star = self.v_mode + h * self.accel
+            if m.brake_torque > 0.0 and self.v_mode != 0.0 and v_star * self.v_mode < 0.0:
+                v_star = 0.0                                 # the brake stops the drum, not reverses it
+            D_mode = self.D_mode + 0.5 * h * (self.v_mode + v_star)
+            v_mode = v_star
+        else:
+            v_mode = self._tension_speed()
+            D_mode = self.D_mode + h * v_mode
+        D_c, v_c = self.D_c, 0.0
+        if self.hc is not None:
+            hc = self.hc
+            e = self.e_cur                                   # at t_n (after_step)
+            de = (self.e_cur - self.e_prev) / h if h > 0 else 0.0
+            v_c = hc.kp * e + hc.ki * self.e_int + hc.kd * de
+            if hc.feedforward:
+                # the sheave's speed at the middle of the step (linear extrapolation)
+                v_c += self.zeta_dot + 0.5 * (self.zeta_dot - self.zeta_dot_prev)
+            v_c = max(-hc.max_speed, min(hc.max_speed, v_c))
+            D_c = self.D_c + h * v_c
+        D = D_mode + D_c
+        v = v_mode + v_c
+        info = self.info
+        if D > info.stored:
+            raise SolverError(f"winch '{self.name}' ran out of rope: payout {D:.6g} m is more than the "
+                              f"{info.stored:.6g} m stored on the drum (winches.{self.name}.stored)",
+                              time=t_next, quantity="winch payout")
+        if info.length0 + D < MIN_FRACTION * info.length0:
+            raise SolverError(f"winch '{self.name}' hauled in {-D:.6g} m of the {info.length0:.6g} m line: less "
+                              f"than {100 * MIN_FRACTION:g} % of it is left out",
+                              time=t_next, quantity="winch payout")
+        self._next = (t_next, D, v, D_mode, v_mode, D_c, v_c)
+        set_payout(km, info, D, v, self.system.length_scale)
+
+    def after_step(self, km, state, t: float, h: float) -> None:
+        t_next, D, v, D_mode, v_mode, D_c, v_c = self._next
+        self.measure()
+        if self.mode.kind == "drum":
+            a_new = self._drum_accel(t, v_mode)
+            v_new = self.v_mode + 0.5 * h * (self.accel + a_new)
+            if self.mode.brake_torque > 0.0 and self.v_mode != 0.0 and v_new * self.v_mode <= 0.0:
+                v_new = 0.0
+            if self.mode.brake_torque > 0.0 and self.v_mode == 0.0 and a_new == 0.0:
+                v_new = 0.0
+            v_mode = v_new
+            self.accel = self._drum_accel(t, v_mode)
+        if self.hc is not None:
+            e = self.zeta - D_c
+            self.e_int += e * h
+            self.e_prev, self.e_cur = self.e_cur, e
+        self.t, self.D, self.v, self.D_mode, self.v_mode, self.D_c, self.v_c = t, D, v_mode + v_c, D_mode, v_mode, \
+            D_c, v_c
+        self.v = v_mode + v_c
+        self.info.speed = self.v
+
+    # ------------------------------------------------------------------ outputs
+    def channels(self) -> dict:
+        info = self.info
+        km = self.system.km
+        return {"payout": info.payout, "speed": info.speed,
+                "tension": float(self.system.ws.sigma[info.first_sde, 0]),
+                "suspended_length": info.length0 + info.payout,
+                "rope_mass_suspended": float(km.rfe_mass[info.rfe_lo:info.rfe_hi].sum()),
+                "rope_mass_drum": info.mass_per_length * (info.stored - info.payout)}
+
+
+def speed_at(rows, t: float) -> float:
+    from ..scenario.winches import speed_payout
+    return speed_payout(rows, t)[1]
+
+
+def make_controllers(system) -> list[WinchController]:
+    return [WinchController(info, system) for info in getattr(system.model, "winches", [])]

@@ -1,0 +1,485 @@
+"""Crane templates (top-level ``cranes``): a column (pedestal) crane and an A-frame that
+expand into ordinary scenario sections before the rest of the scenario is validated.
+
+    "cranes": {"crane": {"type": "column", "vessel": "supply", "position": [-20, 8, 3],
+                         "pedestal": {"length": 10.0, "outer_diameter": 2.0, "wall_thickness": 0.04},
+                         "boom": {"length": 30.0, "outer_diameter": 1.0, "wall_thickness": 0.025},
+                         "slewing_deg": 0.0, "luffing_deg": 50.0,
+                         "rope": {"length": 20.0, "diameter": 0.04},
+                         "payload": {"mass": 10000, "radius_of_gyration": 1.0, "volume": 4.0},
+                         "winch": {"mode": {"kind": "speed", "rows": [[0, 0], [10, 0.5]]}}}}
+
+A crane is one serial string of absolute-coordinate lines (section 8.4) joined end to end
+(``"attach": "<parent>:end_b"``, rfesim.model.compile), so the whole crane, its rope and
+its payload are advanced by the compiled generalized-alpha path with a block-tridiagonal
+Jacobian:
+
+* column: pedestal (end A clamped to the deck) -> clamped joint driven by slewing (about
+  the pedestal axis) then luffing (about the boom foot's horizontal axis) -> boom ->
+  pinned joint (the tip sheave) -> hoist rope (tension only) -> payload (a body);
+* a-frame: a deck stub (a short, stiff line under the hinge, clamped to the deck) ->
+  clamped joint driven by the luffing cylinders -> legs (the two legs as one line: the
+  symmetric in-plane equivalent of the portal, see docs/theory.md) -> crossbeam (a short
+  line carrying the crossbeam's mass) -> pinned joint (the top sheave) -> rope -> payload.
+
+Drives are angle tables (deg against s); a luffing cylinder's stroke table is turned into
+the angle table by the triangle hinge - cylinder base - cylinder eye (``cylinder``), and its
+force is an output (rfesim.crane_results). The winch (``winch``) is passed to ``winches``
+on the rope (rfesim.model.winches).
+
+Names made for crane ``c``: lines ``c_pedestal``, ``c_boom`` (column) or ``c_stub``,
+``c_legs``, ``c_crossbeam`` (a-frame), ``c_rope``; line types ``<line>_section``; the body
+``c_payload`` (inline payloads); the winch ``c_winch``; the vessel ``c_vessel`` (inline
+vessels). Geometry in the vessel frame; SI units, angles in degrees.
+"""
+from __future__ import annotations
+
+import copy
+import math
+from typing import Annotated, Any, Literal, Union
+
+from pydantic import Field, TypeAdapter, ValidationError, model_validator
+
+from .bodies import Body
+from .pipelay import STEEL_DENSITY, STEEL_E, _add, _environment, _to_global, _vessel_pose
+from .schema import FieldError, Vector3, Vessel, _Strict, _units
+
+# A rope's bending stiffness against a solid bar of its diameter: the strands bend nearly on
+# their own (a stranded wire rope's effective EI lies between its wires' sum and the solid
+# bar's). A few per cent also keeps the half-length RFE under a pinned sheave from turning
+# freely: with EI = 1 N*m^2 every generalized-alpha step of the column crane halved, with
+# 2 % (341 N*m^2 at 36 mm) some still did at 0.1 s, with 6 % hardly any.
+ROPE_BENDING_FRACTION = 0.06
+
+AngleProfile = Union[float, list[Annotated[list[float], Field(min_length=2, max_length=2)]]]
+
+
+def _check_profile(value, field: str, lo: float, hi: float, unit: str = "deg") -> None:
+    """A constant or a table of [t s, value] rows with increasing times, values in [lo, hi]."""
+    if isinstance(value, (int, float)):
+        if not lo <= value <= hi:
+            raise FieldError(field, f"{value} {unit} is outside [{lo}, {hi}] {unit}")
+        return
+    if len(value) < 1:
+        raise FieldError(field, "a table needs at least one row [t, value]")
+    for i, (t, v) in enumerate(value):
+        if not (math.isfinite(t) and math.isfinite(v)):
+            raise FieldError(f"{field}.{i}", "must be finite numbers")
+        if i and t <= value[i - 1][0]:
+            raise FieldError(f"{field}.{i}.0", f"times must increase: {t} s after {value[i - 1][0]} s")
+        if not lo <= v <= hi:
+            raise FieldError(f"{field}.{i}.1", f"{v} {unit} is outside [{lo}, {hi}] {unit}")
+
+
+def _initial(value) -> float:
+    """The profile's value at t = 0 (a table is held constant before its first row)."""
+    if isinstance(value, (int, float)):
+        return float(value)
+    ts = [r[0] for r in value]
+    vs = [r[1] for r in value]
+    if 0.0 <= ts[0]:
+        return float(vs[0])
+    for k in range(1, len(ts)):
+        if ts[k] >= 0.0:
+            u = (0.0 - ts[k - 1]) / (ts[k] - ts[k - 1])
+            return float(vs[k - 1] + u * (vs[k] - vs[k - 1]))
+    return float(vs[-1])
+
+
+def _table(value) -> list[list[float]]:
+    """A drive table [[t, deg], ...]; a constant holds still (two equal rows), so every crane
+    joint has its drive and its torque is an output."""
+    if isinstance(value, (int, float)):
+        return [[0.0, float(value)], [1.0, float(value)]]
+    rows = [[float(t), float(v)] for t, v in value]
+    return rows if len(rows) > 1 else rows + [[rows[0][0] + 1.0, rows[0][1]]]
+
+
+class MemberSpec(_Strict):
+    """A structural member as a steel tube (outer_diameter, wall_thickness), or by its direct
+    section properties (EA, EI, mass_per_length; GJ defaults to EI / 1.3)."""
+
+    length: float = _units("m", "Length of the member", gt=0.0, le=500.0)
+    elements: int | None = Field(None, ge=1, le=1000, description="Number of SDEs (default: one per 2 m, at "
+                                 "least 4)")
+    outer_diameter: float | None = _units("m", "Tube outer diameter (also the wind/drag diameter)", default=None,
+                                          gt=0.0)
+    wall_thickness: float | None = _units("m", "Tube wall thickness", default=None, gt=0.0)
+    youngs_modulus: float = _units("Pa", "Young's modulus", default=STEEL_E, gt=0.0)
+    density: float = _units("kg/m^3", "Density of the steel", default=STEEL_DENSITY, gt=0.0)
+    EA: float | None = _units("N", "Axial stiffness (instead of a tube)", default=None, gt=0.0)
+    EI: float | None = _units("N*m^2", "Bending stiffness (instead of a tube)", default=None, gt=0.0)
+    GJ: float | None = _units("N*m^2", "Torsional stiffness (default EI/1.3)", default=None, gt=0.0)
+    mass_per_length: float | None = _units("kg/m", "Mass per length (instead of a tube)", default=None, gt=0.0)
+    damping_ratio: float = Field(0.02, ge=0.0, le=2.0, description="Structural damping ratio of the element "
+                                 "modes [-]")
+
+    @model_validator(mode="after")
+    def _section(self):
+        tube = self.outer_diameter is not None or self.wall_thickness is not None
+        direct = any(v is not None for v in (self.EA, self.EI, self.mass_per_length))
+        if tube and direct:
+            raise FieldError("EA", "give a tube (outer_diameter, wall_thickness) or direct section properties "
+                                   "(EA, EI, mass_per_length), not both")
+        if tube:
+            if self.outer_diameter is None or self.wall_thickness is None:
+                raise FieldError("wall_thickness" if self.wall_thickness is None else "outer_diameter",
+                                 "a tube needs outer_diameter and wall_thickness")
+            if self.wall_thickness >= 0.5 * self.outer_diameter:
+                raise FieldError("wall_thickness", f"{self.wall_thickness} m is not less than the outer radius "
+                                                   f"{0.5 * self.outer_diameter} m")
+        elif not direct:
+            raise FieldError("outer_diameter", "give a tube (outer_diameter, wall_thickness) or direct section "
+                                               "properties (EA, EI, mass_per_length)")
+        else:
+            for name in ("EA", "EI", "mass_per_length"):
+                if getattr(self, name) is None:
+                    raise FieldError(name, "direct section properties need EA, EI and mass_per_length")
+        return self
+
+    def properties(self) -> dict:
+        """EA, EI, GJ (N, N*m^2) and mass per length (kg/m)."""
+        if self.outer_diameter is not None:
+            D, d = self.outer_diameter, self.outer_diameter - 2.0 * self.wall_thickness
+            A = math.pi / 4.0 * (D * D - d * d)
+            I = math.pi / 64.0 * (D ** 4 - d ** 4)
+            E = self.youngs_modulus
+            return {"EA": E * A, "EI": E * I, "GJ": E / 1.3 * 2.0 * I, "mass_per_length": self.density * A}
+        return {"EA": self.EA, "EI": self.EI, "GJ": self.GJ or self.EI / 1.3, "mass_per_length": self.mass_per_length}
+
+    def count(self) -> int:
+        return self.elements if self.elements is not None else max(4, int(math.ceil(self.length / 2.0 - 1e-9)))
+
+
+class RopeSpec(_Strict):
+    """The hoist rope (tension only): from the sheave to the payload's attachment point."""
+
+    length: float = _units("m", "Rope between the sheave and the payload at the start", gt=0.0, le=1.0e4)
+    elements: int | None = Field(None, ge=1, le=10000, description="Number of SDEs (default: one per 1 m, at "
+                                 "least 10, at most 100)")
+    diameter: float = _units("m", "Nominal rope diameter (drag, buoyancy)", default=0.04, gt=0.0, le=0.5)
+    EA: float | None = _units("N", "Axial stiffness (default: a steel wire rope, 0.58 of the nominal area at "
+                              "100 GPa)", default=None, gt=0.0)
+    mass_per_length: float | None = _units("kg/m", "Mass per length (default: 4000 d^2, a steel wire rope)",
+                                           default=None, gt=0.0)
+    bending_stiffness: float | None = _units("N*m^2", "Bending stiffness (default: 6 % of a solid steel bar of "
+                                             "the rope's diameter, a stranded rope)", default=None, ge=0.0)
+    damping_ratio: float = Field(0.2, ge=0.0, le=2.0, description="Damping ratio of the rope's axial element "
+                                 "modes [-]")
+    drag_normal: float = Field(1.2, ge=0.0, le=10.0, description="Normal drag coefficient [-]")
+    added_mass_normal: float = Field(1.0, ge=0.0, le=10.0, description="Normal added-mass coefficient [-]")
+
+    def count(self) -> int:
+        return self.elements if self.elements is not None else min(100, max(10, int(math.ceil(self.length))))
+
+    def line_type(self) -> dict:
+        d = self.diameter
+        EA = self.EA if self.EA is not None else 0.58 * math.pi / 4.0 * d * d * 1.0e11
+        mass = self.mass_per_length if self.mass_per_length is not None else 4000.0 * d * d
+        EI = self.bending_stiffness if self.bending_stiffness is not None else \
+            ROPE_BENDING_FRACTION * STEEL_E * math.pi / 64.0 * d ** 4
+        return {"EA": EA, "EIy": EI, "mass_per_length": mass, "outer_diameter": d,
+                "tension_only": True, "drag_normal": self.drag_normal, "added_mass_normal": self.added_mass_normal,
+                "damping": {"axial_ratio": self.damping_ratio, "bending_ratio": self.damping_ratio}}
+
+
+class CylinderSpec(_Strict):
+    """Luffing cylinder(s) between a base point and an eye on the boom / legs, in the plane of
+    luffing: x toward the boom's outreach (the A-frame's outboard side), z up, from the hinge."""
+
+    base: Annotated[list[float], Field(min_length=2, max_length=2)] = _units(
+        "m", "Cylinder base [x, z] from the hinge in the luffing plane")
+    eye: float = _units("m", "Distance of the cylinder eye from the hinge along the boom / leg", gt=0.0)
+    count: int = Field(1, ge=1, le=8, description="Number of cylinders sharing the load")
+    stroke: list[Annotated[list[float], Field(min_length=2, max_length=2)]] | None = _units(
+        "m", "Cylinder length table [[t s, length m], ...]: drives the luffing instead of an angle table",
+        default=None)
+
+
+class _Crane(_Strict):
+    vessel: Union[str, Vessel] = Field(default_factory=Vessel, description="A vessel name of `vessels`, or a "
+                                       "vessel (position, heading_deg, motion) made as <name>_vessel")
+    position: Vector3 = _units("m", "Deck point of the pedestal base / A-frame hinge (vessel frame)")
+    rope: RopeSpec
+    payload: Union[str, Body] = Field(..., description="A body name of `bodies`, or a body (made as "
+                                      "<name>_payload, hanging under the sheave)")
+    payload_attachment: Vector3 | None = _units("m", "Rope's attachment point on the payload (body frame; "
+                                                "default: the top of the body's vertical extent)", default=None)
+    winch: dict[str, Any] | None = Field(None, description="The winch on the rope (a `winches` entry without "
+                                         "`line`): mode, heave_compensation, shock_absorber")
+
+
+class ColumnCrane(_Crane):
+    """Column (pedestal) crane: pedestal, slewing and luffing joint, boom, tip sheave, rope."""
+
+    type: Literal["column"]
+    pedestal: MemberSpec
+    boom: MemberSpec
+    slewing_deg: AngleProfile = Field(0.0, description="Slewing angle about the pedestal axis from the vessel's "
+                                      "x axis (deg), or a table [[t s, deg], ...]", json_schema_extra={"units": "deg"})
+    luffing_deg: AngleProfile | None = Field(None, description="Boom angle above the horizontal (deg), or a table "
+                                             "(or give cylinder.stroke)", json_schema_extra={"units": "deg"})
+    cylinder: CylinderSpec | None = None
+
+    @model_validator(mode="after")
+    def _drives(self):
+        _check_profile(self.slewing_deg, "slewing_deg", -3600.0, 3600.0)
+        _luffing(self, "luffing_deg", -10.0, 85.0)
+        return self
+
+
+class AFrame(_Crane):
+    """A-frame: two legs pinned to the deck, a crossbeam with the top sheave, luffed by
+    hydraulic cylinders."""
+
+    type: Literal["a-frame"]
+    legs: MemberSpec
+    leg_spacing: float = _units("m", "Distance between the two legs (across the vessel)", default=6.0, gt=0.0)
+    crossbeam_mass: float = _units("kg", "Mass of the crossbeam and sheave block", default=0.0, ge=0.0)
+    outboard_deg: float = _units("deg", "Direction of the outboard side in the vessel frame (180: over the "
+                                 "stern, -x)", default=180.0, ge=-360.0, le=360.0)
+    tilt_deg: AngleProfile | None = Field(None, description="Leg angle from the vertical, positive outboard "
+                                          "(deg), or a table (or give cylinder.stroke)",
+                                          json_schema_extra={"units": "deg"})
+    cylinder: CylinderSpec | None = None
+
+    @model_validator(mode="after")
+    def _drives(self):
+        _luffing(self, "tilt_deg", -80.0, 80.0)
+        return self
+
+
+def _luffing(tpl, field: str, lo: float, hi: float) -> None:
+    value = getattr(tpl, field)
+    stroke = tpl.cylinder.stroke if tpl.cylinder is not None else None
+    if value is None and stroke is None:
+        raise FieldError(field, "give the angle (a constant or a table), or cylinder.stroke")
+    if value is not None and stroke is not None:
+        raise FieldError("cylinder.stroke", f"give {field} or cylinder.stroke, not both")
+    if value is not None:
+        _check_profile(value, field, lo, hi)
+    else:
+        _check_profile(stroke, "cylinder.stroke", 1e-3, 1e3, "m")
+
+
+CraneTemplate = Annotated[Union[ColumnCrane, AFrame], Field(discriminator="type")]
+_TEMPLATES = TypeAdapter(dict[str, CraneTemplate])
+
+
+# ============================================================================ geometry
+def cylinder_angle(cyl: CylinderSpec, length: float) -> float:
+    """Boom angle (rad, from the luffing plane's x axis toward z) at which the cylinder
+    between ``cyl.base`` and the eye at ``cyl.eye`` along the boom has ``length``: the
+    branch on which the cylinder lengthens as the angle grows. Raises FieldError when the
+    triangle cannot close."""
+    bx, bz = cyl.base
+    rho = math.hypot(bx, bz)
+    b = cyl.eye
+    c = (b * b + rho * rho - length * length) / (2.0 * b * rho)
+    if not -1.0 <= c <= 1.0:
+        lo, hi = abs(b - rho), b + rho
+        raise FieldError("cylinder.stroke", f"a cylinder of {length:.4g} m cannot reach: with this base and eye "
+                                            f"its length lies in [{lo:.4g}, {hi:.4g}] m")
+    return math.atan2(bz, bx) + math.acos(c)
+
+
+def cylinder_lever(cyl: CylinderSpec, angle: float) -> tuple[float, float]:
+    """(cylinder length m, lever arm m about the hinge) at the boom angle ``angle`` (rad,
+    in the luffing plane from x toward z). The lever arm is positive when a pushing
+    cylinder turns the boom toward larger angles."""
+    bx, bz = cyl.base
+    px, pz = cyl.eye * math.cos(angle), cyl.eye * math.sin(angle)
+    dx, dz = px - bx, pz - bz
+    L = math.hypot(dx, dz)
+    ux, uz = dx / L, dz / L
+    return L, px * uz - pz * ux
+
+
+def _angle_profile(tpl, field: str, to_plane) -> tuple[float, list | None]:
+    """(initial angle deg, table [[t, deg]] or None) of the luffing drive in the template's
+    own convention; a stroke table is converted through the cylinder triangle (``to_plane``
+    maps the template angle to the luffing-plane angle and back)."""
+    value = getattr(tpl, field)
+    if value is not None:
+        return _initial(value), _table(value)
+    rows = []
+    for i, (t, length) in enumerate(tpl.cylinder.stroke):
+        try:
+            a = cylinder_angle(tpl.cylinder, length)
+        except FieldError as exc:
+            raise FieldError(f"cylinder.stroke.{i}.1", exc.reason) from None
+        rows.append([float(t), math.degrees(to_plane(a, inverse=True))])
+    return _initial(rows), _table(rows)
+
+
+def _rot(vpos, heading, v):
+    """A direction from the vessel frame to global (vessel level at the start)."""
+    c, s = math.cos(heading), math.sin(heading)
+    return [c * v[0] - s * v[1], s * v[0] + c * v[1], v[2]]
+
+
+def _member_type(m: MemberSpec, stiff: float = 1.0) -> dict:
+    p = m.properties()
+    out = {"EA": stiff * p["EA"], "EIy": stiff * p["EI"], "EIz": stiff * p["EI"], "GJ": stiff * p["GJ"],
+           "mass_per_length": p["mass_per_length"],
+           "damping": {"axial_ratio": m.damping_ratio, "bending_ratio": m.damping_ratio}}
+    if m.outer_diameter is not None:
+        out["outer_diameter"] = m.outer_diameter
+    return out
+
+
+def _drive(name: str, axis, table) -> dict:
+    return {"name": name, "axis": [float(c) for c in axis],
+            "angle": [[t, a] for t, a in table]}
+
+
+def _payload(out: dict, name: str, tpl, raw: dict, tip, rope_length: float) -> tuple[str, list]:
+    """(body name, attachment point in the body frame); an inline payload hangs straight
+    under the sheave."""
+    if isinstance(tpl.payload, str):
+        bodies = out.get("bodies") or {}
+        if not isinstance(bodies, dict) or tpl.payload not in bodies:
+            known = ", ".join(sorted(bodies)) if isinstance(bodies, dict) and bodies else "none defined"
+            raise FieldError("payload", f"unknown body '{tpl.payload}' (bodies: {known})")
+        try:
+            body = Body.model_validate(bodies[tpl.payload])
+        except (ValidationError, ValueError):
+            body = None
+        top = 0.5 * body.vertical_extent() if body is not None else 0.0
+        attach = list(tpl.payload_attachment) if tpl.payload_attachment is not None else [0.0, 0.0, top]
+        return tpl.payload, attach
+    body = copy.deepcopy(raw["payload"])
+    top = 0.5 * tpl.payload.vertical_extent()
+    attach = list(tpl.payload_attachment) if tpl.payload_attachment is not None else [0.0, 0.0, top]
+    if body.get("position") is None:
+        body["position"] = [tip[0] - attach[0], tip[1] - attach[1], tip[2] - rope_length - attach[2]]
+    bname = f"{name}_payload"
+    _add(out, "bodies", bname, body, "payload")
+    return bname, attach
+
+
+def _rope_and_winch(out: dict, name: str, tpl, raw: dict, parent: str, tip) -> None:
+    rope = f"{name}_rope"
+    _add(out, "line_types", f"{rope}_section", tpl.rope.line_type(), "rope")
+    body, attach = _payload(out, name, tpl, raw, tip, tpl.rope.length)
+    _add(out, "lines", rope, {
+        "type": f"{rope}_section", "length": tpl.rope.length, "elements": tpl.rope.count(),
+        "end_a": {"attach": f"{parent}:end_b", "connection": "pinned", "direction": [0.0, 0.0, -1.0]},
+        "end_b": {"attach": body, "position": attach}}, "rope")
+    if tpl.winch is not None:
+        winch = copy.deepcopy(tpl.winch)
+        if "line" in winch:
+            raise FieldError("winch.line", "the template's winch acts on its own rope: leave out line")
+        winch["line"] = rope
+        _add(out, "winches", f"{name}_winch", winch, "winch")
+
+
+def _column(out: dict, name: str, tpl: ColumnCrane, raw: dict, vname: str, vpos, heading) -> None:
+    ped, boom = f"{name}_pedestal", f"{name}_boom"
+    slew0 = math.radians(_initial(tpl.slewing_deg))
+    # luffing plane: x along the boom's horizontal projection, z up; the boom angle is the plane angle
+    luff0_deg, luff_table = _angle_profile(tpl, "luffing_deg", lambda a, inverse=False: a)
+    luff0 = math.radians(luff0_deg)
+    base = list(tpl.position)
+    top = [base[0], base[1], base[2] + tpl.pedestal.length]
+    d_local = [math.cos(luff0) * math.cos(slew0), math.cos(luff0) * math.sin(slew0), math.sin(luff0)]
+    tip_local = [top[k] + tpl.boom.length * d_local[k] for k in range(3)]
+    tip = _to_global(vpos, heading, tip_local)
+    _add(out, "line_types", f"{ped}_section", _member_type(tpl.pedestal), "pedestal")
+    _add(out, "line_types", f"{boom}_section", _member_type(tpl.boom), "boom")
+    _add(out, "lines", ped, {
+        "type": f"{ped}_section", "length": tpl.pedestal.length, "elements": tpl.pedestal.count(),
+        "end_a": {"attach": vname, "position": base, "direction": [0.0, 0.0, 1.0], "connection": "clamped"},
+        "end_b": {"attach": "free"}}, "pedestal")
+    drives = [_drive("slewing", [0.0, 0.0, 1.0], _table(tpl.slewing_deg)),
+              _drive("luffing", _rot(vpos, heading, [math.sin(slew0), -math.cos(slew0), 0.0]), luff_table)]
+    end_a = {"attach": f"{ped}:end_b", "connection": "clamped", "direction": _rot(vpos, heading, d_local),
+             "drives": drives}
+    _add(out, "lines", boom, {"type": f"{boom}_section", "length": tpl.boom.length,
+                              "elements": tpl.boom.count(), "end_a": end_a, "end_b": {"attach": "free"}}, "boom")
+    _rope_and_winch(out, name, tpl, raw, boom, tip)
+
+
+def _a_frame(out: dict, name: str, tpl: AFrame, raw: dict, vname: str, vpos, heading) -> None:
+    stub, legs, beam = f"{name}_stub", f"{name}_legs", f"{name}_crossbeam"
+    ob = math.radians(tpl.outboard_deg)
+    xo = [math.cos(ob), math.sin(ob), 0.0]           # outboard, vessel frame
+    # luffing plane: x outboard, z up; the plane angle is 90 deg - tilt
+    tilt0_deg, tilt_table = _angle_profile(tpl, "tilt_deg",
+                                           lambda a, inverse=False: math.pi / 2.0 - a)
+    tilt0 = math.radians(tilt0_deg)
+    hinge = list(tpl.position)
+    d_local = [math.sin(tilt0) * xo[0], math.sin(tilt0) * xo[1], math.cos(tilt0)]
+    top_local = [hinge[k] + tpl.legs.length * d_local[k] for k in range(3)]
+    beam_len = 0.5
+    tip_local = [top_local[k] + beam_len * d_local[k] for k in range(3)]
+    tip = _to_global(vpos, heading, tip_local)
+    # the two legs as one line: twice the axial and in-plane bending stiffness and mass; out of
+    # plane the portal is stiffer (the legs' parallel-axis term at half the spacing)
+    p = tpl.legs.properties()
+    EI_out = 2.0 * p["EI"] + 2.0 * p["EA"] * (0.5 * tpl.leg_spacing) ** 2
+    leg_type = {"EA": 2.0 * p["EA"], "EIy": 2.0 * p["EI"], "EIz": EI_out, "GJ": 2.0 * p["GJ"],
+                "mass_per_length": 2.0 * p["mass_per_length"],
+                "damping": {"axial_ratio": tpl.legs.damping_ratio, "bending_ratio": tpl.legs.damping_ratio}}
+    stub_type = {k: (10.0 * v if k in ("EA", "EIy", "EIz", "GJ") else v) for k, v in leg_type.items()}
+    stub_type["mass_per_length"] = 1.0
+    beam_type = dict(stub_type, mass_per_length=max(1.0, tpl.crossbeam_mass / beam_len))
+    _add(out, "line_types", f"{legs}_section", leg_type, "legs")
+    _add(out, "line_types", f"{stub}_section", stub_type, "legs")
+    _add(out, "line_types", f"{beam}_section", beam_type, "crossbeam_mass")
+    stub_len = 1.0
+    _add(out, "lines", stub, {
+        "type": f"{stub}_section", "length": stub_len, "elements": 1,
+        "end_a": {"attach": vname, "position": [hinge[0], hinge[1], hinge[2] - stub_len],
+                  "direction": [0.0, 0.0, 1.0], "connection": "clamped"},
+        "end_b": {"attach": "free"}}, "legs")
+    # luffing axis: turning the legs outboard (tilt up) is a rotation about z x outboard
+    axis = _rot(vpos, heading, [-xo[1], xo[0], 0.0])
+    end_a = {"attach": f"{stub}:end_b", "connection": "clamped", "direction": _rot(vpos, heading, d_local)}
+    end_a["drives"] = [_drive("luffing", axis, tilt_table)]
+    _add(out, "lines", legs, {"type": f"{legs}_section", "length": tpl.legs.length, "elements": tpl.legs.count(),
+                              "end_a": end_a, "end_b": {"attach": "free"}}, "legs")
+    _add(out, "lines", beam, {"type": f"{beam}_section", "length": beam_len, "elements": 1,
+                              "end_a": {"attach": f"{legs}:end_b", "connection": "clamped",
+                                        "direction": _rot(vpos, heading, d_local)},
+                              "end_b": {"attach": "free"}}, "crossbeam_mass")
+    _rope_and_winch(out, name, tpl, raw, beam, tip)
+
+
+def expand(data: dict) -> dict:
+    """The scenario dict with its ``cranes`` templates expanded into ordinary sections
+    (a new dict without ``cranes``; the input itself when it has none). Raises
+    ScenarioError naming the template field (``cranes.crane.boom.length: ...``)."""
+    from ..errors import ScenarioError
+    if not isinstance(data, dict) or "cranes" not in data:
+        return data
+    raw = data.get("cranes")
+    if raw is None or raw == {}:
+        out = dict(data)
+        out.pop("cranes")
+        return out
+    try:
+        templates = _TEMPLATES.validate_python(raw)
+    except ValidationError as exc:
+        from .load import validation_errors
+        raise ScenarioError(validation_errors(exc, prefix=("cranes",))) from None
+    if _environment(data) is None:
+        out = copy.deepcopy(data)    # the environment's own errors are reported by the validation
+        out.pop("cranes")
+        return out
+    out = copy.deepcopy(data)
+    del out["cranes"]
+    errors: list[tuple[str, str]] = []
+    for name, tpl in templates.items():
+        try:
+            if any(c in name for c in "/:\\") or name.strip() != name:
+                raise FieldError("", f"bad crane name {name!r}: no '/', ':' or '\\', no outer spaces")
+            vname, vpos, heading = _vessel_pose(out, name, tpl, raw[name])
+            (_column if tpl.type == "column" else _a_frame)(out, name, tpl, raw[name], vname, vpos, heading)
+        except FieldError as exc:
+            errors.append((f"cranes.{name}.{exc.field}" if exc.field else f"cranes.{name}", exc.reason))
+    if errors:
+        raise ScenarioError(errors)
+    if not out.get("name"):
+        out["name"] = "crane: " + ", ".join(f"{n} ({t.type})" for n, t in templates.items())
+    return out

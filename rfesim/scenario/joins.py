@@ -1,0 +1,122 @@
+"""Line-to-line joins: end A of a child line on end B of a parent line (``"attach":
+"<parent>:end_b"``), so that a crane is one serial string of absolute-coordinate lines::
+
+    "lines": {"pedestal": {"type": "column", "length": 10, "elements": 10,
+                           "end_a": {"attach": "fixed", "position": [0, 0, 0],
+                                     "direction": [0, 0, 1], "connection": "clamped"}},
+              "boom": {"type": "boom", "length": 30, "elements": 15,
+                       "end_a": {"attach": "pedestal:end_b", "connection": "clamped",
+                                 "direction": [1, 0, 0.5],
+                                 "drives": [{"name": "slewing", "axis": [0, 0, 1],
+                                             "angle": [[0, 0], [20, 90]]}]}},
+              "rope": {"type": "wire", "length": 20, "elements": 20,
+                       "end_a": {"attach": "boom:end_b", "connection": "pinned"},
+                       "end_b": {"attach": "payload", "position": [0, 0, 1]}}}
+
+Rules (each broken one is an error naming the field): only end A of a child joins, only
+end B of a parent is joined, a parent carries at most one child, no closed loops, end B of
+the parent is attached to nothing else, both lines are in the absolute formulation and the
+scene has no chains. The compile (rfesim.model.joins) numbers the RFEs of a string
+consecutively and adds one joint SDE between them.
+"""
+from __future__ import annotations
+
+
+def join_parent(end) -> str | None:
+    """Name of the parent line of an end attached as "<parent>:end_b", else None."""
+    attach = getattr(end, "attach", "")
+    if not isinstance(attach, str) or ":" not in attach:
+        return None
+    return attach.partition(":")[0]
+
+
+def join_strings(sc) -> list[list[str]]:
+    """The lines of a validated scenario grouped in serial strings, each from its root (a
+    line whose end A is not a join) to its last child; roots in the scenario's order."""
+    child_of = {}
+    for name, line in sc.lines.items():
+        parent = join_parent(line.end_a)
+        if parent is not None:
+            child_of[parent] = name
+    strings = []
+    for name, line in sc.lines.items():
+        if join_parent(line.end_a) is not None:
+            continue
+        string = [name]
+        while string[-1] in child_of and len(string) <= len(sc.lines):
+            string.append(child_of[string[-1]])
+        strings.append(string)
+    return strings
+
+
+def check_join_formulations(sc) -> None:
+    """Raise FieldError when a joined line (parent or child) is not in the absolute
+    formulation (called first by the scenario's formulation checks)."""
+    from .schema import FieldError
+    for name, line in sc.lines.items():
+        parent = join_parent(line.end_a)
+        if parent is None or parent not in sc.lines:
+            continue
+        for who, ln in ((name, line), (parent, sc.lines[parent])):
+            if ln.formulation != "absolute":
+                raise FieldError(f"lines.{who}.formulation", f"joined lines ('{parent}' -> '{name}') must be in "
+                                                             f"the absolute formulation, not {ln.formulation}")
+
+
+def check_join_references(sc) -> list[tuple[str, str]]:
+    """Cross-checks of the joins (see the module text)."""
+    errors: list[tuple[str, str]] = []
+    children: dict[str, list[str]] = {}
+    for name, line in sc.lines.items():
+        parent = join_parent(line.end_a)
+        if parent is None:
+            continue
+        base = f"lines.{name}.end_a"
+        if parent not in sc.lines:
+            known = ", ".join(n for n in sc.lines if n != name) or "none"
+            errors.append((f"{base}.attach", f"unknown line '{parent}' (other lines: {known})"))
+            continue
+        if parent == name:
+            errors.append((f"{base}.attach", "a line cannot be joined to its own end B"))
+            continue
+        children.setdefault(parent, []).append(name)
+        parent_line = sc.lines[parent]
+        if parent_line.end_b.attach != "free":
+            errors.append((f"lines.{parent}.end_b.attach",
+                           f"end B of line '{parent}' carries line '{name}' (a join): it cannot also be attached "
+                           f"to '{parent_line.end_b.attach}'"))
+        if getattr(sc, "chains", None):
+            errors.append((f"{base}.attach", "line-to-line joins are not available in a scene with chains (the "
+                                             "mixed chain + line integrator does not know them); model the crane "
+                                             "as a string of lines only"))
+        if line.end_a.position is not None and parent_line.end_b.position is not None:
+            d = sum((a - b) ** 2 for a, b in zip(line.end_a.position, parent_line.end_b.position)) ** 0.5
+            if d > 1e-6:
+                errors.append((f"{base}.position", f"{list(line.end_a.position)} is {d:.6g} m from end B of line "
+                                                   f"'{parent}' {list(parent_line.end_b.position)}: leave it out "
+                                                   f"(taken from the parent) or make them agree within 1e-6 m"))
+    for parent, kids in children.items():
+        if len(kids) > 1:
+            errors.append((f"lines.{kids[1]}.end_a.attach",
+                           f"line '{parent}' already carries line '{kids[0]}' at its end B: a string is serial, one "
+                           f"child per parent"))
+    # closed loops: follow the parents from every line
+    reported: set[str] = set()
+    for name in sc.lines:
+        seen = [name]
+        cur = name
+        while True:
+            parent = join_parent(sc.lines[cur].end_a)
+            if parent is None or parent not in sc.lines:
+                break
+            if parent in seen:
+                loop = seen[seen.index(parent):]
+                if not reported.intersection(loop):
+                    reported.update(loop)
+                    errors.append((f"lines.{parent}.end_a.attach", "the joins form a closed loop ("
+                                   + " -> ".join(list(reversed(loop)) + [loop[-1]]) + "): a string needs a first "
+                                   "line whose end A is not a join"))
+                break
+            seen.append(parent)
+            cur = parent
+    return errors

@@ -1,0 +1,184 @@
+"""Scenario schema of winches (top-level ``winches``): a drum that pays out or hauls in a rope.
+
+A winch acts on one absolute-coordinate line (usually a tension-only rope with a payload on
+end B); its end A is the sheave or fairlead the rope leaves the winch over (attached to a
+vessel, fixed, or joined to another line's end B). Payout grows every element of the line
+uniformly (rfesim.model.winches, docs/theory.md "Winches and rope payout")::
+
+    "winches": {"hoist": {"line": "rope", "stored": 500.0,
+                          "mode": {"kind": "speed", "rows": [[0, 0], [5, 1.0], [45, 1.0], [50, 0]]},
+                          "heave_compensation": {"kp": 0.5, "feedforward": true},
+                          "shock_absorber": {"stiffness": 2.0e5, "damping": 1.0e4}}}
+
+Modes (payout positive, haul-in negative):
+
+* ``speed``: payout speed table rows [t (s), v (m/s)], linear between rows, the first and
+  last speeds held beyond the table; payout D(t) is its exact integral from t = 0.
+* ``drum``: drum of radius r and inertia J driven by the rope tension T and the motor
+  torque tau(t) (table, positive hauls in): J omega' = r T - tau, optionally held by a
+  brake of torque ``brake_torque`` (the drum stands still while |r T - tau| stays below it).
+* ``tension``: constant tension: it pays out at (T - tension - dead_band) / gain above the
+  band, hauls in at (T - tension + dead_band) / gain below it, at most ``max_speed``.
+
+``heave_compensation`` adds a PID speed v_c = kp e + ki int(e) + kd de/dt (+ zeta' with
+feedforward) with e = zeta - D_c, zeta the vertical motion of the rope's end-A point
+since the start and D_c the payout the compensation has made. ``shock_absorber`` puts a
+spring-damper in series with the rope at the winch. Units SI.
+"""
+from __future__ import annotations
+
+from typing import Annotated, Literal, Union
+
+from pydantic import Field, model_validator
+
+from .schema import FieldError, _fixed_length_numbers, _Strict, _units
+
+DEFAULT_STORED = 1000.0     # m of rope on the drum at the start
+
+SpeedRow = Annotated[list[float], _fixed_length_numbers(2, "[t, speed]"), Field(min_length=2, max_length=2)]
+TorqueRow = Annotated[list[float], _fixed_length_numbers(2, "[t, torque]"), Field(min_length=2, max_length=2)]
+
+
+def _increasing(rows, name: str = "rows") -> None:
+    for i in range(1, len(rows)):
+        if not rows[i][0] > rows[i - 1][0]:
+            raise FieldError(f"{name}.{i}", f"time {rows[i][0]} s does not increase")
+
+
+class WinchSpeed(_Strict):
+    """Prescribed payout speed: rows [t (s), v (m/s)], v > 0 pays out, linear between rows."""
+
+    kind: Literal["speed"]
+    rows: list[SpeedRow] = Field(..., min_length=1, json_schema_extra={"units": "s, m/s"})
+
+    @model_validator(mode="after")
+    def _times(self):
+        _increasing(self.rows)
+        return self
+
+
+class WinchDrum(_Strict):
+    """Drum dynamics J omega' = r T - tau (omega > 0 pays out), motor torque table, brake."""
+
+    kind: Literal["drum"]
+    radius: float = _units("m", "Drum radius (rope layer)", gt=0.0)
+    inertia: float = _units("kg*m^2", "Rotational inertia of the drum and the drive about the drum axis", gt=0.0)
+    torque: list[TorqueRow] = Field([[0.0, 0.0]], min_length=1, description="Motor torque rows [t (s), "
+                                    "torque (N*m)], positive hauls in, linear between rows [s, N*m]",
+                                    json_schema_extra={"units": "s, N*m"})
+    brake_torque: float = _units("N*m", "Brake: holds the drum while the net torque stays below it (0: none)",
+                                 default=0.0, ge=0.0)
+
+    @model_validator(mode="after")
+    def _times(self):
+        _increasing(self.torque, "torque")
+        return self
+
+
+class WinchTension(_Strict):
+    """Constant tension: payout speed (T - tension -+ dead_band) / gain outside the band."""
+
+    kind: Literal["tension"]
+    tension: float = _units("N", "Set tension", gt=0.0)
+    dead_band: float = _units("N", "Dead band around the set tension", default=0.0, ge=0.0)
+    gain: float = _units("N*s/m", "Tension excess per unit payout speed", gt=0.0)
+    max_speed: float = _units("m/s", "Largest payout or haul-in speed", gt=0.0)
+
+
+class HeaveCompensation(_Strict):
+    """Active heave compensation: a PID on winch speed cancelling the vertical motion of the
+    rope's end-A point (the sheave) since the start."""
+
+    kp: float = _units("1/s", "Proportional gain", default=1.0, ge=0.0)
+    ki: float = _units("1/s^2", "Integral gain", default=0.0, ge=0.0)
+    kd: float = Field(0.0, ge=0.0, description="Derivative gain [-]", json_schema_extra={"units": "1"})
+    max_speed: float = _units("m/s", "Largest compensation speed", default=10.0, gt=0.0)
+    feedforward: bool = Field(False, description="Add the sheave's vertical velocity to the speed")
+
+
+class ShockAbsorber(_Strict):
+    """A spring-damper in series with the rope at the winch."""
+
+    stiffness: float = _units("N/m", "Spring stiffness", gt=0.0)
+    damping: float = _units("N*s/m", "Damping", default=0.0, ge=0.0)
+
+
+class Winch(_Strict):
+    """A winch on one rope line (see the module text)."""
+
+    line: str = Field(..., description="Name of the (absolute-coordinate) line the winch pays out")
+    stored: float = _units("m", "Rope on the drum at the start (payout beyond it is refused)",
+                           default=DEFAULT_STORED, gt=0.0)
+    mode: Annotated[Union[WinchSpeed, WinchDrum, WinchTension], Field(discriminator="kind")] = Field(
+        default_factory=lambda: WinchSpeed(kind="speed", rows=[[0.0, 0.0]]),
+        description="speed profile, drum dynamics or constant tension (default: holds the rope)")
+    heave_compensation: HeaveCompensation | None = None
+    shock_absorber: ShockAbsorber | None = None
+
+
+def speed_payout(rows, t: float) -> tuple[float, float]:
+    """(payout D(t) in m, speed v(t) in m/s) of a speed table: the exact integral from 0 of
+    the piecewise-linear speed, held constant before the first and after the last row."""
+    ts = [float(r[0]) for r in rows]
+    vs = [float(r[1]) for r in rows]
+
+    def v_at(x: float) -> float:
+        if x <= ts[0]:
+            return vs[0]
+        if x >= ts[-1]:
+            return vs[-1]
+        for i in range(1, len(ts)):
+            if x <= ts[i]:
+                u = (x - ts[i - 1]) / (ts[i] - ts[i - 1])
+                return vs[i - 1] + u * (vs[i] - vs[i - 1])
+        return vs[-1]
+
+    def integral(a: float, b: float) -> float:
+        """Integral of v over [a, b] (a <= b): trapezoids between the breakpoints (exact)."""
+        pts = [a] + [x for x in ts if a < x < b] + [b]
+        return sum(0.5 * (v_at(pts[k]) + v_at(pts[k + 1])) * (pts[k + 1] - pts[k]) for k in range(len(pts) - 1))
+
+    D = integral(0.0, t) if t >= 0.0 else -integral(t, 0.0)
+    return D, v_at(t)
+
+
+def check_winch_references(sc) -> list[tuple[str, str]]:
+    """A winch acts on one existing absolute-coordinate line, one winch per line, in a
+    generalized-alpha run; a speed table must not pay out more than the stored rope."""
+    errors: list[tuple[str, str]] = []
+    owner: dict[str, str] = {}
+    dyn = sc.analysis.dynamics
+    for name, w in sc.winches.items():
+        base = f"winches.{name}"
+        if not name or any(c in name for c in "/:\\") or name.strip() != name:
+            errors.append((base, f"bad name {name!r}: names must be non-empty and must not contain '/', ':' or "
+                                 f"'\\' or outer spaces"))
+        if w.line not in sc.lines:
+            known = ", ".join(sorted(sc.lines)) or "none defined"
+            errors.append((f"{base}.line", f"unknown line '{w.line}' (lines: {known})"))
+            continue
+        line = sc.lines[w.line]
+        if line.formulation != "absolute":
+            errors.append((f"{base}.line", f"line '{w.line}' is in the {line.formulation} formulation: a winch "
+                                           f"pays out an absolute-coordinate line"))
+        if w.line in owner:
+            errors.append((f"{base}.line", f"line '{w.line}' already has winch '{owner[w.line]}': one winch per "
+                                           f"line"))
+        owner.setdefault(w.line, name)
+        if any(sup.line == w.line for sup in sc.supports.values() if getattr(sup, "line", None) is not None
+               and sup.kind in ("tensioner", "reel")):
+            errors.append((f"{base}.line", f"line '{w.line}' is already paid out by a tensioner or reel"))
+        if dyn.enabled and dyn.duration > 0 and dyn.integrator.kind != "generalized-alpha":
+            errors.append(("analysis.dynamics.integrator.kind", f"winch '{name}' needs the generalized-alpha "
+                                                                f"integrator (got {dyn.integrator.kind})"))
+        if w.mode.kind == "speed" and dyn.enabled:
+            ts = [0.0] + [r[0] for r in w.mode.rows if 0.0 < r[0] < dyn.duration] + [float(dyn.duration)]
+            worst = max(speed_payout(w.mode.rows, t)[0] for t in ts)
+            if worst > w.stored:
+                errors.append((f"{base}.mode.rows", f"pays out {worst:.6g} m within the run's {dyn.duration} s, "
+                                                    f"more than the {w.stored:.6g} m stored on the drum"))
+            least = min(speed_payout(w.mode.rows, t)[0] for t in ts)
+            if line.length + least < 0.05 * line.length:
+                errors.append((f"{base}.mode.rows", f"hauls in {-least:.6g} m of the line's {line.length} m: at "
+                                                    f"least 5 % of it must stay out"))
+    return errors

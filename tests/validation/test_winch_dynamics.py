@@ -1,0 +1,239 @@
+"""Winches against closed forms: payout of 50 m (mass conserved, payload lowered by the
+payout plus the change of elastic stretch, tension back to static), a free drum
+(g_eff = m g / (m + J / r^2)) and a holding motor torque, constant tension within the dead
+band, heave compensation (the P controller's omega / sqrt(omega^2 + kp^2), much less with
+feedforward), and the shock absorber (static extra stretch T / k_sa; snap load with the
+series stiffness)."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import rfesim
+from rfesim.errors import SolverError
+
+G = 9.81
+
+
+def hoist(mode, L0=20.0, n=10, EA=1e8, mu=1.0, m=1000.0, duration=60.0, h=0.02, output=0.1, top="fixed",
+          vessels=None, statics=True, damping=0.2, stored=200.0, **winch):
+    return {
+        "environment": {"gravity": G},
+        "vessels": vessels or {},
+        "line_types": {"rope": {"EA": EA, "EIy": 1.0, "mass_per_length": mu, "tension_only": True,
+                                "damping": damping if isinstance(damping, dict) else {"axial_ratio": damping}}},
+        "bodies": {"payload": {"mass": m, "radius_of_gyration": 0.5}},
+        "lines": {"hoist": {"type": "rope", "length": L0, "elements": n,
+                            "end_a": {"attach": top, "position": [0, 0, 0]},
+                            "end_b": {"attach": "payload", "position": [0, 0, 0]}}},
+        "winches": {"w": {"line": "hoist", "stored": stored, "mode": mode, **winch}},
+        "analysis": {"statics": {"enabled": statics, "start": "straight"},
+                     "dynamics": {"duration": duration, "output_interval": output,
+                                  "integrator": {"kind": "generalized-alpha", "time_step": h, "rho_inf": 0.8}}},
+    }
+
+
+def stretch(L, m, mu, EA):
+    """Elastic elongation (m) of a rope of unstretched length L hanging a mass m (in air)."""
+    return (m * G * L + mu * G * L * L / 2.0) / EA
+
+
+# ----------------------------------------------------------------------------- payout
+
+def test_payout_of_50_m_conserves_rope_mass_and_lowers_the_payload():
+    L0, m, mu, EA = 20.0, 1000.0, 1.0, 1e8
+    rows = [[0, 0], [5, 1.0], [50, 1.0], [55, 0]]           # 2.5 + 45 + 2.5 = 50 m
+    # explicit axial damping (c_x = 5e6 N*s / Delta): ~10 % of critical for the payload's
+    # axial mode; uncorrected it would add c_x v / n = 5e6 v / L ~ 100 kN during the payout
+    res = rfesim.simulate(hoist({"kind": "speed", "rows": rows}, L0=L0, m=m, mu=mu, EA=EA, duration=60.0,
+                                damping={"axial": 5e6}))
+    w = res.winch("w")
+    body = res.body("payload")
+    total = w.rope_mass_suspended + w.rope_mass_drum
+    assert total[0] == pytest.approx(mu * (L0 + 200.0), rel=1e-14)
+    assert np.ptp(total) < 1e-12 * total[0]
+    assert w.rope_mass_suspended[-1] == pytest.approx(mu * (L0 + 50.0), rel=1e-13)
+    assert w.payout[-1] == pytest.approx(50.0, abs=1e-12)
+    assert w.suspended_length[-1] == pytest.approx(L0 + 50.0, abs=1e-12)
+    i = int(np.argmin(np.abs(res.time - 30.0)))
+    assert w.speed[i] == pytest.approx(1.0, abs=1e-12)
+    # steady payout at 1 m/s: the payload moves at constant speed, the tension is static
+    L = w.suspended_length[i]
+    assert L == pytest.approx(L0 + 27.5, abs=1e-9)
+    assert w.tension[i] == pytest.approx(m * G + mu * G * (L - L / 20), rel=2e-3)
+    # lowered by the payout plus the change of the elastic stretch (5.1 mm here)
+    extra = stretch(L0 + 50.0, m, mu, EA) - stretch(L0, m, mu, EA)
+    assert extra > 5e-3
+    drop = body.position[0, 2] - body.position[-20:, 2].mean()
+    assert drop == pytest.approx(50.0 + extra, abs=5e-4)
+    # tension at the first SDE (Delta/2 below the winch): static again after the payout
+    Delta = (L0 + 50.0) / 10
+    static = m * G + mu * G * (L0 + 50.0 - Delta / 2)
+    assert w.tension[-20:].mean() == pytest.approx(static, rel=1e-3)
+    assert w.tension[0] == pytest.approx(m * G + mu * G * (L0 - L0 / 20), rel=1e-6)
+
+
+def test_payout_beyond_the_stored_rope_stops_the_run_with_results():
+    """A free drum (no torque) runs away; it stops when the 5 m on the drum are out."""
+    mode = {"kind": "drum", "radius": 0.5, "inertia": 100.0}
+    with pytest.raises(SolverError) as info:
+        rfesim.simulate(hoist(mode, stored=5.0, duration=3.0, mu=0.1, h=0.002, damping=DRUM_DAMPING))
+    assert "ran out of rope" in str(info.value) and "winches.w.stored" in str(info.value)
+    res = info.value.results
+    assert res is not None and res.status == 1
+    assert 4.0 < res.winch("w").payout.max() <= 5.0
+
+
+# ----------------------------------------------------------------------------- drum
+
+# Released at t = 0, the rope's tension falls from m g to m (g - a): undamped, the drum-rope
+# mode (sqrt(k r^2 / J) ~ 112 rad/s) would overshoot into slack. Axial damping 1.5e6 N*s
+# (c = 1.5e6 / L ~ critical for that mode with k = EA / L) keeps the rope taut; the explicit
+# drum coupling then needs h omega < 2 (sqrt(1 + zeta^2) - zeta): h = 2 ms.
+DRUM_DAMPING = {"axial": 1.5e6}
+
+def test_free_drum_accelerates_the_payload_at_the_reduced_gravity():
+    m, J, r = 1000.0, 100.0, 0.5
+    mode = {"kind": "drum", "radius": r, "inertia": J}
+    res = rfesim.simulate(hoist(mode, m=m, mu=0.05, duration=3.0, h=0.002, output=0.02, damping=DRUM_DAMPING))
+    g_eff = m * G / (m + J / r ** 2)
+    t = res.time
+    z = res.body("payload").position[:, 2]
+    keep = t > 0.3
+    a = -2.0 * np.polyfit(t[keep], z[keep], 2)[0]
+    assert a == pytest.approx(g_eff, rel=0.01)
+    D = res.winch("w").payout
+    a_drum = 2.0 * np.polyfit(t[keep], D[keep], 2)[0]
+    assert a_drum == pytest.approx(g_eff, rel=0.01)
+    assert abs(a - G) > 0.2 * G          # the drum's inertia matters
+
+
+def test_motor_torque_r_times_static_tension_holds_the_payload():
+    m, mu, L0, r = 1000.0, 0.05, 20.0, 0.5
+    T0 = m * G + mu * G * (L0 - L0 / 20)        # first SDE: Delta/2 below the winch
+    mode = {"kind": "drum", "radius": r, "inertia": 100.0, "torque": [[0.0, r * T0]]}
+    res = rfesim.simulate(hoist(mode, m=m, mu=mu, L0=L0, duration=3.0, h=0.01))
+    w = res.winch("w")
+    assert w.tension[0] == pytest.approx(T0, rel=1e-9)
+    assert np.abs(w.payout).max() < 1e-4
+    z = res.body("payload").position[:, 2]
+    assert np.ptp(z) < 1e-4
+
+
+def test_brake_holds_the_drum():
+    m, r = 1000.0, 0.5
+    mode = {"kind": "drum", "radius": r, "inertia": 100.0, "brake_torque": 1.2 * r * m * G}
+    res = rfesim.simulate(hoist(mode, m=m, mu=0.05, duration=2.0, h=0.01))
+    assert np.abs(res.winch("w").payout).max() == 0.0
+
+
+# ----------------------------------------------------------------------------- constant tension
+
+def test_constant_tension_holds_the_set_tension_within_the_dead_band():
+    """A rope from a fixed sheave down to a point heaving 0.5 m (period 20 s): held at its
+    ends it would see k * 0.5 m = 5 kN of tension variation; the winch keeps it within the
+    band plus gain times the largest speed it must follow (78.5 N)."""
+    EA, L0 = 2e5, 20.0
+    k = EA / L0
+    set_t, band, gain = 5000.0, 200.0, 500.0
+    u_max = 0.5 * 2 * math.pi / 20.0
+    sc = hoist({"kind": "tension", "tension": set_t, "dead_band": band, "gain": gain, "max_speed": 2.0},
+               L0=L0, EA=EA, m=10.0, mu=0.1, duration=100.0, h=0.01, damping=0.5)
+    sc.pop("bodies")
+    sc["vessels"] = {"tug": {"position": [0, 0, -L0 - 0.3], "motion": {"kind": "harmonic", "heave": {
+        "amplitude": 0.5, "period": 20.0}, "ramp_duration": 10.0}}}
+    sc["lines"]["hoist"]["end_b"] = {"attach": "tug", "position": [0, 0, 0]}
+    res = rfesim.simulate(sc)
+    T = res.winch("w").tension
+    t = res.time
+    assert T[0] == pytest.approx(k * 0.3, rel=0.02)          # starts 2 kN below the band
+    steady = t > 40.0
+    dev = np.abs(T[steady] - set_t)
+    assert dev.max() < band + 1.1 * gain * u_max + 20.0
+    assert np.ptp(res.winch("w").payout[steady]) > 0.8        # it follows the 1 m heave range
+
+
+# ----------------------------------------------------------------------------- heave compensation
+
+def heave_ratio(hc, Tp=8.0, duration=56.0):
+    ship = {"ship": {"motion": {"kind": "harmonic", "heave": {"amplitude": 1.0, "period": Tp},
+                                "ramp_duration": 8.0}}}
+    res = rfesim.simulate(hoist({"kind": "speed", "rows": [[0, 0]]}, L0=10.0, n=5, EA=1e9, mu=0.5, m=1000.0,
+                                duration=duration, h=0.01, output=0.05, top="ship", vessels=ship,
+                                heave_compensation=hc))
+    t = res.time
+    keep = t > duration - 4 * Tp
+    w = 2 * math.pi / Tp
+    basis = np.column_stack([np.sin(w * t[keep]), np.cos(w * t[keep]), np.ones(keep.sum())])
+
+    def amplitude(x):
+        c = np.linalg.lstsq(basis, x[keep], rcond=None)[0]
+        return math.hypot(c[0], c[1])
+
+    tip = res.vessel("ship").position[:, 2]
+    payload = res.body("payload").position[:, 2]
+    return amplitude(payload) / amplitude(tip), w
+
+
+@pytest.mark.parametrize("kp", [0.5, 1.5])
+def test_heave_compensation_p_controller_reduces_motion_by_its_transfer_factor(kp):
+    ratio, w = heave_ratio({"kp": kp})
+    assert ratio == pytest.approx(w / math.hypot(w, kp), rel=0.03)
+
+
+def test_heave_compensation_with_feedforward_is_much_better():
+    ratio, w = heave_ratio({"kp": 0.5, "feedforward": True})
+    assert ratio < 0.1 * w / math.hypot(w, 0.5)
+
+
+# ----------------------------------------------------------------------------- shock absorber
+
+def test_shock_absorber_static_extra_stretch():
+    k_sa = 2e5
+    base = hoist({"kind": "speed", "rows": [[0, 0]]}, mu=0.5)
+    base["analysis"]["dynamics"]["enabled"] = False
+    soft = hoist({"kind": "speed", "rows": [[0, 0]]}, mu=0.5, shock_absorber={"stiffness": k_sa, "damping": 1e4})
+    soft["analysis"]["dynamics"]["enabled"] = False
+    a = rfesim.statics(base)
+    b = rfesim.statics(soft)
+    T = b.winch("w").tension[0]
+    assert T == pytest.approx(a.winch("w").tension[0], rel=1e-9)
+    extra = a.body("payload").position[0, 2] - b.body("payload").position[0, 2]
+    assert extra == pytest.approx(T / k_sa, rel=1e-4)
+
+
+def test_snap_load_with_shock_absorber_uses_the_series_stiffness():
+    """C1 (test_bodies.snap_scenario) with an absorber as stiff as the rope: k_eq = k / 2,
+    peak mg + sqrt((mg)^2 + k_eq m v^2) = 462 kN instead of 603 kN."""
+    m, k, L, drop = 1.0e4, 2.5e6, 10.0, 0.5
+    sc = hoist({"kind": "speed", "rows": [[0, 0]]}, L0=L, n=10, EA=k * L, mu=0.1, m=m, duration=0.6, h=0.002,
+               output=0.002, statics=False, shock_absorber={"stiffness": k})
+    sc["bodies"]["payload"]["position"] = [0.0, 0.0, -(L - drop)]
+    sc["bodies"]["payload"]["radius_of_gyration"] = 1.0
+    sc["analysis"]["dynamics"]["integrator"].update(rho_inf=0.9, max_iterations=30)
+    res = rfesim.simulate(sc)
+    k_eq = 1.0 / (1.0 / k + 1.0 / k)
+    v = math.sqrt(2.0 * G * drop)
+    peak = m * G + math.sqrt((m * G) ** 2 + k_eq * m * v * v)
+    assert peak == pytest.approx(461.8e3, rel=1e-3)
+    assert res.body("payload").connection_tension.max() == pytest.approx(peak, rel=0.015)
+    assert res.winch("w").tension.max() == pytest.approx(peak, rel=0.015)
+
+
+def test_winch_results_reach_the_netcdf_file(tmp_path):
+    import h5py
+    sc = hoist({"kind": "speed", "rows": [[0, 0], [1, 0.5]]}, duration=2.0, output=0.5)
+    res = rfesim.simulate(sc)
+    path = tmp_path / "w.nc"
+    res.to_netcdf(path)
+    back = rfesim.open_results(path)
+    for ch in ("payout", "speed", "tension", "suspended_length", "rope_mass_suspended", "rope_mass_drum"):
+        np.testing.assert_array_equal(getattr(back.winch("w"), ch), getattr(res.winch("w"), ch))
+    with h5py.File(path, "r") as f:
+        g = f["winches/w"]
+        assert g["payout"].attrs["units"] in ("m", b"m")
+        assert g["rope_mass_drum"].attrs["units"] in ("kg", b"kg")
+        assert g.attrs["line"] in ("hoist", b"hoist")
+    assert res.winch("w").payout[-1] == pytest.approx(0.25 + 0.5, abs=1e-12)
