@@ -40,9 +40,9 @@ from ..interp import bracket
 
 @njit(cache=True)
 def drive_table(ts, ps, vs, t):
-    """(value, slope) at t of the cubic Hermite through (ts, ps) with slopes vs: the same
-    curve as ``rfesim.loads.tensioner._table`` (monotone PCHIP slopes from the compile
-    step), constant beyond the ends (slope 0 there)."""
+    """(value, slope) at t of the cubic Hermite through (ts, ps) with slopes vs (monotone
+    PCHIP slopes from the compile step), constant beyond the ends (slope 0 there). Also the
+    payout curve of tensioners and reels (``rfesim.loads.tensioner._table``)."""
     n = ts.shape[0]
     if t <= ts[0]:
         return ps[0], 0.0

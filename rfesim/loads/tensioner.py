@@ -33,7 +33,7 @@ import math
 
 from numba import njit
 
-from ..interp import bracket
+from .drives import drive_table
 
 MODE_TABLE = 0
 MODE_TENSION = 1
@@ -43,21 +43,8 @@ MODE_TENSION = 1
 def _table(ts, ds, vs, t):
     """Cubic Hermite through (ts, ds) with slopes vs (monotone PCHIP slopes from the compile
     step): the payout speed is continuous, so a payout that starts or stops gives no
-    impulse; constant beyond the ends."""
-    n = ts.shape[0]
-    if t <= ts[0]:
-        return ds[0]
-    if t >= ts[n - 1]:
-        return ds[n - 1]
-    lo = bracket(ts, t)
-    hi = lo + 1
-    h = ts[hi] - ts[lo]
-    u = (t - ts[lo]) / h
-    h00 = (1.0 + 2.0 * u) * (1.0 - u) * (1.0 - u)
-    h10 = u * (1.0 - u) * (1.0 - u)
-    h01 = u * u * (3.0 - 2.0 * u)
-    h11 = u * u * (u - 1.0)
-    return h00 * ds[lo] + h10 * h * vs[lo] + h01 * ds[hi] + h11 * h * vs[hi]
+    impulse; constant beyond the ends (``rfesim.loads.drives.drive_table``'s value)."""
+    return drive_table(ts, ds, vs, t)[0]
 
 
 @njit(cache=True)

@@ -41,7 +41,7 @@ from typing import Annotated, Any, Literal, Union
 from pydantic import Field, TypeAdapter, ValidationError, model_validator
 
 from .bodies import Body
-from .pipelay import STEEL_DENSITY, STEEL_E, _add, _environment, _to_global, _vessel_pose
+from .pipelay import STEEL_DENSITY, STEEL_E, _add, _to_global, _vessel_pose, expand_templates
 from .schema import FieldError, Vector3, Vessel, _Strict, _units
 
 # A rope's bending stiffness against a solid bar of its diameter: the strands bend nearly on
@@ -450,36 +450,13 @@ def expand(data: dict) -> dict:
     """The scenario dict with its ``cranes`` templates expanded into ordinary sections
     (a new dict without ``cranes``; the input itself when it has none). Raises
     ScenarioError naming the template field (``cranes.crane.boom.length: ...``)."""
-    from ..errors import ScenarioError
-    if not isinstance(data, dict) or "cranes" not in data:
-        return data
-    raw = data.get("cranes")
-    if raw is None or raw == {}:
-        out = dict(data)
-        out.pop("cranes")
-        return out
-    try:
-        templates = _TEMPLATES.validate_python(raw)
-    except ValidationError as exc:
-        from .load import validation_errors
-        raise ScenarioError(validation_errors(exc, prefix=("cranes",))) from None
-    if _environment(data) is None:
-        out = copy.deepcopy(data)    # the environment's own errors are reported by the validation
-        out.pop("cranes")
-        return out
-    out = copy.deepcopy(data)
-    del out["cranes"]
-    errors: list[tuple[str, str]] = []
-    for name, tpl in templates.items():
-        try:
-            if any(c in name for c in "/:\\") or name.strip() != name:
-                raise FieldError("", f"bad crane name {name!r}: no '/', ':' or '\\', no outer spaces")
-            vname, vpos, heading = _vessel_pose(out, name, tpl, raw[name])
-            (_column if tpl.type == "column" else _a_frame)(out, name, tpl, raw[name], vname, vpos, heading)
-        except FieldError as exc:
-            errors.append((f"cranes.{name}.{exc.field}" if exc.field else f"cranes.{name}", exc.reason))
-    if errors:
-        raise ScenarioError(errors)
+    return expand_templates(data, "cranes", _TEMPLATES, _expand_one)
+
+
+def _expand_one(out: dict, name: str, tpl, raw: dict, env) -> None:
+    if any(c in name for c in "/:\\") or name.strip() != name:
+        raise FieldError("", f"bad crane name {name!r}: no '/', ':' or '\\', no outer spaces")
+    vname, vpos, heading = _vessel_pose(out, name, tpl, raw)
+    (_column if tpl.type == "column" else _a_frame)(out, name, tpl, raw, vname, vpos, heading)
     if not out.get("name"):
-        out["name"] = "crane: " + ", ".join(f"{n} ({t.type})" for n, t in templates.items())
-    return out
+        out["name"] = f"crane: {name} ({tpl.type})"

@@ -224,32 +224,39 @@ def expand(data: dict) -> dict:
     input itself when it has no templates. Raises ScenarioError naming the template field
     (``pipelay.lay1.tension: ...``) for bad templates or names that clash. Deterministic:
     the same input gives the same output."""
+    return expand_templates(data, "pipelay", _TEMPLATES, _expand_one)
+
+
+def expand_templates(data: dict, key: str, adapter: TypeAdapter, expand_one) -> dict:
+    """``data`` with its top-level map ``key`` of templates (validated by ``adapter``)
+    expanded by ``expand_one(out, name, template, raw_template, environment)``, which adds
+    ordinary sections to ``out`` and raises FieldError for a bad template; the errors of all
+    templates are raised together as a ScenarioError prefixed ``key.name``. Shared by the
+    pipelay and crane templates."""
     from ..errors import ScenarioError
-    if not isinstance(data, dict) or "pipelay" not in data:
+    if not isinstance(data, dict) or key not in data:
         return data
-    raw = data.get("pipelay")
+    raw = data.get(key)
     if raw is None or raw == {}:
         out = dict(data)
-        out.pop("pipelay")
+        out.pop(key)
         return out
     try:
-        templates = _TEMPLATES.validate_python(raw)
+        templates = adapter.validate_python(raw)
     except ValidationError as exc:
         from .load import validation_errors
-        raise ScenarioError(validation_errors(exc, prefix=("pipelay",))) from None
+        raise ScenarioError(validation_errors(exc, prefix=(key,))) from None
     env = _environment(data)
-    if env is None:
-        out = copy.deepcopy(data)   # the environment's own errors are reported by the validation
-        out.pop("pipelay")
-        return out
     out = copy.deepcopy(data)
-    del out["pipelay"]
+    del out[key]
+    if env is None:
+        return out                 # the environment's own errors are reported by the validation
     errors: list[tuple[str, str]] = []
     for name, tpl in templates.items():
         try:
-            _expand_one(out, name, tpl, raw[name], env)
+            expand_one(out, name, tpl, raw[name], env)
         except FieldError as exc:
-            errors.append((f"pipelay.{name}.{exc.field}" if exc.field else f"pipelay.{name}", exc.reason))
+            errors.append((f"{key}.{name}.{exc.field}" if exc.field else f"{key}.{name}", exc.reason))
     if errors:
         raise ScenarioError(errors)
     return out
