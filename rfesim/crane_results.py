@@ -15,7 +15,6 @@ starts from its statics), or ``static_tension``.
 """
 from __future__ import annotations
 
-import json
 import math
 
 import numpy as np
@@ -128,14 +127,18 @@ def crane_summary(res, crane: str, *, static_tension: float | None = None, slack
         out.update(payload_position=np.asarray(body.position, float),
                    payload_velocity=np.asarray(body.velocity, float),
                    payload_acceleration=np.asarray(body.acceleration, float))
-    sc = json.loads(res.scenario_json) if res.scenario_json else {}
-    drives = (((sc.get("lines") or {}).get(boom_line) or {}).get("end_a") or {}).get("drives") or []
-    angle = getattr(boom, "drive_angle", None)
-    torque = getattr(boom, "drive_torque", None)
-    for j, d in enumerate(drives):
-        if angle is not None and torque is not None:
-            out["drive_angle"][d["name"]] = np.asarray(angle, float)[:, j]
-            out["drive_torque"][d["name"]] = np.asarray(torque, float)[:, j]
+    # the boom's joint drives, and a slewing motor's turret (rfesim.scenario.cranes.SlewingMotor)
+    for lname in (f"{crane}_turret", boom_line):
+        if lname not in res.lines:
+            continue
+        line = res.line(lname)
+        angle = getattr(line, "drive_angle", None)
+        torque = getattr(line, "drive_torque", None)
+        if angle is None or torque is None:
+            continue
+        for j, dname in enumerate(line.drive_names):
+            out["drive_angle"][dname] = np.asarray(angle, float)[:, j]
+            out["drive_torque"][dname] = np.asarray(torque, float)[:, j]
     if cylinder is not None and "luffing" in out["drive_torque"]:
         a_frame = boom_line.endswith("_legs")
         ang = out["drive_angle"]["luffing"]

@@ -36,6 +36,8 @@ import numpy as np
 from numba import njit
 
 from ..interp import bracket
+from ..kinematics import matTvec_into, matvec_into
+from .sde import sde_geometry_rest_scratch
 
 
 @njit(cache=True)
@@ -170,3 +172,69 @@ def rest_at(km, t: float) -> tuple[np.ndarray, np.ndarray]:
                         km.drive_phi0, np.ascontiguousarray(rest.copy()), float(t), rest, rate, np.zeros((3, 3)),
                         np.zeros((3, 3)), np.zeros((3, 3)))
     return rest, rate
+
+
+# ----------------------------------------------------------------------------- torque-limited servo motors
+#
+# A MOTOR turns a clamped, coaxial join about its own axis (the joint SDE's torsion axis x,
+# eq. 8.75): a slewing ring with a hydraulic or electric drive. It is a position servo with a
+# torque limit (docs/theory.md, "Slewing motor with a torque limit"): the joint's torsional
+# stiffness and damping are the servo gains k_p, k_d (set in sde_stiffness[s, 3] and
+# sde_damping[s, 3] by the compile step, so the elastic law and its analytic tangent give
+# k_p theta_x + k_d dtheta_x/dt), and ``motor_forces`` turns that moment into
+#
+#     M_x = clip(k_p (theta_x - theta_set(t)) + k_d (dtheta_x/dt - dtheta_set/dt), -T_max, T_max)
+#
+# with theta_set(t) = phi(t) - phi(0) from the angle table (monotone cubic, ``drive_table``).
+# The joint's other five components stay those of a clamped joint. Below the limit the
+# tangent is exact; at the limit the Jacobian keeps the servo gains (Newton converges
+# linearly there).
+
+
+@njit(cache=True)
+def motor_forces(motor_sde, motor_t, motor_angle, motor_slope, motor_count, motor_stiffness, motor_damping,
+                 motor_torque, t, only, sat, sde_left, sde_right, sde_arm_left, sde_arm_right, rest_flag, rest_static,
+                 rest_eff, R, rbase, roff, sigma, M, v3, m33):
+    """Correct the torsional moment of every motor SDE (``only`` >= 0: that SDE alone) from
+    the elastic law already applied (sigma[s, 3] = k_p theta_x + k_d dtheta_x/dt) to the
+    torque-limited servo law above; the difference is applied like the SDE moment itself
+    (eq. 8.90.2 through the exact J_r^-T), sigma is corrected too. sat[j] = 1 for a motor at
+    its limit (its tangent is then 0: rfesim.solvers.jacobian), else 0."""
+    for j in range(motor_sde.shape[0]):
+        s = motor_sde[j]
+        if only >= 0 and s != only:
+            continue
+        c = motor_count[j]
+        phi, rate = drive_table(motor_t[j, :c], motor_angle[j, :c], motor_slope[j, :c], t)
+        phi0 = drive_table(motor_t[j, :c], motor_angle[j, :c], motor_slope[j, :c], 0.0)[0]
+        raw = sigma[s, 3] - motor_stiffness[j] * (phi - phi0) - motor_damping[j] * rate
+        lim = motor_torque[j]
+        new = min(max(raw, -lim), lim)
+        sat[j] = 1 if abs(raw) > lim else 0
+        dm0 = new - sigma[s, 3]
+        sigma[s, 3] = new
+        torsion_moment_into(s, dm0, sde_left, sde_right, sde_arm_left, sde_arm_right, rest_flag, rest_static,
+                            rest_eff, R, rbase, roff, M, v3, m33)
+
+
+@njit(cache=True)
+def torsion_moment_into(s, dm0, sde_left, sde_right, sde_arm_left, sde_arm_right, rest_flag, rest_static, rest_eff,
+                        R, rbase, roff, M, v3, m33):
+    """Add a change dm0 of SDE s's torsional moment (in {i'}) to M as the SDE kernel
+    applies its moments (eq. 8.90.2 through the exact J_r^-T)."""
+    dm = v3[20]
+    tmp = v3[21]
+    mg = v3[22]
+    Jri = m33[3]
+    dm[0] = dm0
+    dm[1] = 0.0
+    dm[2] = 0.0
+    a = sde_left[s]
+    b = sde_right[s]
+    sde_geometry_rest_scratch(s, sde_left, sde_right, sde_arm_left, sde_arm_right, rest_flag, rest_static,
+                              rest_eff, R, rbase, roff, v3, m33)
+    matTvec_into(Jri, dm, tmp)
+    matvec_into(R[b], tmp, mg)
+    for k in range(3):
+        M[b, k] -= mg[k]
+        M[a, k] += mg[k]

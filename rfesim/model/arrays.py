@@ -153,6 +153,16 @@ class KernelModel(NamedTuple):
     drive_count: np.ndarray = np.zeros(0, np.int64)  # (nd,) int64 rows of the table
     drive_phi0: np.ndarray = np.zeros(0)             # (nd,) rad, table value at t = 0 (dphi = phi(t) - phi0)
     has_drives: bool = False
+    # --- torque-limited servo motors on coaxial clamped joins (rfesim.loads.drives.motor_forces); nm motors
+    motor_sde: np.ndarray = np.zeros(0, np.int64)    # (nm,) int64, the joint SDE (torsion axis = motor axis)
+    motor_t: np.ndarray = np.zeros((0, 2))           # (nm, K) s, angle table times
+    motor_angle: np.ndarray = np.zeros((0, 2))       # (nm, K) rad, set angle
+    motor_slope: np.ndarray = np.zeros((0, 2))       # (nm, K) rad/s, its PCHIP slopes
+    motor_count: np.ndarray = np.zeros(0, np.int64)  # (nm,) int64 rows of the table
+    motor_stiffness: np.ndarray = np.zeros(0)        # (nm,) N*m/rad, servo k_p (= the SDE's torsional stiffness)
+    motor_damping: np.ndarray = np.zeros(0)          # (nm,) N*m*s/rad, servo k_d (= the SDE's torsional damping)
+    motor_torque: np.ndarray = np.zeros(0)           # (nm,) N*m, torque limit
+    has_motors: bool = False
 
 
 class Workspace(NamedTuple):
@@ -224,6 +234,11 @@ class Workspace(NamedTuple):
     reel_time: np.ndarray = np.zeros(2)              # (2,) s: [time of the last commit, of the last evaluation]
     sde_rest_eff: np.ndarray = np.zeros((0, 3, 3))   # (nsde, 3, 3) rest rotation R0(t) of the driven SDEs (evaluation time)
     sde_rest_rate: np.ndarray = np.zeros((0, 3))     # (nsde, 3) rad/s, its angular velocity omega0 (left RFE's body frame)
+    motor_sat: np.ndarray = np.zeros(0, np.int64)    # (nm,) int64, 1: the motor is at its torque limit
+    c_tangent: np.ndarray = np.zeros((0, 6))         # (nsde, 6) SDE damping for the Jacobian (motors at the limit: 0)
+    sea_reach: np.ndarray = np.zeros(0)              # (n,) m, how far below its centre each RFE (or body) can be wet
+    step_state: np.ndarray = np.zeros(1, np.int64)   # (1,) int64, 1: the workspace holds the evaluation of the state
+                                                     #   a generalised-alpha step just converged to (outputs reuse it)
 
 
 class Reference(NamedTuple):
@@ -248,7 +263,8 @@ class AttachmentState(NamedTuple):
     scratch: np.ndarray  # (16, 3) work space of the compiled kinematics
 
 
-def new_workspace(n: int, nsde: int, nh: int = 1, nroller: int = 0, ntens: int = 0, nreel: int = 0) -> Workspace:
+def new_workspace(n: int, nsde: int, nh: int = 1, nroller: int = 0, ntens: int = 0, nreel: int = 0,
+                  nmotor: int = 0) -> Workspace:
     return Workspace(
         R=np.zeros((n, 3, 3)), r=np.zeros((n, 3)), rbase=np.zeros((n, 3)), roff=np.zeros((n, 3)), v=np.zeros((n, 3)), w=np.zeros((n, 3)),
         wb=np.zeros((n, 3)), E=np.zeros((n, 3, 3)), Edot=np.zeros((n, 3)), F=np.zeros((n, 3)),
@@ -269,7 +285,9 @@ def new_workspace(n: int, nsde: int, nh: int = 1, nroller: int = 0, ntens: int =
         roller_anchored_trial=np.zeros(nroller, np.int64), roller_scratch=np.zeros(32), waves_off=np.zeros(1, np.int64), point1=np.zeros((1, 3)), sea_frozen=np.zeros(1, np.int64),
         reel_grip_a=np.zeros(n), reel_grip_on=np.zeros(n, np.int64), reel_grip_a_trial=np.zeros(n),
         reel_grip_on_trial=np.zeros(n, np.int64), reel_D=np.zeros(max(nreel, 1)), reel_force=np.zeros(max(nreel, 1)),
-        reel_time=np.zeros(2), sde_rest_eff=_identities(nsde), sde_rest_rate=np.zeros((nsde, 3)))
+        reel_time=np.zeros(2), sde_rest_eff=_identities(nsde), sde_rest_rate=np.zeros((nsde, 3)),
+        sea_reach=np.zeros(n), step_state=np.zeros(1, np.int64), motor_sat=np.zeros(nmotor, np.int64),
+        c_tangent=np.zeros((nsde, 6)))
 
 
 def _identities(m: int) -> np.ndarray:
@@ -378,3 +396,28 @@ def new_attachment_state(natt: int) -> AttachmentState:
     R[:] = np.eye(3)
     return AttachmentState(p=np.zeros((natt, 3)), R=R, v=np.zeros((natt, 3)), w=np.zeros((natt, 3)),
                            a=np.zeros((natt, 3)), alpha=np.zeros((natt, 3)), time=np.zeros(1), scratch=np.zeros((16, 3)))
+
+
+def motor_arrays(motors: list[dict]) -> dict:
+    """KernelModel fields of the servo motors: dicts {"sde", "table": [[t s, angle rad], ...],
+    "stiffness", "damping", "max_torque"}."""
+    from .supports import _pchip_slopes
+    nm = len(motors)
+    K = max([2] + [len(m["table"]) for m in motors])
+    out = dict(motor_sde=np.zeros(nm, np.int64), motor_t=np.zeros((nm, K)), motor_angle=np.zeros((nm, K)),
+               motor_slope=np.zeros((nm, K)), motor_count=np.zeros(nm, np.int64), motor_stiffness=np.zeros(nm),
+               motor_damping=np.zeros(nm), motor_torque=np.zeros(nm), has_motors=nm > 0)
+    for j, m in enumerate(motors):
+        table = np.asarray(m["table"], float).reshape(-1, 2)
+        if table.shape[0] == 1:
+            table = np.vstack([table, table + [1.0, 0.0]])
+        c = table.shape[0]
+        out["motor_sde"][j] = int(m["sde"])
+        out["motor_t"][j, :c] = table[:, 0]
+        out["motor_angle"][j, :c] = table[:, 1]
+        out["motor_slope"][j, :c] = _pchip_slopes(table[:, 0], table[:, 1])
+        out["motor_count"][j] = c
+        out["motor_stiffness"][j] = float(m["stiffness"])
+        out["motor_damping"][j] = float(m["damping"])
+        out["motor_torque"][j] = float(m["max_torque"])
+    return out

@@ -17,6 +17,8 @@ matrix (``omega_body = E d(angles)/dt``); the kinetic energy terms (eqs. 8.11-8.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
@@ -26,14 +28,14 @@ from ..loads.bodies import body_hydro_forces
 from ..loads.gravity import gravity_forces
 from ..loads.hydro import buoyancy_forces, morison_forces, submergence
 from ..loads.point import point_loads
-from ..loads.drives import drive_rest_into
+from ..loads.drives import drive_rest_into, motor_forces
 from ..loads.sde import sde_forces_rest_into, commit_plastic, plastic_sde_correction
 from ..loads.rollers import commit_roller_friction, roller_forces
 from ..loads.seabed import commit_friction, seabed_forces
 from ..loads.tensioner import commit_tensioners, tensioner_forces
 from ..loads.reel import reel_forces
 from ..loads.tension_only import tension_only_correction_rest
-from ..sea.kernel import sea_kinematics_into
+from ..sea.kernel import sea_kinematics_into, sea_kinematics_reach
 
 
 @njit(cache=True)
@@ -113,6 +115,8 @@ def accumulate_forces(km, att, ws, scale):
         plastic_forces(km, ws, ws.M)
     if km.has_tension_only:
         tension_only_forces(km, ws, ws.F, ws.M)
+    if km.has_motors:
+        motor_moments(km, att, ws, -1, ws.M)
     local_loads(km, att, ws, scale)
 
 
@@ -143,6 +147,16 @@ def plastic_forces(km, ws, M):
                            km.sde_length, km.sde_plastic, km.plastic_params, ws.plastic_hist, ws.plastic_hist_trial,
                            ws.R, ws.rbase, ws.roff, ws.eps, ws.sigma, M, ws.k_tangent, ws.out5, ws.v3, ws.m33,
                            km.sde_has_rest, km.sde_rest, ws.sde_rest_eff)
+
+
+@njit(cache=True)
+def motor_moments(km, att, ws, only, M):
+    """Servo motors of coaxial joins: the torque-limited torsional moment (after the elastic
+    SDE forces; ``only`` >= 0: that SDE alone), rfesim.loads.drives.motor_forces."""
+    motor_forces(km.motor_sde, km.motor_t, km.motor_angle, km.motor_slope, km.motor_count, km.motor_stiffness,
+                 km.motor_damping, km.motor_torque, att.time[0], only, ws.motor_sat, km.sde_left, km.sde_right, km.sde_arm_left,
+                 km.sde_arm_right, km.sde_has_rest, km.sde_rest, ws.sde_rest_eff, ws.R, ws.rbase, ws.roff, ws.sigma,
+                 M, ws.v3, ws.m33)
 
 
 @njit(cache=True)
@@ -225,10 +239,34 @@ def local_loads(km, att, ws, scale):
 def water_kinematics(km, att, ws):
     """Free surface, water velocity and acceleration at every RFE centre (waves and
     current, rfesim.sea); with ``ws.waves_off`` (statics) still water plus current."""
+    sea_reach(km, ws)
     if ws.waves_off[0] == 0:
-        sea_kinematics_into(km.sea, att.time[0], ws.r, ws.surface_z, ws.water_vel, ws.water_acc)
+        sea_kinematics_reach(km.sea, att.time[0], ws.r, ws.sea_reach, True, ws.surface_z, ws.water_vel, ws.water_acc)
     else:
-        sea_kinematics_into(km.sea_still, 0.0, ws.r, ws.surface_z, ws.water_vel, ws.water_acc)
+        sea_kinematics_reach(km.sea_still, 0.0, ws.r, ws.sea_reach, True, ws.surface_z, ws.water_vel,
+                             ws.water_acc)
+
+
+SEA_MARGIN = 1.0        # m added to every reach: the kinematics stay frozen over a step's Newton iterations
+
+
+@njit(cache=True)
+def sea_reach(km, ws):
+    """ws.sea_reach: how far below its centre each RFE can be wet -- half its length times
+    the vertical component of its axis plus its radius, a body's centre of buoyancy offset
+    plus half its height -- plus SEA_MARGIN; an RFE without displaced area or diameter
+    (no sea loads) is never wet."""
+    for i in range(ws.r.shape[0]):
+        if km.rfe_disp_area[i] <= 0.0 and km.rfe_diameter[i] <= 0.0:
+            ws.sea_reach[i] = -1e300
+        else:
+            ws.sea_reach[i] = 0.5 * km.rfe_length[i] * abs(ws.R[i, 2, 0]) + 0.5 * km.rfe_diameter[i] + SEA_MARGIN
+    if km.has_bodies:
+        for j in range(km.body_rfe.shape[0]):
+            i = km.body_rfe[j]
+            c = km.body_cob[j]
+            ws.sea_reach[i] = max(ws.sea_reach[i], math.sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2])
+                                  + 0.5 * km.body_height[j] + SEA_MARGIN)
 
 
 @njit(cache=True)

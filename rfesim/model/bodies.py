@@ -153,21 +153,14 @@ def line_name(sc, line) -> str:
     raise KeyError("line not in the scenario")
 
 
-def connection_force(km, ws, info: BodyInfo) -> tuple[np.ndarray, np.ndarray]:
+def connection_force(km, ws, info: BodyInfo, end: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Force (global) of the line on the body and its moment about the attachment point,
-    from the connection SDE of an evaluated workspace."""
-    from ..loads.sde import sde_forces_rest
-    s = info.sde
-    n = ws.R.shape[0]
-    F = np.zeros((n, 3))
-    M = np.zeros((n, 3))
-    # the SDE's rest rotation (a joint) as in the evaluation (rfesim.loads.drives)
-    sl = slice(s, s + 1) if km.sde_has_rest.shape[0] > s else slice(0, 0)
-    sde_forces_rest(km.sde_left[s:s + 1], km.sde_right[s:s + 1], km.sde_arm_left[s:s + 1], km.sde_arm_right[s:s + 1],
-                    km.sde_stiffness[s:s + 1], km.sde_damping[s:s + 1], np.ascontiguousarray(km.sde_has_rest[sl]),
-                    np.ascontiguousarray(km.sde_rest[sl]), np.ascontiguousarray(ws.sde_rest_eff[sl]),
-                    np.ascontiguousarray(ws.sde_rest_rate[sl]), ws.R, ws.rbase, ws.roff, ws.v, ws.w, F, M,
-                    np.zeros((1, 6)), np.zeros((1, 6)), np.zeros((1, 3)))
-    b = info.rfe
-    arm = ws.R[b] @ km.sde_arm_right[s]
-    return F[b].copy(), M[b] - np.cross(arm, F[b])
+    from the connection SDE of an evaluated workspace (``end``: its sde_end_loads if
+    already computed)."""
+    out = end
+    if out is None:
+        from .outputs import sde_end_loads
+        out = np.empty((4, 3))
+        n = ws.R.shape[0]
+        sde_end_loads(km, ws, info.sde, np.zeros((n, 3)), np.zeros((n, 3)), out)
+    return out[2].copy(), out[3].copy()

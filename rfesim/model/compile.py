@@ -338,6 +338,7 @@ def compile_scenario(sc, start: str | None = None) -> Model:
     tension_flags: list[int] = []          # per SDE: 1 for a tension-only line type (a rope)
     body_infos: list = []                  # rfesim.model.bodies.BodyInfo
     join_infos: list[JoinInfo] = []        # line-to-line joins (rfesim.model.joins)
+    motors: list[dict] = []                # servo motors of coaxial joins (rfesim.loads.drives.motor_forces)
     join_drives: list = []                 # (joint SDE, parent end rotation at t = 0, schema drives)
     end_b_of: dict[str, dict] = {}         # per line: its end-B RFE, point, frame and SDE data (joins)
 
@@ -546,6 +547,21 @@ def compile_scenario(sc, start: str | None = None) -> Model:
                 rows_c.append(_sde_damping(damping_j, sec_j, dxm, cj, np.array([pe["mass"], masses[0]]),
                                            np.vstack([pe["inertia"], inertia[0]]), free_ends)[0])
             stiffness_j, damping_j = joint_rows(line.end_a.connection, rows_k, rows_c)
+            motor = getattr(line.end_a, "motor", None)
+            if motor is not None:
+                # a servo motor about the joint's axis (rfesim.loads.drives): the join must be coaxial
+                cosang = float(pe["frame"][:, 0] @ frames[0][:, 0])
+                if cosang < 1.0 - 1e-9:
+                    problems_motor = [(f"lines.{lname}.end_a.direction",
+                                       f"a motor turns the join about its axis: end A of '{lname}' must continue "
+                                       f"the direction of end B of '{parent}' (they are "
+                                       f"{math.degrees(math.acos(max(-1.0, min(1.0, cosang)))):.3g} deg apart)")]
+                    raise ScenarioError(problems_motor)
+                stiffness_j[3] = motor.stiffness
+                damping_j[3] = motor.damping
+                motors.append({"sde": nsde_total, "stiffness": motor.stiffness, "damping": motor.damping,
+                               "max_torque": motor.max_torque,
+                               "table": [[r[0], math.radians(r[1])] for r in motor.angle], "name": motor.name})
             sde["left"].append(pe["rfe"])
             sde["right"].append(n_total)
             sde["arm_left"].append([0.5 * pe["length"], 0.0, 0.0])
@@ -660,6 +676,13 @@ def compile_scenario(sc, start: str | None = None) -> Model:
         ji.drive_start, ji.drive_stop = row, row + count
         ji.drive_names = [d.name for s, _, ds in join_drives if s == ji.sde for d in ds]
         row += count
+        for j, m in enumerate(motors):
+            if m["sde"] == ji.sde:
+                ji.motor = j
+                ji.drive_names.append(m["name"])
+    if motors:
+        from .arrays import motor_arrays
+        join_arrays.update(motor_arrays(motors))
     km = KernelModel(
         **join_arrays,
         **roller_arrays,

@@ -40,7 +40,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..kinematics import relative_rotation_terms
 
 JOINT_STIFFNESS = 100.0     # joint SDE / the stiffer line's SDE: nearly rigid (module text)
 
@@ -58,7 +57,8 @@ class JoinInfo:
     rest: np.ndarray        # (3, 3) R_parent_end(0)^T R_child_start(0)
     drive_start: int = 0    # rows of the km.drive_* arrays
     drive_stop: int = 0
-    drive_names: list[str] = field(default_factory=list)
+    drive_names: list[str] = field(default_factory=list)   # the drive rows', then the motor's
+    motor: int = -1         # row of the km.motor_* arrays (a servo motor about the joint axis), -1: none
 
 
 def joint_rows(connection: str, coefficients: list[np.ndarray], dampings: list[np.ndarray]) -> tuple[np.ndarray,
@@ -118,42 +118,43 @@ def rest_rotation(km, info: JoinInfo, t: float) -> tuple[np.ndarray, list[np.nda
     return D @ rest, axes
 
 
-def joint_loads(km, ws, info: JoinInfo, t: float) -> dict:
-    """Force and moment of the joint SDE of an evaluated workspace (its forces ws.sigma in
-    {i'}), applied as in rfesim.loads.sde.apply_section_force (eq. 8.90):
+def joint_loads(km, ws, info: JoinInfo, t: float, end: np.ndarray | None = None) -> dict:
+    """Force and moment of the joint SDE of an evaluated workspace, as the SDE kernel
+    applies them (eq. 8.90, rfesim.model.outputs.sde_end_loads):
 
     child_force/child_moment: force of the child on the parent and its moment about the
     child's end-A point (the sign of an attached end); parent_force/parent_moment: force of
     the parent on the child, moment about the parent's end-B point; drive_axes: the global
-    axis of each drive now."""
-    s = info.sde
-    a, b = info.parent_rfe, info.child_rfe
-    Ra, Rb = ws.R[a], ws.R[b]
-    rest, axes = rest_rotation(km, info, t)
-    Ras = Ra @ rest
-    pa = Ra @ km.sde_arm_left[s]
-    pb = Rb @ km.sde_arm_right[s]
-    g = (ws.r[b] + pb) - (ws.r[a] + pa)
-    th, Rh, Jri, Jrh = np.zeros(3), np.zeros((3, 3)), np.zeros((3, 3)), np.zeros((3, 3))
-    relative_rotation_terms(Ras.T @ Rb, th, Rh, Jri, Jrh)
-    Rp = Ras @ Rh                                  # eq. 8.77 from the rest-rotated frame
-    Fp = ws.sigma[s, :3]
-    Mp = ws.sigma[s, 3:]
-    Fg = Rp @ Fp                                   # eq. 8.90.1
-    mg = Rb @ (Jri.T @ Mp)                         # eq. 8.90.2
-    h = np.cross(Fg, g)
-    wth = Rb @ (Jri.T @ (Jrh.T @ (Rp.T @ h)))
-    # on the child (RFE b): -Fg and -mg - wth/2 about its end point
-    # on the parent (RFE a): +Fg and mg - h + wth/2 about its end point
-    return dict(child_force=Fg.copy(), child_moment=mg + 0.5 * wth,
-                parent_force=-Fg, parent_moment=-(mg - h + 0.5 * wth),
-                drive_axes=[Ra @ ax for ax in axes])
+    axis of each drive now. ``end``: the SDE's sde_end_loads if already computed."""
+    out = end
+    if out is None:
+        from .outputs import sde_end_loads
+        out = np.empty((4, 3))
+        n = ws.R.shape[0]
+        sde_end_loads(km, ws, info.sde, np.zeros((n, 3)), np.zeros((n, 3)), out)
+    loads = dict(child_force=-out[2], child_moment=-out[3], parent_force=-out[0], parent_moment=-out[1])
+    if info.drive_stop > info.drive_start:
+        axes = rest_rotation(km, info, t)[1]
+        loads["drive_axes"] = [ws.R[info.parent_rfe] @ ax for ax in axes]
+    else:
+        loads["drive_axes"] = []
+    if info.motor >= 0:
+        # the motor turns the join about the parent end's axis; its angle is the joint twist
+        loads["drive_axes"].append(ws.R[info.parent_rfe][:, 0].copy())
+        loads["motor_twist"] = float(ws.eps[info.sde, 3])
+    return loads
 
 
 def drive_outputs(km, info: JoinInfo, loads: dict, t: float) -> tuple[np.ndarray, np.ndarray]:
     """(drive_angle deg, drive_torque N*m) of the drives of one join: the prescribed angle
     and the joint moment on the child about each drive's current axis."""
     on_child = -loads["child_moment"]
-    angles = np.array([math.degrees(drive_angle(km, j, t)) for j in range(info.drive_start, info.drive_stop)])
+    angles = [math.degrees(drive_angle(km, j, t)) for j in range(info.drive_start, info.drive_stop)]
+    if info.motor >= 0:
+        from ..loads.drives import drive_table
+        m, c = info.motor, int(km.motor_count[info.motor])
+        phi0 = float(drive_table(km.motor_t[m, :c], km.motor_angle[m, :c], km.motor_slope[m, :c], 0.0)[0])
+        angles.append(math.degrees(phi0 + loads["motor_twist"]))
+    angles = np.array(angles)
     torques = np.array([float(on_child @ ax) for ax in loads["drive_axes"]])
     return angles, torques

@@ -9,6 +9,8 @@ import numpy as np
 from numba import njit
 
 from ..kinematics import cross_into, matvec_into
+from ..loads.drives import torsion_moment_into
+from ..loads.sde import sde_forces_rest_into
 
 
 @njit(cache=True)
@@ -110,3 +112,51 @@ def sde_channels(ws, sde_length, tension, shear, bend, torque, curvature):
         bend[s] = math.sqrt(sg[4] * sg[4] + sg[5] * sg[5])
         e = ws.eps[s]
         curvature[s] = math.sqrt(e[4] * e[4] + e[5] * e[5]) / sde_length[s]
+
+
+@njit(cache=True)
+def sde_end_loads_many(km, ws, sdes, F, M, out):
+    """sde_end_loads of each SDE in ``sdes`` into out (m, 4, 3)."""
+    for j in range(sdes.shape[0]):
+        sde_end_loads(km, ws, sdes[j], F, M, out[j])
+
+
+@njit(cache=True)
+def sde_end_loads(km, ws, s, F, M, out):
+    """Loads of SDE s of an evaluated workspace on its two RFEs, each about the RFE's end
+    point at the SDE (eq. 8.90, as rfesim.loads.sde.sde_forces_rest_into applies them, rest
+    rotations and drives included): out (4, 3) = [force on the left RFE, its moment, force
+    on the right RFE, its moment]. F, M (n, 3) are scratch."""
+    a = km.sde_left[s]
+    b = km.sde_right[s]
+    for k in range(3):
+        F[a, k] = 0.0
+        F[b, k] = 0.0
+        M[a, k] = 0.0
+        M[b, k] = 0.0
+    sig = np.zeros((1, 6))
+    v3 = np.zeros((32, 3))
+    m33 = np.zeros((16, 3, 3))
+    lo = s if km.sde_has_rest.shape[0] > s else 0
+    hi = s + 1 if km.sde_has_rest.shape[0] > s else 0
+    sde_forces_rest_into(km.sde_left[s:s + 1], km.sde_right[s:s + 1], km.sde_arm_left[s:s + 1],
+                         km.sde_arm_right[s:s + 1], km.sde_stiffness[s:s + 1], km.sde_damping[s:s + 1],
+                         km.sde_has_rest[lo:hi], km.sde_rest[lo:hi], ws.sde_rest_eff[lo:hi], ws.sde_rest_rate[lo:hi],
+                         ws.R, ws.rbase, ws.roff, ws.v, ws.w, F, M, np.zeros((1, 6)), sig,
+                         np.zeros((1, 3)), v3, m33)
+    if km.has_motors:
+        for j in range(km.motor_sde.shape[0]):
+            if km.motor_sde[j] == s:
+                # the servo motor's moment as the evaluation left it in ws.sigma (rfesim.loads.drives)
+                torsion_moment_into(s, ws.sigma[s, 3] - sig[0, 3], km.sde_left, km.sde_right, km.sde_arm_left,
+                                    km.sde_arm_right, km.sde_has_rest, km.sde_rest, ws.sde_rest_eff, ws.R, ws.rbase,
+                                    ws.roff, M, v3, m33)
+    arm = np.empty(3)
+    tmp = np.empty(3)
+    for side in range(2):
+        i = a if side == 0 else b
+        matvec_into(ws.R[i], km.sde_arm_left[s] if side == 0 else km.sde_arm_right[s], arm)
+        cross_into(arm, F[i], tmp)
+        for k in range(3):
+            out[2 * side, k] = F[i, k]
+            out[2 * side + 1, k] = M[i, k] - tmp[k]

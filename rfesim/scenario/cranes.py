@@ -209,6 +209,22 @@ class _Crane(_Strict):
                                          "`line`): mode, heave_compensation, shock_absorber")
 
 
+class SlewingMotor(_Strict):
+    """The slewing drive as a torque-limited servo motor (rfesim.loads.drives.motor_forces):
+    it follows ``slewing_deg`` through the servo gains and never gives more than
+    ``max_torque``; the pedestal's top TURRET_LENGTH is then a turret on the slewing ring."""
+
+    max_torque: float = _units("N*m", "Largest slewing torque (both directions)", gt=0.0)
+    stiffness: float | None = _units("N*m/rad", "Servo gain on the angle error (default: the crane's inertia "
+                                     "about the pedestal axis times (2 pi 0.5 Hz)^2)", default=None, gt=0.0)
+    damping: float | None = _units("N*m*s/rad", "Servo gain on the rate error (default: critical for that "
+                                   "stiffness and inertia)", default=None, ge=0.0)
+
+
+TURRET_LENGTH = 1.0         # m, top of the pedestal turned by a slewing motor (at most a quarter of the pedestal)
+SERVO_FREQUENCY = 0.5       # Hz, default natural frequency of the slewing servo on the crane's inertia
+
+
 class ColumnCrane(_Crane):
     """Column (pedestal) crane: pedestal, slewing and luffing joint, boom, tip sheave, rope."""
 
@@ -220,10 +236,19 @@ class ColumnCrane(_Crane):
     luffing_deg: AngleProfile | None = Field(None, description="Boom angle above the horizontal (deg), or a table "
                                              "(or give cylinder.stroke)", json_schema_extra={"units": "deg"})
     cylinder: CylinderSpec | None = None
+    slewing_motor: SlewingMotor | None = Field(None, description="Slewing by a torque-limited servo motor "
+                                               "following slewing_deg (default: slewing_deg is imposed exactly)")
 
     @model_validator(mode="after")
     def _drives(self):
         _check_profile(self.slewing_deg, "slewing_deg", -3600.0, 3600.0)
+        if self.slewing_motor is not None and not isinstance(self.slewing_deg, (int, float)):
+            a0 = _initial(self.slewing_deg)
+            for i, row in enumerate(self.slewing_deg):
+                if abs(row[1] - a0) >= 170.0:
+                    raise FieldError(f"slewing_deg.{i}", f"{row[1]} deg is {abs(row[1] - a0):g} deg from the start "
+                                                         f"({a0:g} deg): a slewing motor turns the crane less than "
+                                                         f"170 deg from its start")
         _luffing(self, "luffing_deg", -10.0, 85.0)
         return self
 
@@ -387,17 +412,53 @@ def _column(out: dict, name: str, tpl: ColumnCrane, raw: dict, vname: str, vpos,
     tip = _to_global(vpos, heading, tip_local)
     _add(out, "line_types", f"{ped}_section", _member_type(tpl.pedestal), "pedestal")
     _add(out, "line_types", f"{boom}_section", _member_type(tpl.boom), "boom")
-    _add(out, "lines", ped, {
-        "type": f"{ped}_section", "length": tpl.pedestal.length, "elements": tpl.pedestal.count(),
-        "end_a": {"attach": vname, "position": base, "direction": [0.0, 0.0, 1.0], "connection": "clamped"},
-        "end_b": {"attach": "free"}}, "pedestal")
-    drives = [_drive("slewing", [0.0, 0.0, 1.0], _table(tpl.slewing_deg)),
-              _drive("luffing", _rot(vpos, heading, [math.sin(slew0), -math.cos(slew0), 0.0]), luff_table)]
-    end_a = {"attach": f"{ped}:end_b", "connection": "clamped", "direction": _rot(vpos, heading, d_local),
+    luffing = _drive("luffing", _rot(vpos, heading, [math.sin(slew0), -math.cos(slew0), 0.0]), luff_table)
+    motor = tpl.slewing_motor
+    if motor is None:
+        _add(out, "lines", ped, {
+            "type": f"{ped}_section", "length": tpl.pedestal.length, "elements": tpl.pedestal.count(),
+            "end_a": {"attach": vname, "position": base, "direction": [0.0, 0.0, 1.0], "connection": "clamped"},
+            "end_b": {"attach": "free"}}, "pedestal")
+        drives = [_drive("slewing", [0.0, 0.0, 1.0], _table(tpl.slewing_deg)), luffing]
+        parent = ped
+    else:
+        # the pedestal's top is a turret on the slewing ring, turned by the servo motor about the
+        # pedestal axis (rfesim.loads.drives.motor_forces); the boom's joint keeps the luffing drive
+        turret = f"{name}_turret"
+        t_len = min(TURRET_LENGTH, 0.25 * tpl.pedestal.length)
+        _add(out, "lines", ped, {
+            "type": f"{ped}_section", "length": tpl.pedestal.length - t_len,
+            "elements": max(1, tpl.pedestal.count() - 1),
+            "end_a": {"attach": vname, "position": base, "direction": [0.0, 0.0, 1.0], "connection": "clamped"},
+            "end_b": {"attach": "free"}}, "pedestal")
+        stiffness, damping = _servo_gains(tpl, raw, luff0)
+        _add(out, "lines", turret, {
+            "type": f"{ped}_section", "length": t_len, "elements": 1,
+            "end_a": {"attach": f"{ped}:end_b", "connection": "clamped", "direction": _rot(vpos, heading, [0, 0, 1]),
+                      "motor": {"name": "slewing", "angle": _table(tpl.slewing_deg), "max_torque": motor.max_torque,
+                                "stiffness": motor.stiffness or stiffness,
+                                "damping": motor.damping if motor.damping is not None else damping}},
+            "end_b": {"attach": "free"}}, "slewing_motor")
+        drives = [luffing]
+        parent = turret
+    end_a = {"attach": f"{parent}:end_b", "connection": "clamped", "direction": _rot(vpos, heading, d_local),
              "drives": drives}
     _add(out, "lines", boom, {"type": f"{boom}_section", "length": tpl.boom.length,
                               "elements": tpl.boom.count(), "end_a": end_a, "end_b": {"attach": "free"}}, "boom")
     _rope_and_winch(out, name, tpl, raw, boom, tip)
+
+
+def _servo_gains(tpl: ColumnCrane, raw: dict, luff0: float) -> tuple[float, float]:
+    """Default slewing servo gains (N*m/rad, N*m*s/rad): natural frequency SERVO_FREQUENCY,
+    critically damped, on the crane's inertia about the pedestal axis (the boom as a uniform
+    bar, the payload's mass at the tip, a payload given by name counted by its mass only)."""
+    reach = tpl.boom.length * math.cos(luff0)
+    boom_mass = tpl.boom.properties()["mass_per_length"] * tpl.boom.length
+    payload_mass = tpl.payload.mass if isinstance(tpl.payload, Body) else \
+        float(((raw.get("bodies") or {}).get(tpl.payload) or {}).get("mass", 0.0))
+    inertia = max(boom_mass / 3.0 * reach * reach + payload_mass * reach * reach, 1.0)
+    w = 2.0 * math.pi * SERVO_FREQUENCY
+    return inertia * w * w, 2.0 * inertia * w
 
 
 def _a_frame(out: dict, name: str, tpl: AFrame, raw: dict, vname: str, vpos, heading) -> None:

@@ -876,6 +876,35 @@ class Drive(_Strict):
         return self
 
 
+class Motor(_Strict):
+    """A torque-limited servo motor turning a clamped, coaxial line-to-line join about its own
+    axis (a slewing ring): it follows the angle table through the servo gains and never
+    exceeds ``max_torque`` (rfesim.loads.drives.motor_forces)."""
+
+    name: str = Field("slewing", min_length=1, max_length=100, description="Name of the drive (output column)")
+    angle: list[DriveAngleRow] = Field(..., min_length=1, description="Set angle rows [t (s), angle (deg)]: "
+                                       "monotone cubic (PCHIP) between rows, held beyond the ends; the join "
+                                       "turns by angle(t) - angle(0)", json_schema_extra={"units": "s, deg"})
+    max_torque: float = _units("N*m", "Largest torque the motor gives (both directions)", gt=0.0)
+    stiffness: float = _units("N*m/rad", "Servo gain on the angle error (the joint's torsional stiffness)", gt=0.0)
+    damping: float = _units("N*m*s/rad", "Servo gain on the rate error (the joint's torsional damping)",
+                            default=0.0, ge=0.0)
+
+    @model_validator(mode="after")
+    def _check(self):
+        for i in range(1, len(self.angle)):
+            if not self.angle[i][0] > self.angle[i - 1][0]:
+                raise FieldError(f"angle.{i}", f"time {self.angle[i][0]} s does not increase (previous "
+                                               f"{self.angle[i - 1][0]} s)")
+        a0 = self.angle[0][1]
+        for i, row in enumerate(self.angle):
+            if abs(row[1] - a0) >= 170.0:
+                raise FieldError(f"angle.{i}", f"{row[1]} deg turns the join {abs(row[1] - a0):g} deg from its "
+                                               f"start ({a0} deg): a motor turns it less than 170 deg (the "
+                                               f"joint rotation is a rotation vector, docs/theory.md)")
+        return self
+
+
 class LineEnd(_Strict):
     attach: str = Field("free", description='"fixed" (global frame), "free", a vessel name, (end B) a body '
                                             'name (position: the attachment point in the body frame), or (end '
@@ -893,6 +922,8 @@ class LineEnd(_Strict):
                               default=None, ge=0.0)
     drives: list[Drive] = Field(default_factory=list, description='Prescribed rotations of a clamped join '
                                 '("<line>:end_b"), applied in the listed order (slewing before luffing)')
+    motor: Motor | None = Field(None, description='A torque-limited servo motor turning a clamped, coaxial '
+                                'join ("<line>:end_b") about its own axis (a slewing ring); not with drives')
 
     @model_validator(mode="after")
     def _direction(self):
@@ -905,10 +936,15 @@ class LineEnd(_Strict):
             if not parent or point != "end_b":
                 raise FieldError("attach", f"a join names end B of another line, '<line>:end_b' (got "
                                            f"{self.attach!r})")
+        if self.motor is not None and (":" not in self.attach or self.connection != "clamped"):
+            raise FieldError("motor", 'a motor acts only on a clamped join ("attach": "<line>:end_b", '
+                                      '"connection": "clamped")')
         if self.drives:
             if ":" not in self.attach or self.connection != "clamped":
                 raise FieldError("drives", 'drives act only on a clamped join ("attach": "<line>:end_b", '
                                            '"connection": "clamped")')
+            if self.motor is not None:
+                raise FieldError("motor", "a join has either drives (angle tables) or a motor, not both")
             names = [d.name for d in self.drives]
             for i, nm in enumerate(names):
                 if nm in names[:i]:

@@ -120,6 +120,32 @@ SKIP_DEPTH = 1e-17      # a component below this fraction of the sea's velocity 
 @njit(cache=True)
 def sea_kinematics_into(ss, t, points, eta, vel, acc):
     """Free-surface z, water velocity and wave acceleration at ``points`` (n, 3) at time t."""
+    sea_kinematics_reach(ss, t, points, eta, False, eta, vel, acc)
+
+
+@njit(cache=True)
+def crest_bound(ss, t):
+    """Height above the still water level that no crest of the sea exceeds at time t: the
+    ramp factor times the sum of the component amplitudes."""
+    if not ss.has_waves:
+        return 0.0
+    s = 0.0
+    for j in range(ss.amplitude.shape[0]):
+        s += abs(ss.amplitude[j])
+    if ss.ramp > 0.0 and t < ss.ramp:
+        if t <= 0.0:
+            return 0.0
+        s *= 0.5 * (1.0 - math.cos(math.pi / ss.ramp * t))
+    return s
+
+
+@njit(cache=True)
+def sea_kinematics_reach(ss, t, points, reach, use_reach, eta, vel, acc):
+    """sea_kinematics_into; with ``use_reach`` a point whose lowest wettable level,
+    z - reach[i], is above the surface is dry: its velocity and acceleration are not
+    evaluated (zero) -- above every possible crest (``crest_bound``) not even the
+    elevation (eta is then the still water level). The loads of a dry RFE or body do not
+    read them (docs/theory.md, 'Sea kinematics of dry RFEs')."""
     n = points.shape[0]
     nc = ss.amplitude.shape[0]
     waves = ss.has_waves and nc > 0
@@ -166,10 +192,17 @@ def sea_kinematics_into(ss, t, points, eta, vel, acc):
                 lim[j] = np.inf
             else:
                 lim[j] = math.log(SKIP_DEPTH * vref / bound) / k
+    top = crest_bound(ss, t) if use_reach else np.inf
     for i in range(n):
         x = points[i, 0]
         y = points[i, 1]
         zr = points[i, 2] - ss.surface_level
+        if use_reach and zr - reach[i] > top:
+            eta[i] = ss.surface_level
+            for k in range(3):
+                vel[i, k] = 0.0
+                acc[i, k] = 0.0
+            continue
         e = 0.0
         vx = 0.0
         vy = 0.0
@@ -186,6 +219,12 @@ def sea_kinematics_into(ss, t, points, eta, vel, acc):
                 sth[j] = th               # the phase: its sine only where the component counts
                 e += ss.amplitude[j] * c
             e *= r
+            if use_reach and zr - reach[i] > e:
+                eta[i] = ss.surface_level + e
+                for k in range(3):
+                    vel[i, k] = 0.0
+                    acc[i, k] = 0.0
+                continue
             zc = min(zr, e)                 # above the surface: the value at the surface
             above = 0.0                     # height above still water for linear extrapolation
             if code == 1:

@@ -93,10 +93,21 @@ class Recorder:
     """Preallocated output arrays, filled at output times."""
 
     def __init__(self, system: System, nt: int):
-        from ..model.outputs import reactions
-        self._reactions = reactions
+        from ..model.outputs import line_points, reactions, sde_channels, sde_end_loads_many
+        from .fastcall import FastCall
+        # every output kernel is called once per output time with the same model tuples
+        self._reactions = FastCall(reactions)
+        self._sde_channels = FastCall(sde_channels)
+        self._line_points = FastCall(line_points)
+        self._end_loads = FastCall(sde_end_loads_many)
         self.system = system
         model = system.model
+        # the SDEs whose end loads are outputs: joints between lines, then body connections
+        joins = getattr(model, "joins", [])
+        self._end_sdes = np.array([ji.sde for ji in joins] + [b.sde for b in model.bodies], np.int64)
+        self._end = np.zeros((self._end_sdes.shape[0], 4, 3))
+        self._end_F = np.zeros((model.n, 3))
+        self._end_M = np.zeros((model.n, 3))
         self.nt = nt
         self.k = 0
         self.time = np.zeros(nt)
@@ -118,9 +129,9 @@ class Recorder:
                 "residual_curvature": np.zeros((nt, li.elements)),
             }
         for ji in getattr(model, "joins", []):     # drives of a joined line end (rfesim.model.joins)
-            if ji.drive_stop > ji.drive_start:
+            if ji.drive_names:
                 for ch in ("drive_angle", "drive_torque"):
-                    self.line_data[ji.child][ch] = np.zeros((nt, ji.drive_stop - ji.drive_start))
+                    self.line_data[ji.child][ch] = np.zeros((nt, len(ji.drive_names)))
         self.vessel_names = list(model.scenario.vessels)
         self.vessel_pos = np.zeros((nt, len(self.vessel_names), 3))
         self.vessel_rot = np.zeros((nt, len(self.vessel_names), 3))
@@ -158,17 +169,21 @@ class Recorder:
 
     def record(self, state: State, qdd: np.ndarray) -> None:
         from ..kinematics import rotation_to_zyx
-        from ..model.outputs import line_points, sde_channels
         if self.k >= self.nt:
             return
         sysm = self.system
         km = sysm.km
-        sysm.evaluate(state)
         ws = sysm.ws
+        if ws.step_state[0] == 1 and abs(sysm.att.time[0] - state.t) <= 1e-9 * max(1.0, abs(state.t)):
+            ws.step_state[0] = 0        # the generalised-alpha step left the evaluation of this very state
+        else:
+            sysm.evaluate(state)
         self._reactions(km, sysm.att, ws, qdd, self._react)
         ch = self._ch
-        sde_channels(ws, km.sde_length, ch["tension"], ch["shear_force"], ch["bend_moment"], ch["torque"],
-                     ch["curvature"])
+        self._sde_channels(ws, km.sde_length, ch["tension"], ch["shear_force"], ch["bend_moment"], ch["torque"],
+                           ch["curvature"])
+        if self._end_sdes.shape[0]:
+            self._end_loads(km, ws, self._end_sdes, self._end_F, self._end_M, self._end)
         k = self.k
         self.time[k] = state.t
         if km.has_plastic:
@@ -178,7 +193,8 @@ class Recorder:
                                     ws.out5, self._residual)
         for li in sysm.model.lines:
             d = self.line_data[li.name]
-            line_points(ws, li.rfe_start, li.rfe_stop, li.sde_start, li.sde_stop, km.rfe_length, self._pts[li.name])
+            self._line_points(ws, li.rfe_start, li.rfe_stop, li.sde_start, li.sde_stop, km.rfe_length,
+                              self._pts[li.name])
             d["position"][k] = self._pts[li.name]
             for name in ("tension", "shear_force", "bend_moment", "torque", "curvature"):
                 d[name][k] = ch[name][li.sde_start:li.sde_stop]
@@ -239,7 +255,8 @@ class Recorder:
         from ..kinematics import rotation_to_zyx
         from ..model.bodies import connection_force
         km = self.system.km
-        for b in self.system.model.bodies:
+        nj = len(getattr(self.system.model, "joins", []))
+        for jb, b in enumerate(self.system.model.bodies):
             d = self.body_data[b.name]
             i = b.rfe
             d["position"][k] = ws.r[i]
@@ -248,7 +265,7 @@ class Recorder:
             psi, theta, phi = rotation_to_zyx(ws.R[i])
             d["rotation"][k] = np.degrees([phi, theta, psi])
             d["angular_velocity"][k] = ws.w[i]
-            force, moment = connection_force(km, ws, b)
+            force, moment = connection_force(km, ws, b, self._end[nj + jb])
             d["connection_force"][k] = force
             d["connection_tension"][k] = np.linalg.norm(force)
             frac = float(ws.sub_frac[i]) if km.has_bodies else 0.0
@@ -262,14 +279,14 @@ class Recorder:
         """The joint loads as the end loads of the two joined lines, and the drive channels."""
         from ..model.joins import drive_outputs, joint_loads
         km = self.system.km
-        for ji in self.system.model.joins:
-            loads = joint_loads(km, ws, ji, t)
+        for j, ji in enumerate(self.system.model.joins):
+            loads = joint_loads(km, ws, ji, t, self._end[j])
             child, parent = self.line_data[ji.child], self.line_data[ji.parent]
             child["end_a_force"][k] = loads["child_force"]
             child["end_a_moment"][k] = loads["child_moment"]
             parent["end_b_force"][k] = loads["parent_force"]
             parent["end_b_moment"][k] = loads["parent_moment"]
-            if ji.drive_stop > ji.drive_start:
+            if ji.drive_names:
                 child["drive_angle"][k], child["drive_torque"][k] = drive_outputs(km, ji, loads, t)
 
     def results(self, **kw):

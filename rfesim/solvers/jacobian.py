@@ -24,7 +24,7 @@ from numba import njit
 
 from ..kinematics import cross_into, matmul_into, matvec_into
 from ..loads.sde_tangent import sde_tangent_rest
-from ..model.assemble import plastic_forces, sde_forces_all, tension_only_forces
+from ..model.assemble import motor_moments, plastic_forces, sde_forces_all, tension_only_forces
 from .residual import residual_general, residual_q
 
 
@@ -80,7 +80,24 @@ def jacobian_analytic(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd
         plastic_forces(km, ws, Msde)
     if km.has_tension_only:
         tension_only_forces(km, ws, Fsde, Msde)     # slack ropes: axial tangent 0 in ws.k_tangent
-    if km.has_plastic or km.has_tension_only:
+    if km.has_motors:
+        motor_moments(km, att, ws, -1, Msde)        # tangent: the servo gains (the SDE's torsional k, c)
+    if km.has_motors:
+        # a motor at its torque limit has no torsional tangent (rfesim.loads.drives.motor_forces)
+        if not (km.has_plastic or km.has_tension_only):
+            for s in range(km.sde_left.shape[0]):
+                for k in range(6):
+                    ws.k_tangent[s, k] = km.sde_stiffness[s, k]
+        for s in range(km.sde_left.shape[0]):
+            for k in range(6):
+                ws.c_tangent[s, k] = km.sde_damping[s, k]
+        for j in range(km.motor_sde.shape[0]):
+            if ws.motor_sat[j] == 1:
+                ws.k_tangent[km.motor_sde[j], 3] = 0.0
+                ws.c_tangent[km.motor_sde[j], 3] = 0.0
+        sde_tangent_rest(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, ws.k_tangent, ws.c_tangent,
+                         km.sde_has_rest, km.sde_rest, ws.sde_rest_eff, ws.R, ws.rbase, ws.roff, ws.sigma, Ks, Kds)
+    elif km.has_plastic or km.has_tension_only:
         sde_tangent_rest(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, ws.k_tangent, km.sde_damping,
                          km.sde_has_rest, km.sde_rest, ws.sde_rest_eff, ws.R, ws.rbase, ws.roff, ws.sigma, Ks, Kds)
     else:

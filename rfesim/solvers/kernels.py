@@ -142,6 +142,7 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
                 q[i, k] = qp[i, k]
         converged = False
         evals = 0
+        ws.step_state[0] = 0
         for attempt in range(2):
             need_new = flags[0] == 0 or (not reuse) or attempt > 0 or flags[1] > SLOW_STEP
             rn_prev = np.inf
@@ -159,6 +160,7 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
                     break
                 if rn <= tol:
                     converged = True
+                    ws.step_state[0] = 1      # ws holds the evaluation of the converged state
                     break
                 if it > 0 and rn > 0.25 * rn_prev:
                     # slow: a new Jacobian at this iterate, also when this attempt already formed

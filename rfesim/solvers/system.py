@@ -19,7 +19,7 @@ class System:
         self.km = km
         self.n = n
         self.ws = new_workspace(n, nsde, model.plastic_history_width, km.roller_attach.shape[0],
-                                km.tens_att.shape[0], km.reel_att.shape[0])
+                                km.tens_att.shape[0], km.reel_att.shape[0], km.motor_sde.shape[0])
         if getattr(model, "initial_plastic_history", None) is not None:
             self.ws.plastic_hist[:] = model.initial_plastic_history     # pipe reeled on before t = 0
         self.vs = vessel_spec(model.motions)
@@ -78,6 +78,7 @@ class System:
 
     def evaluate(self, state: State, scale: float = 1.0) -> None:
         self.set_time(state.t)
+        self.ws.step_state[0] = 0
         evaluate(self.km, self.att, state.q, state.qd, state.ref, self.ws, float(scale))
 
     def accelerations(self, state: State) -> np.ndarray:

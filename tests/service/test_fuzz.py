@@ -42,9 +42,11 @@ schema = schemathesis.pytest.from_fixture("api_schema")
 
 @schema.parametrize()
 # database=None: an example stored by an older schema's run can make schemathesis 4.32 give up
-# on POST /jobs ("a `not` whose complement is not spelled out"); a fresh draw each run is reproducible
+# on POST /jobs ("a `not` whose complement is not spelled out"); some random draws hit the same
+# limit of its negative-case generator (one CI run in a few), so the draws are derandomized:
+# the same examples every run, reproducible
 @settings(max_examples=MAX_EXAMPLES, deadline=None, suppress_health_check=list(HealthCheck), print_blob=True,
-          database=None)
+          database=None, derandomize=True)
 def test_no_route_answers_500(case, fuzz_server):
     try:
         response = case.call(base_url=fuzz_server.url, timeout=30)
