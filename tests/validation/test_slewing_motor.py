@@ -187,3 +187,9 @@ def test_slewing_motor_table_beyond_170_deg_is_refused():
     with pytest.raises(ScenarioError) as err:
         rfesim.simulate(data)
     assert "cranes.crane.slewing_deg.1" in str(err.value) and "170 deg" in str(err.value)
+
+
+def test_the_slewing_motor_example_scenario_loads():
+    sc = rfesim.load_scenario(ROOT / "scenarios" / "column_crane_slewing_motor.json")
+    motor = sc.lines["crane_turret"].end_a.motor
+    assert motor.max_torque == 250000.0 and motor.angle[-1] == [15.0, 100.0]
