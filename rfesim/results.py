@@ -57,6 +57,7 @@ CHANNELS: dict[str, tuple[str, str]] = {
     "connection_tension": ("N", "Magnitude of the line's force on the body (the rope tension at the body)"),
     "submerged_fraction": ("1", "Submerged fraction of the body's vertical extent"),
     "buoyancy": ("N", "Buoyancy force on the body (rho g V times the submerged fraction)"),
+    "deck_force": ("N", "Normal force of the deck the body rests on (0: lifted off or no deck)"),
     "winch_payout": ("m", "Rope paid out by the winch since the start (negative: hauled in)"),
     "winch_speed": ("m/s", "Payout speed of the winch (negative: hauling in)"),
     "winch_tension": ("N", "Rope tension at the winch (axial force of the line's first SDE)"),
@@ -68,7 +69,7 @@ CHANNELS: dict[str, tuple[str, str]] = {
 WINCH_CHANNELS = ("payout", "speed", "tension", "suspended_length", "rope_mass_suspended", "rope_mass_drum")
 
 BODY_CHANNELS = ("position", "velocity", "acceleration", "rotation", "angular_velocity", "connection_force",
-                 "connection_tension", "submerged_fraction", "buoyancy")
+                 "connection_tension", "submerged_fraction", "buoyancy", "deck_force")
 
 LINE_CHANNELS = ("position", "tension", "shear_force", "bend_moment", "torque", "curvature", "end_a_force",
                  "end_b_force", "end_a_moment", "end_b_moment", "seabed_force", "end_a_direction",
@@ -222,6 +223,7 @@ class BodyResults:
     connection_tension: np.ndarray     # (nt,) N, its magnitude
     submerged_fraction: np.ndarray     # (nt,) -
     buoyancy: np.ndarray               # (nt,) N
+    deck_force: np.ndarray | None = None  # (nt,) N, normal force of the deck (bodies.<b>.deck); None: files before it
 
     @property
     def tension(self) -> np.ndarray:
@@ -427,9 +429,12 @@ def _write_netcdf(res: Results, path: str) -> None:
                 _var(g, "xyz", ("xyz",), [0, 1, 2], dtype=np.int32)
                 for ch in BODY_CHANNELS:
                     data = getattr(br, ch)
+                    if data is None:
+                        continue
                     dims = ("time", "xyz") if np.ndim(data) == 2 else ("time",)
                     _var(g, ch, dims, data, ch if ch in ("connection_force", "connection_tension",
-                                                         "submerged_fraction", "buoyancy") else f"body_{ch}")
+                                                         "submerged_fraction", "buoyancy", "deck_force")
+                         else f"body_{ch}")
         if res.winches:
             wg = f.create_group("winches")
             for name, wr in res.winches.items():
@@ -479,7 +484,7 @@ def open_results(path: str | os.PathLike) -> Results:
             if not lines:
                 time = g["time"][()]
             bodies[name] = BodyResults(name=name, line=_s(g.attrs.get("line", "")),
-                                       **{ch: g[ch][()] for ch in BODY_CHANNELS})
+                                       **{ch: g[ch][()] for ch in BODY_CHANNELS if ch in g})
         tensioners = {name: TensionerResults(name=name, line=_s(g.attrs.get("line", "")), payout=g["payout"][()],
                                              grip_force=g["grip_force"][()])
                       for name, g in f.get("tensioners", {}).items()}

@@ -118,6 +118,13 @@ class KernelModel(NamedTuple):
     body_added_inertia: np.ndarray = np.zeros((0, 3))  # (nb, 3) kg*m^2, added rotational inertia, body axes
     body_slam: np.ndarray = np.zeros(0)              # (nb,) m^2, slamming coefficient * slamming area
     has_bodies: bool = False
+    body_deck_att: np.ndarray = np.zeros(0, np.int64)  # (nb,) int64, attachment whose deck carries the body, -1: none
+    body_deck_z: np.ndarray = np.zeros(0)            # (nb,) m, deck level in the attachment frame
+    body_deck_half: np.ndarray = np.zeros(0)         # (nb,) m, half the body's vertical extent (centre to underside)
+    body_deck_k: np.ndarray = np.zeros(0)            # (nb,) N/m, contact stiffness
+    body_deck_c: np.ndarray = np.zeros(0)            # (nb,) N*s/m, contact damping
+    body_deck_mu: np.ndarray = np.zeros(0)           # (nb,) friction coefficient
+    has_deck: bool = False                           # rfesim.loads.deck
     # --- reels (rfesim.loads.reel), one row per reel; nl = number of reels
     reel_att: np.ndarray = np.zeros(0, np.int64)     # (nl,) int64 attachment
     reel_centre: np.ndarray = np.zeros((0, 3))       # (nl, 3) m, drum centre in the attachment frame
@@ -236,6 +243,7 @@ class Workspace(NamedTuple):
     sde_rest_rate: np.ndarray = np.zeros((0, 3))     # (nsde, 3) rad/s, its angular velocity omega0 (left RFE's body frame)
     motor_sat: np.ndarray = np.zeros(0, np.int64)    # (nm,) int64, 1: the motor is at its torque limit
     c_tangent: np.ndarray = np.zeros((0, 6))         # (nsde, 6) SDE damping for the Jacobian (motors at the limit: 0)
+    deck_normal: np.ndarray = np.zeros(0)            # (nb,) N, normal force of each body's deck (rfesim.loads.deck)
     sea_reach: np.ndarray = np.zeros(0)              # (n,) m, how far below its centre each RFE (or body) can be wet
     step_state: np.ndarray = np.zeros(1, np.int64)   # (1,) int64, 1: the workspace holds the evaluation of the state
                                                      #   a generalised-alpha step just converged to (outputs reuse it)
@@ -264,7 +272,7 @@ class AttachmentState(NamedTuple):
 
 
 def new_workspace(n: int, nsde: int, nh: int = 1, nroller: int = 0, ntens: int = 0, nreel: int = 0,
-                  nmotor: int = 0) -> Workspace:
+                  nmotor: int = 0, nbody: int = 0) -> Workspace:
     return Workspace(
         R=np.zeros((n, 3, 3)), r=np.zeros((n, 3)), rbase=np.zeros((n, 3)), roff=np.zeros((n, 3)), v=np.zeros((n, 3)), w=np.zeros((n, 3)),
         wb=np.zeros((n, 3)), E=np.zeros((n, 3, 3)), Edot=np.zeros((n, 3)), F=np.zeros((n, 3)),
@@ -287,7 +295,7 @@ def new_workspace(n: int, nsde: int, nh: int = 1, nroller: int = 0, ntens: int =
         reel_grip_on_trial=np.zeros(n, np.int64), reel_D=np.zeros(max(nreel, 1)), reel_force=np.zeros(max(nreel, 1)),
         reel_time=np.zeros(2), sde_rest_eff=_identities(nsde), sde_rest_rate=np.zeros((nsde, 3)),
         sea_reach=np.zeros(n), step_state=np.zeros(1, np.int64), motor_sat=np.zeros(nmotor, np.int64),
-        c_tangent=np.zeros((nsde, 6)))
+        c_tangent=np.zeros((nsde, 6)), deck_normal=np.zeros(nbody))
 
 
 def _identities(m: int) -> np.ndarray:

@@ -25,6 +25,7 @@ from numba import njit
 from ..kinematics import (cross_into, euler_rate_derivative_into, euler_rate_matrix_into, matmul_into,
                           matTvec_into, matvec_into, rot_zyx_into, solve3_sym_into)
 from ..loads.bodies import body_hydro_forces
+from ..loads.deck import deck_forces
 from ..loads.gravity import gravity_forces
 from ..loads.hydro import buoyancy_forces, morison_forces, submergence
 from ..loads.point import point_loads
@@ -205,6 +206,9 @@ def local_loads(km, att, ws, scale):
                               km.body_added_mass, km.body_added_inertia, km.body_slam, km.water_density, km.gravity,
                               scale, ws.R, ws.r, ws.v, ws.w, ws.surface_z, ws.water_vel, ws.water_acc, ws.F, ws.M,
                               ws.Ma, ws.Ja, ws.sub_frac, ws.sub_point)
+    if km.has_deck:
+        deck_forces(km.body_rfe, km.body_deck_att, km.body_deck_z, km.body_deck_half, km.body_deck_k, km.body_deck_c,
+                    km.body_deck_mu, att.p, att.R, att.v, att.w, ws.r, ws.v, ws.w, ws.F, ws.M, ws.deck_normal)
     if km.has_seabed:
         seabed_forces(km.rfe_length, km.rfe_contact_radius, km.rfe_seabed_c, km.bed_s, km.bed_z, km.bed_dir,
                       km.seabed_k, km.seabed_mu, km.seabed_kt, ws.R, ws.r, ws.v, ws.w, ws.F, ws.M,

@@ -110,6 +110,29 @@ def body_arrays(sc, infos: list[BodyInfo]) -> dict:
     )
 
 
+def deck_arrays(sc, infos: list[BodyInfo], attachment_names: list[str]) -> dict:
+    """The km.body_deck_* arrays (rfesim.loads.deck): default stiffness the body's weight over
+    5 mm, damping the given fraction of critical on the body's mass."""
+    g = float(sc.environment.gravity)
+    nb = len(infos)
+    out = dict(body_deck_att=np.full(nb, -1, np.int64), body_deck_z=np.zeros(nb), body_deck_half=np.zeros(nb),
+               body_deck_k=np.zeros(nb), body_deck_c=np.zeros(nb), body_deck_mu=np.zeros(nb), has_deck=False)
+    for j, info in enumerate(infos):
+        body = sc.bodies[info.name]
+        deck = getattr(body, "deck", None)
+        if deck is None:
+            continue
+        k = deck.stiffness if deck.stiffness is not None else max(body.mass * g, 1.0) / 0.005
+        out["body_deck_att"][j] = attachment_names.index(deck.vessel)
+        out["body_deck_z"][j] = deck.height
+        out["body_deck_half"][j] = 0.5 * body.vertical_extent()
+        out["body_deck_k"][j] = k
+        out["body_deck_c"][j] = 2.0 * deck.damping_ratio * math.sqrt(k * body.mass)
+        out["body_deck_mu"][j] = deck.friction
+        out["has_deck"] = True
+    return out
+
+
 def append_body(sc, name: str, index: int, line, pose, line_coefficients: np.ndarray, end_length: float,
                 end_mass: float, end_inertia: np.ndarray, n_total: int, nsde_total: int, rfe: dict, sde: dict,
                 plastic_rows: list, plastic_flags: list, tension_flags: list, q0_blocks: list, X0_blocks: list,

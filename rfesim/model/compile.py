@@ -23,7 +23,7 @@ from .arrays import (KIND_CLAMPED, KIND_FREE, KIND_PINNED, AttachmentState, Kern
 from .sections import Section, section_from_type
 from .supports import compile_supports, compile_tensioners, resting_points, supported_start
 from .reels import compile_reels, reel_tail, reel_wrap_start, reeled_history, track_points
-from .bodies import append_body, body_arrays, body_pose
+from .bodies import append_body, body_arrays, body_pose, deck_arrays
 from .joins import JoinInfo, drive_rows, joint_rows
 from .arrays import joint_arrays
 from ..scenario.joins import join_parent, join_strings
@@ -725,6 +725,7 @@ def compile_scenario(sc, start: str | None = None) -> Model:
         has_sea=bool(has_water and (sea.has_waves or sea.has_current)), sea=sea, sea_still=sea_still,
         sde_tension_only=np.asarray(tension_flags, np.int64), has_tension_only=bool(any(tension_flags)),
         **body_arrays(sc, body_infos),
+        **deck_arrays(sc, body_infos, attachment_names),
     )
     from .arrays import complete_joint_arrays
     km = complete_joint_arrays(km)          # sde_has_rest: which SDEs the kernels give a rest rotation

@@ -79,6 +79,22 @@ class BodyAddedMass(_Strict):
         return self
 
 
+class BodyDeck(_Strict):
+    """The deck of a vessel the body rests on until it is lifted off (rfesim.loads.deck): a
+    unilateral contact of the body's underside (half its vertical extent below its centre,
+    along the deck's normal) with the deck plane, with Coulomb friction."""
+
+    vessel: str = Field(..., min_length=1, description="The vessel whose deck carries the body (a name of "
+                        "`vessels`)")
+    height: float = _units("m", "Deck level: z of the deck plane in the vessel frame")
+    stiffness: float | None = _units("N/m", "Contact stiffness (default: the body's weight over 5 mm)",
+                                     default=None, gt=0.0)
+    damping_ratio: float = Field(0.5, ge=0.0, le=5.0, description="Contact damping as a fraction of critical "
+                                 "on the body's mass [-]")
+    friction: float = Field(0.3, ge=0.0, le=2.0, description="Coulomb friction coefficient between body and "
+                            "deck [-]")
+
+
 class Body(_Strict):
     """A rigid body on the end B of a line (see the module text)."""
 
@@ -105,6 +121,8 @@ class Body(_Strict):
                                       "down from its end A with the body under it", default=None)
     orientation_deg: Vector3 = _units("deg", "Roll, pitch, yaw of the body axes at t = 0 (ZYX, global)",
                                       default=[0.0, 0.0, 0.0])
+    deck: BodyDeck | None = Field(None, description="A vessel deck the body rests on before lift-off "
+                                  "(unilateral contact with friction)")
 
     @model_validator(mode="after")
     def _inertia(self):
@@ -191,6 +209,11 @@ def check_body_references(sc) -> list[tuple[str, str]]:
             errors.append((f"lines.{lines[1]}.end_b.attach",
                            f"body '{bname}' already hangs on line '{lines[0]}': one line per body (more lines on "
                            f"one body would break the block-tridiagonal structure of the model)"))
+    for bname, body in sc.bodies.items():
+        deck = getattr(body, "deck", None)
+        if deck is not None and deck.vessel not in sc.vessels:
+            known = ", ".join(sc.vessels) or "none"
+            errors.append((f"bodies.{bname}.deck.vessel", f"unknown vessel '{deck.vessel}' (vessels: {known})"))
     for bname in sc.bodies:
         if bname not in users:
             errors.append((f"bodies.{bname}", "not attached to any line: attach it at a line's end_b "

@@ -155,7 +155,8 @@ class Recorder:
                            for c in getattr(system, "controllers", ())}
         self.body_data = {b.name: {ch: np.zeros((nt, 3)) for ch in ("position", "velocity", "acceleration", "rotation",
                                                                     "angular_velocity", "connection_force")}
-                          | {ch: np.zeros(nt) for ch in ("connection_tension", "submerged_fraction", "buoyancy")}
+                          | {ch: np.zeros(nt) for ch in ("connection_tension", "submerged_fraction", "buoyancy",
+                                                         "deck_force")}
                           for b in model.bodies}
         # stress outputs (eqs. 8.97-8.98) of elasto-plastic pipe lines
         self._stress_geometry = {}
@@ -271,6 +272,7 @@ class Recorder:
             frac = float(ws.sub_frac[i]) if km.has_bodies else 0.0
             d["submerged_fraction"][k] = frac
             d["buoyancy"][k] = km.water_density * km.gravity * b.volume * frac
+            d["deck_force"][k] = float(ws.deck_normal[jb]) if km.has_deck else 0.0
             line = self.line_data[b.line]           # the line's end B force is the force on the body
             line["end_b_force"][k] = force
             line["end_b_moment"][k] = moment
