@@ -68,8 +68,20 @@ def jacobian_analytic(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd
                       length_scale, J, Ks, Kds, T, Fsde, Msde):
     """Fill J (n, 3, 6, 6) at q; r0 receives the residual at q. Work arrays: Ks, Kds
     (nsde, 12, 12), T (n, 6, 6), Fsde, Msde (n, 3)."""
+    jacobian_analytic_at(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, r0, qp, rp, hs,
+                         length_scale, J, Ks, Kds, T, Fsde, Msde, False)
+
+
+@njit(cache=True)
+def jacobian_analytic_at(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, r0, qp, rp, hs,
+                         length_scale, J, Ks, Kds, T, Fsde, Msde, evaluated):
+    """``jacobian_analytic``; with ``evaluated`` the caller has just evaluated the residual
+    at q into r0 (``residual_q``, so ws holds the poses and SDE state of q) and it is not
+    evaluated again (the implicit step's Newton iteration: one residual evaluation less per
+    Jacobian, the same numbers)."""
     n = q.shape[0]
-    residual_q(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, r0)
+    if not evaluated:
+        residual_q(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, r0)
     # SDE forces alone, spatial, at the base state (ws holds the base poses and velocities)
     for i in range(n):
         for k in range(3):

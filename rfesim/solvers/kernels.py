@@ -13,7 +13,7 @@ import numpy as np
 from numba import njit
 
 from ..model.assemble import commit_history, evaluate, rebase, solve_accelerations
-from .jacobian import jacobian_analytic
+from .jacobian import jacobian_analytic_at
 from .residual import residual_norm, residual_q  # noqa: F401  (re-exported)
 from ..vessel_kernel import attachment_kinematics
 from .banded import bt_factor, bt_solve
@@ -171,8 +171,9 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
                     need_new = True
                 if need_new:
                     if analytic:
-                        jacobian_analytic(km, att, q, ref, ws, 1.0, 1, Q0, V0, cq, cv, mask, qd_buf, A_buf, r, qp,
-                                          rp, hs, length_scale, J, Ks, Kds, T, Fsde, Msde)
+                        # r and ws hold the residual and the evaluation at q (residual_q above)
+                        jacobian_analytic_at(km, att, q, ref, ws, 1.0, 1, Q0, V0, cq, cv, mask, qd_buf, A_buf, r,
+                                             qp, rp, hs, length_scale, J, Ks, Kds, T, Fsde, Msde, True)
                     else:
                         jacobian_fd(km, att, q, ref, ws, 1.0, 1, Q0, V0, cq, cv, mask, qd_buf, A_buf, r, qp, rp, hs,
                                     length_scale, J)
