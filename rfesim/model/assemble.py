@@ -232,6 +232,31 @@ def water_kinematics(km, att, ws):
 
 
 @njit(cache=True)
+def evaluate_keep_sde(km, att, q, qd, ref, ws, scale, Fsde, Msde):
+    """``evaluate``, also copying the SDE forces and moments alone (elastic, plastic,
+    tension-only, before the local loads are added) into Fsde, Msde: the frozen SDE part
+    that the analytic Jacobian at this state needs (rfesim.solvers.jacobian), so that it
+    does not evaluate the SDEs again."""
+    poses(km, att, q, qd, ref, ws)
+    n = ws.F.shape[0]
+    for i in range(n):
+        for k in range(3):
+            ws.F[i, k] = 0.0
+            ws.M[i, k] = 0.0
+    sde_forces_all(km, att, ws, ws.F, ws.M)
+    if km.has_plastic:
+        plastic_forces(km, ws, ws.M)
+    if km.has_tension_only:
+        tension_only_forces(km, ws, ws.F, ws.M)
+    for i in range(n):
+        for k in range(3):
+            Fsde[i, k] = ws.F[i, k]
+            Msde[i, k] = ws.M[i, k]
+    local_loads(km, att, ws, scale)
+    project(km, att, ws)
+
+
+@njit(cache=True)
 def evaluate_frozen_sde(km, att, q, qd, ref, ws, scale, Fsde, Msde):
     """Like evaluate, but with the SDE forces and moments given (held fixed): the local part
     of the equations, whose Jacobian is block diagonal (rfesim.solvers.jacobian)."""

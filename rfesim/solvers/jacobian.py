@@ -76,22 +76,23 @@ def jacobian_analytic(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd
 def jacobian_analytic_at(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, r0, qp, rp, hs,
                          length_scale, J, Ks, Kds, T, Fsde, Msde, evaluated):
     """``jacobian_analytic``; with ``evaluated`` the caller has just evaluated the residual
-    at q into r0 (``residual_q``, so ws holds the poses and SDE state of q) and it is not
-    evaluated again (the implicit step's Newton iteration: one residual evaluation less per
+    at q into r0 with ``residual_general(..., 2, Fsde, Msde)`` (ws holds the poses and SDE
+    state of q, Fsde and Msde the SDE forces alone) and neither is evaluated again (the
+    implicit step's Newton iteration: one residual and one SDE evaluation less per
     Jacobian, the same numbers)."""
     n = q.shape[0]
     if not evaluated:
         residual_q(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, r0)
-    # SDE forces alone, spatial, at the base state (ws holds the base poses and velocities)
-    for i in range(n):
-        for k in range(3):
-            Fsde[i, k] = 0.0
-            Msde[i, k] = 0.0
-    sde_forces_all(km, att, ws, Fsde, Msde)
-    if km.has_plastic:
-        plastic_forces(km, ws, Msde)
-    if km.has_tension_only:
-        tension_only_forces(km, ws, Fsde, Msde)     # slack ropes: axial tangent 0 in ws.k_tangent
+        # SDE forces alone, spatial, at the base state (ws holds the base poses and velocities)
+        for i in range(n):
+            for k in range(3):
+                Fsde[i, k] = 0.0
+                Msde[i, k] = 0.0
+        sde_forces_all(km, att, ws, Fsde, Msde)
+        if km.has_plastic:
+            plastic_forces(km, ws, Msde)
+        if km.has_tension_only:
+            tension_only_forces(km, ws, Fsde, Msde)     # slack ropes: axial tangent 0 in ws.k_tangent
     if km.has_plastic or km.has_tension_only:
         sde_tangent_rest(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, ws.k_tangent, km.sde_damping,
                          km.sde_has_rest, km.sde_rest, ws.sde_rest_eff, ws.R, ws.rbase, ws.roff, ws.sigma, Ks, Kds)
@@ -141,7 +142,7 @@ def jacobian_analytic_at(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask,
             tmp = q[i, k] + h
             hs[i] = tmp - q[i, k]
             qp[i, k] = tmp
-        residual_general(km, att, qp, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, rp, True, Fsde,
+        residual_general(km, att, qp, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, rp, 1, Fsde,
                          Msde)
         for i in range(n):
             inv = 1.0 / hs[i]
