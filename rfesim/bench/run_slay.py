@@ -33,27 +33,22 @@ CONVERGED = 0.002
 OUTPUT_INTERVAL = 0.4            # s, a multiple of both time steps (the driver shortens a step that does not divide it)
 TARGET_WALL = 180.0
 LIMITS = (
-    "What limits it (measured while preparing this bench, 120 s runs on the shared machine at load 4-6, so "
-    "absolute times are about twice those of an idle machine). Per call: the residual with the water "
-    "kinematics frozen 1.9 ms, the analytic Jacobian 8.7 ms, its banded factorisation 0.4 ms, and the water "
-    "kinematics of the 238 RFEs (200 JONSWAP components, evaluated once per step at the predictor) 9.5 ms "
-    "before and 3.5-8.5 ms after the change of docs/theory.md ('Sea kinematics at depth': decayed components "
-    "skipped, 2.5-2.9x faster, equal to round-off). 3 hours at 0.1 s are 108000 steps: 180 s leaves 1.7 ms "
-    "per step, less than one residual evaluation plus the step's water kinematics; a step needs 5-6 "
-    "evaluations and 0.9-1.6 Jacobians. At 0.2 s (3.3 ms per step) the steps fail where the 7.8 m RFEs land "
-    "on and lift off the seabed under stick/slip friction and are halved (64 halvings in 120 s against 15 at "
-    "0.1 s), so 0.2 s costs as much wall time as 0.1 s (about 40 s for 120 s at that load) and is less "
-    "accurate. Cheaper Jacobian refresh rules do not help: refreshing only when an iteration reduces the "
-    "residual by less than 2x, or when the rate predicts more than 3 further iterations, gave 7.1-12.4 "
-    "evaluations and 2.6-3.1 Jacobians per step at 0.2 s (against 9.1 and 2.9) with more halvings (88-91) "
-    "and the same wall time; at 0.1 s 5.0 evaluations but 40 halvings against 15; so the Newton iteration "
-    "is unchanged. rho_inf 0.5 instead of 0.8 at 0.2 s halves the wall time (12 halvings) but moves the "
-    "maximum by 5 % from the 0.05 s run. Accuracy: the largest sagbend moment is set by touchdown events and "
-    "converges slowly in the step, not at second order (in one 20 s window 86.07, 84.65, 83.51 kN*m at "
-    "0.2, 0.1, 0.05 s; in another 78.02, 78.52, 78.53): see the convergence table. Next: a seabed contact "
-    "that lets the Newton iteration through touchdown at 0.2 s (contact and friction state frozen per step, "
-    "or a smooth penetration law), and a cheaper local Jacobian (the 6 finite-difference evaluations of the "
-    "local loads).")
+    "What limits it (docs/slay_speed_notes.md, measured on the shared machine at load 1-2). Per call: the "
+    "residual with the water kinematics frozen 0.35-0.41 ms, the analytic Jacobian as the Newton iteration "
+    "forms it 1.35 ms (it reuses the iterate's residual and SDE forces; 6 local evaluations of 0.18 ms and the "
+    "SDE tangent 0.34 ms), its banded factorisation 0.1 ms, the water kinematics of the step 0.73 ms (with "
+    "the waves' kinematics cut-off at depth of docs/theory.md: 174 of the 238 RFEs lie below it; 2.0 ms "
+    "without). 3 hours at 0.1 s are 108000 steps: 180 s leaves 1.7 ms per step; at 0.2 s 3.3 ms. Measured over "
+    "300 s: 6.6 ms per step at 0.1 s (5.9 evaluations, 1.41 Jacobians, 32 halvings) and 10.2 ms at 0.2 s "
+    "(7.6 evaluations, 2.23 Jacobians, 85 halvings; the failed attempts take about 15 % of the work). Full "
+    "Newton with a fresh Jacobian at every iterate converges only linearly (rate 1e-1 to 1e-2) in quiet steps, "
+    "the same with the analytic, forward- and central-difference Jacobians: the residual is non-smooth within "
+    "a step at the stinger tip (the lift-off roller) and at touchdown, and the failing steps have their largest "
+    "residual mostly on the stinger RFEs. Accuracy: the largest sagbend moment is set by touchdown events and "
+    "converges slowly in the step, not at second order (over 100-200 s 86.07, 84.65, 83.51 kN*m at 0.2, 0.1, "
+    "0.05 s; over 200-300 s 92.91, 92.43, 93.39): see the convergence table. Next: a contact that is smooth "
+    "within a step at the stinger tip (the contact point clamped to the RFE ends, the roller friction shared "
+    "between RFEs outside the Jacobian) and an analytic local Jacobian for the mass and hydrodynamic terms.")
 TARGET_ERROR = 0.02
 
 

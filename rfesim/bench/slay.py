@@ -54,6 +54,9 @@ ROLLER_STIFFNESS, ROLLER_DAMPING, ROLLER_FRICTION = 1e7, 1e4, 0.1
 LAID_LENGTH = 150.0                     # m of pipe on the seabed beyond touchdown
 SETTLE = 100.0                          # s of start-up (sea ramped in over WAVE_RAMP) left out of the maximum
 SEABED_K = 1e5                          # N/m/m (soft clay)
+# wave kinematics cut off where all components together are below 1e-6 of the sea's velocity
+# bound (below about 370 m here; docs/theory.md 'Wave kinematics cut-off at depth'): 3e-5 m/s
+KINEMATICS_CUTOFF = 1e-6
 
 
 def pipe_properties() -> dict:
@@ -107,7 +110,8 @@ def slay_data(suspended_rfes: int = 200, time_step: float = 0.2, duration: float
             "gravity": GRAVITY,
             "water": {"density": RHO_WATER, "depth": DEPTH,
                       "waves": {"kind": "jonswap", "hs": HS, "tp": TP, "direction_deg": WAVE_DIRECTION_DEG,
-                                "seed": SEED, "ramp_duration": WAVE_RAMP}},
+                                "seed": SEED, "ramp_duration": WAVE_RAMP,
+                                "kinematics_cutoff": KINEMATICS_CUTOFF}},
             "seabed": {"z": -DEPTH, "normal_stiffness": SEABED_K, "damping_ratio": 0.2, "friction": 0.5},
         },
         "vessels": {"barge": {"position": [0.0, 0.0, 0.0], "heading_deg": 0.0,

@@ -111,14 +111,21 @@ def accumulate_forces(km, att, ws, scale):
         for k in range(3):
             ws.F[i, k] = 0.0
             ws.M[i, k] = 0.0
-    sde_forces_all(km, att, ws, ws.F, ws.M)
-    if km.has_plastic:
-        plastic_forces(km, ws, ws.M)
-    if km.has_tension_only:
-        tension_only_forces(km, ws, ws.F, ws.M)
-    if km.has_motors:
-        motor_moments(km, att, ws, -1, ws.M)
+    sde_part(km, att, ws, ws.F, ws.M)
     local_loads(km, att, ws, scale)
+
+
+@njit(cache=True)
+def sde_part(km, att, ws, F, M):
+    """Every SDE force and moment added to F, M: elastic and damping (with rest rotations and
+    drives), the elasto-plastic correction, slack ropes, servo motors."""
+    sde_forces_all(km, att, ws, F, M)
+    if km.has_plastic:
+        plastic_forces(km, ws, M)
+    if km.has_tension_only:
+        tension_only_forces(km, ws, F, M)
+    if km.has_motors:
+        motor_moments(km, att, ws, -1, M)
 
 
 @njit(cache=True)
@@ -271,6 +278,27 @@ def sea_reach(km, ws):
             c = km.body_cob[j]
             ws.sea_reach[i] = max(ws.sea_reach[i], math.sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2])
                                   + 0.5 * km.body_height[j] + SEA_MARGIN)
+
+
+@njit(cache=True)
+def evaluate_keep_sde(km, att, q, qd, ref, ws, scale, Fsde, Msde):
+    """``evaluate``, also copying the SDE forces and moments alone (``sde_part``, before the
+    local loads are added) into Fsde, Msde: the frozen SDE part
+    that the analytic Jacobian at this state needs (rfesim.solvers.jacobian), so that it
+    does not evaluate the SDEs again."""
+    poses(km, att, q, qd, ref, ws)
+    n = ws.F.shape[0]
+    for i in range(n):
+        for k in range(3):
+            ws.F[i, k] = 0.0
+            ws.M[i, k] = 0.0
+    sde_part(km, att, ws, ws.F, ws.M)
+    for i in range(n):
+        for k in range(3):
+            Fsde[i, k] = ws.F[i, k]
+            Msde[i, k] = ws.M[i, k]
+    local_loads(km, att, ws, scale)
+    project(km, att, ws)
 
 
 @njit(cache=True)

@@ -165,6 +165,13 @@ class _Waves(_Strict):
                                   "(an RAO vessel motion follows the same ramp)", default=0.0, ge=0.0)
     deep_water: bool = Field(False, description="Deep-water dispersion and kinematics (k = omega^2/g, exp(k z)) "
                                                 "even with a finite depth; needed when no depth is given")
+    kinematics_cutoff: float = Field(
+        0.0, ge=0.0, le=1e-3,
+        description="Deep points skip the waves: where the bound of every component's velocity and acceleration "
+                    "together, whatever the surface elevation, is below this fraction of the sea's bound sum "
+                    "|u_j| (1 + omega_j), the wave kinematics are zero and the elevation is not summed "
+                    "(docs/theory.md, 'Wave kinematics cut-off at depth'); 0: every point is summed [-]",
+        json_schema_extra={"units": "1"})
 
 
 class AiryWaves(_Waves):

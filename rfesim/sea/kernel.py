@@ -23,6 +23,13 @@ surface, z' -> eta):
 Under every method the acceleration is the Airy local acceleration at the same
 (stretched) height: the term of d z_s/dt in the Wheeler mapping is left out, as usual.
 Points below the seabed take the seabed value. The current is evaluated at min(z, surface).
+
+Cut-off at depth (``kinematics_cutoff`` of the waves, default 0: off): a point below the
+lowest possible surface (still water minus r(t) sum |a_w|) whose highest possible stretched
+height is below ``deep_z`` gets zero wave velocity and acceleration and ``eta`` = the
+still-water level (the elevation is not summed there: the point is under water whatever it
+is, and nothing else uses it). ``deep_z`` bounds all components together below the cut-off
+fraction of the sea's velocity bound (:func:`deep_cutoff_height`).
 """
 from __future__ import annotations
 
@@ -58,10 +65,50 @@ class SeaSpec(NamedTuple):
     current_sin: float
     current_time: np.ndarray    # (p,) s, time-factor table (empty: factor 1)
     current_factor: np.ndarray  # (p,) -
+    elevation_bound: float      # m, sum |a_w|: no surface elevation exceeds it
+    deep_z: float               # m, stretched height (from still water) below which every component together
+                                #   is below the kinematics cut-off (-inf: no cut-off)
 
 
-def pack_sea(waves, current, surface_level: float) -> SeaSpec:
-    """A SeaSpec from :class:`WaveComponents` and :class:`CurrentProfile` objects."""
+def deep_cutoff_height(waves, cutoff: float) -> float:
+    """Stretched height z (from still water) below which the bound of all wave components
+    together, sum_j 2 |u_j| (1 + omega_j) exp(k_j z) / (1 - exp(-2 k_j h)), is below
+    ``cutoff`` times the sea's bound sum |u_j| (1 + omega_j) (the bound of the per-component
+    skip of ``sea_kinematics_into`` summed over the components); -inf for no cut-off."""
+    nc = waves.amplitude.size
+    if cutoff <= 0.0 or nc == 0:
+        return -math.inf
+    k = np.asarray(waves.wavenumber, float)
+    V = np.abs(waves.velocity_coefficients()) * (1.0 + np.asarray(waves.omega, float))
+    vref = float(V.sum())
+    if vref <= 0.0 or np.any(k <= 0.0):
+        return -math.inf
+    h = float(waves.depth)
+    den = np.ones(nc) if math.isinf(h) else -np.expm1(-2.0 * k * h)
+    coef = 2.0 * V / den
+
+    def bound(z):
+        return float(np.sum(coef * np.exp(k * z)))
+
+    target = cutoff * vref
+    lo = -h if not math.isinf(h) else -1e6
+    if bound(lo) >= target:
+        return -math.inf             # not even at the seabed
+    hi = 0.0
+    if bound(hi) <= target:
+        return 0.0
+    for _ in range(200):              # bisection: the bound rises with z
+        mid = 0.5 * (lo + hi)
+        if bound(mid) < target:
+            lo = mid
+        else:
+            hi = mid
+    return lo
+
+
+def pack_sea(waves, current, surface_level: float, kinematics_cutoff: float = 0.0) -> SeaSpec:
+    """A SeaSpec from :class:`WaveComponents` and :class:`CurrentProfile` objects;
+    ``kinematics_cutoff`` as in :func:`deep_cutoff_height` (0: none)."""
     nc = waves.amplitude.size
     has_current = current.z.size > 0
     return SeaSpec(
@@ -84,6 +131,8 @@ def pack_sea(waves, current, surface_level: float) -> SeaSpec:
         current_sin=math.sin(current.direction) if has_current else 0.0,
         current_time=np.ascontiguousarray(current.time, dtype=np.float64),
         current_factor=np.ascontiguousarray(current.factor, dtype=np.float64),
+        elevation_bound=float(np.abs(waves.amplitude).sum()) if nc > 0 else 0.0,
+        deep_z=float(deep_cutoff_height(waves, kinematics_cutoff)),
     )
 
 
@@ -97,7 +146,8 @@ def sea_spec(environment) -> SeaSpec:
         return pack_sea(no_waves(), no_current(), 0.0)
     waves = wave_components(water.waves, water_depth(environment), environment.gravity) \
         if water.waves is not None else no_waves()
-    return pack_sea(waves, current_profile(water.current), water.surface_level)
+    cutoff = float(getattr(water.waves, "kinematics_cutoff", 0.0) or 0.0) if water.waves is not None else 0.0
+    return pack_sea(waves, current_profile(water.current), water.surface_level, cutoff)
 
 
 @njit(cache=True)
@@ -129,9 +179,7 @@ def crest_bound(ss, t):
     ramp factor times the sum of the component amplitudes."""
     if not ss.has_waves:
         return 0.0
-    s = 0.0
-    for j in range(ss.amplitude.shape[0]):
-        s += abs(ss.amplitude[j])
+    s = ss.elevation_bound
     if ss.ramp > 0.0 and t < ss.ramp:
         if t <= 0.0:
             return 0.0
@@ -192,7 +240,12 @@ def sea_kinematics_reach(ss, t, points, reach, use_reach, eta, vel, acc):
                 lim[j] = np.inf
             else:
                 lim[j] = math.log(SKIP_DEPTH * vref / bound) / k
-    top = crest_bound(ss, t) if use_reach else np.inf
+    # kinematics cut-off at depth (docs/theory.md 'Wave kinematics cut-off at depth'): below
+    # the surface whatever its elevation (|eta| <= r sum |a_w|), a point whose highest possible
+    # stretched height is below ss.deep_z gets no wave kinematics and no elevation sum
+    ebound = r * ss.elevation_bound
+    cut = waves and ss.deep_z > -np.inf and (deep or h > ebound)
+    top = ebound if use_reach else np.inf     # above every crest: dry whatever the waves
     for i in range(n):
         x = points[i, 0]
         y = points[i, 1]
@@ -210,7 +263,14 @@ def sea_kinematics_reach(ss, t, points, reach, use_reach, eta, vel, acc):
         ax = 0.0
         ay = 0.0
         az = 0.0
-        if waves:
+        below = False
+        if cut and zr < -ebound:
+            if code == 1:
+                ze_hi = zr + ebound if deep else h * (zr + ebound) / (h - ebound)
+            else:
+                ze_hi = zr
+            below = ze_hi < ss.deep_z
+        if waves and not below:
             for j in range(nc):
                 th = ss.omega[j] * t - ss.wavenumber[j] * (x * ss.cos_direction[j] + y * ss.sin_direction[j]) \
                     + ss.phase[j]

@@ -479,7 +479,10 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
                                 system.qd_buf, system.A_buf, system.qp, system.rp, system.hs, flags, stats, fail,
                                 analytic, system.Ks, system.Kds, system.T, system.Fsde, system.Msde, qdd_prev)
             if status != 0:
-                # redo this output interval step by step, halving a failing step down to h/64
+                # redo this output interval step by step, halving a failing step down to h/64;
+                # the step that failed (Newton) starts at h/2: at h it was just given two
+                # attempts with fresh Jacobians, and a third one at h fails the same way
+                j_failed = int(round((float(fail[0]) - saved.t) / h)) - 1 if status == 1 else -1
                 st = saved
                 system.set_history(saved_history)
                 stats[:] = 0
@@ -490,7 +493,7 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
                     t_step0 = saved.t + j * h
                     ok = False
                     step_history = system.history()
-                    for level in range(7):
+                    for level in range(1 if j == j_failed else 0, 7):
                         sub = 2 ** level
                         trial = st.copy()
                         system.set_history(step_history)

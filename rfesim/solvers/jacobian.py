@@ -24,7 +24,7 @@ from numba import njit
 
 from ..kinematics import cross_into, matmul_into, matvec_into
 from ..loads.sde_tangent import sde_tangent_rest
-from ..model.assemble import motor_moments, plastic_forces, sde_forces_all, tension_only_forces
+from ..model.assemble import sde_part
 from .residual import residual_general, residual_q
 
 
@@ -68,20 +68,27 @@ def jacobian_analytic(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd
                       length_scale, J, Ks, Kds, T, Fsde, Msde):
     """Fill J (n, 3, 6, 6) at q; r0 receives the residual at q. Work arrays: Ks, Kds
     (nsde, 12, 12), T (n, 6, 6), Fsde, Msde (n, 3)."""
+    jacobian_analytic_at(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, r0, qp, rp, hs,
+                         length_scale, J, Ks, Kds, T, Fsde, Msde, False)
+
+
+@njit(cache=True)
+def jacobian_analytic_at(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, r0, qp, rp, hs,
+                         length_scale, J, Ks, Kds, T, Fsde, Msde, evaluated):
+    """``jacobian_analytic``; with ``evaluated`` the caller has just evaluated the residual
+    at q into r0 with ``residual_general(..., 2, Fsde, Msde)`` (ws holds the poses and SDE
+    state of q, Fsde and Msde the SDE forces alone) and neither is evaluated again (the
+    implicit step's Newton iteration: one residual and one SDE evaluation less per
+    Jacobian, the same numbers)."""
     n = q.shape[0]
-    residual_q(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, r0)
-    # SDE forces alone, spatial, at the base state (ws holds the base poses and velocities)
-    for i in range(n):
-        for k in range(3):
-            Fsde[i, k] = 0.0
-            Msde[i, k] = 0.0
-    sde_forces_all(km, att, ws, Fsde, Msde)
-    if km.has_plastic:
-        plastic_forces(km, ws, Msde)
-    if km.has_tension_only:
-        tension_only_forces(km, ws, Fsde, Msde)     # slack ropes: axial tangent 0 in ws.k_tangent
-    if km.has_motors:
-        motor_moments(km, att, ws, -1, Msde)        # tangent: the servo gains (the SDE's torsional k, c)
+    if not evaluated:
+        residual_q(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, r0)
+        # SDE forces alone, spatial, at the base state (ws holds the base poses and velocities)
+        for i in range(n):
+            for k in range(3):
+                Fsde[i, k] = 0.0
+                Msde[i, k] = 0.0
+        sde_part(km, att, ws, Fsde, Msde)
     if km.has_motors:
         # a motor at its torque limit has no torsional tangent (rfesim.loads.drives.motor_forces)
         if not (km.has_plastic or km.has_tension_only):
@@ -146,7 +153,7 @@ def jacobian_analytic(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd
             tmp = q[i, k] + h
             hs[i] = tmp - q[i, k]
             qp[i, k] = tmp
-        residual_general(km, att, qp, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, rp, True, Fsde,
+        residual_general(km, att, qp, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, rp, 1, Fsde,
                          Msde)
         for i in range(n):
             inv = 1.0 / hs[i]

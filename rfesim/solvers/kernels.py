@@ -13,8 +13,8 @@ import numpy as np
 from numba import njit
 
 from ..model.assemble import commit_history, evaluate, rebase, solve_accelerations
-from .jacobian import jacobian_analytic
-from .residual import residual_norm, residual_q  # noqa: F401  (re-exported)
+from .jacobian import jacobian_analytic_at
+from .residual import residual_general, residual_norm, residual_q  # noqa: F401  (re-exported)
 from ..vessel_kernel import attachment_kinematics
 from .banded import bt_factor, bt_solve
 
@@ -148,7 +148,12 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
             rn_prev = np.inf
             nfresh = 0
             for it in range(maxit):
-                residual_q(km, att, q, ref, ws, 1.0, 1, Q0, V0, cq, cv, mask, qd_buf, A_buf, r)
+                if analytic:
+                    # the SDE forces alone are kept in Fsde, Msde for a Jacobian at this iterate
+                    residual_general(km, att, q, ref, ws, 1.0, 1, Q0, V0, cq, cv, mask, qd_buf, A_buf, r, 2, Fsde,
+                                     Msde)
+                else:
+                    residual_q(km, att, q, ref, ws, 1.0, 1, Q0, V0, cq, cv, mask, qd_buf, A_buf, r)
                 if km.has_sea and attempt == 0 and it == 0:
                     # water kinematics at the predictor, kept for this step's Newton iterations
                     # and Jacobian (the predictor is within O(h^3) of the solution)
@@ -173,8 +178,9 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
                     need_new = True
                 if need_new:
                     if analytic:
-                        jacobian_analytic(km, att, q, ref, ws, 1.0, 1, Q0, V0, cq, cv, mask, qd_buf, A_buf, r, qp,
-                                          rp, hs, length_scale, J, Ks, Kds, T, Fsde, Msde)
+                        # r, ws, Fsde and Msde hold the evaluation at q (residual_general above)
+                        jacobian_analytic_at(km, att, q, ref, ws, 1.0, 1, Q0, V0, cq, cv, mask, qd_buf, A_buf, r,
+                                             qp, rp, hs, length_scale, J, Ks, Kds, T, Fsde, Msde, True)
                     else:
                         jacobian_fd(km, att, q, ref, ws, 1.0, 1, Q0, V0, cq, cv, mask, qd_buf, A_buf, r, qp, rp, hs,
                                     length_scale, J)

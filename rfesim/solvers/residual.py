@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ..model.assemble import evaluate, evaluate_frozen_sde
+from ..model.assemble import evaluate, evaluate_frozen_sde, evaluate_keep_sde
 
 
 @njit(cache=True)
@@ -15,15 +15,17 @@ def residual_q(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A
     qdot = V0 + cv A, out = cq (Mgen A - fgen). Fixed coordinates give out = q (statics)
     or q - Q0, so their Jacobian rows are the identity.
     """
-    residual_general(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, out, False,
+    residual_general(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, out, 0,
                      ws.F, ws.M)
 
 
 @njit(cache=True)
 def residual_general(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, out, frozen, Fsde,
                      Msde):
-    """residual_q; with ``frozen`` the SDE forces and moments are the given Fsde, Msde
-    instead of being evaluated (the local part of the Jacobian, rfesim.solvers.jacobian)."""
+    """residual_q; with ``frozen`` (1 or True) the SDE forces and moments are the given Fsde,
+    Msde instead of being evaluated (the local part of the Jacobian,
+    rfesim.solvers.jacobian); with ``frozen`` = 2 they are evaluated and also copied into
+    Fsde, Msde (the implicit step's Newton iterate, whose Jacobian then reuses them)."""
     n = q.shape[0]
     if mode == 0:
         for i in range(n):
@@ -36,8 +38,10 @@ def residual_general(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_
                 A = (q[i, k] - Q0[i, k]) * inv
                 A_buf[i, k] = A
                 qd_buf[i, k] = V0[i, k] + cv * A
-    if frozen:
+    if frozen == 1:
         evaluate_frozen_sde(km, att, q, qd_buf, ref, ws, scale, Fsde, Msde)
+    elif frozen == 2:
+        evaluate_keep_sde(km, att, q, qd_buf, ref, ws, scale, Fsde, Msde)
     else:
         evaluate(km, att, q, qd_buf, ref, ws, scale)
     if mode == 0:

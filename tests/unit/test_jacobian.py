@@ -87,3 +87,40 @@ def test_analytic_jacobian_matches_central_differences(name, mode):
     rhs = r0[system.mask]
     dq_a = np.linalg.solve(analytic, rhs)
     assert np.linalg.norm(reference @ dq_a - rhs) < 1e-2 * np.linalg.norm(rhs)
+
+
+@pytest.mark.parametrize("name", ["h1_riser", "cantilever_on_vessel"])
+def test_jacobian_from_the_newton_iterate_equals_the_full_one(name):
+    """ga_advance forms the Jacobian from the evaluation of its Newton iterate
+    (residual_general(..., 2, Fsde, Msde) keeps the SDE forces, jacobian_analytic_at with
+    ``evaluated`` evaluates neither again): the same matrix and residual as
+    jacobian_analytic, which evaluates both itself."""
+    from rfesim.solvers.jacobian import jacobian_analytic_at
+    from rfesim.solvers.residual import residual_general
+    sc = rfesim.load_scenario(scenarios()[name])
+    system = System(compile_scenario(sc))
+    state, _ = solve_statics(system)
+    rng = np.random.default_rng(3)
+    q = state.q.copy()
+    q[system.mask] += (rng.normal(size=q.shape) * 1e-3)[system.mask]
+    system.set_time(1.3)
+    h = 0.05
+    cq, cv = h * h * 0.3, h * 0.6
+    Q0 = q - cq * rng.normal(size=q.shape)
+    V0 = rng.normal(scale=0.1, size=q.shape)
+    Q0[~system.mask] = q[~system.mask]
+    V0[~system.mask] = 0.0
+    args = (system.km, system.att, q, state.ref, system.ws, 1.0, 1, Q0, V0, cq, cv, system.mask,
+            system.qd_buf, system.A_buf)
+    r_full = np.zeros_like(q)
+    jacobian_analytic(*args, r_full, system.qp, system.rp, system.hs, system.length_scale, system.J, system.Ks,
+                      system.Kds, system.T, system.Fsde, system.Msde)
+    J_full = system.J.copy()
+    system.J[:] = np.nan
+    system.Fsde[:] = np.nan
+    r_it = np.zeros_like(q)
+    residual_general(*args, r_it, 2, system.Fsde, system.Msde)
+    jacobian_analytic_at(*args, r_it, system.qp, system.rp, system.hs, system.length_scale, system.J, system.Ks,
+                         system.Kds, system.T, system.Fsde, system.Msde, True)
+    np.testing.assert_array_equal(r_it, r_full)
+    np.testing.assert_array_equal(system.J, J_full)

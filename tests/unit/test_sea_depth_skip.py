@@ -115,3 +115,46 @@ def test_a_component_with_no_velocity_contributes_only_to_the_elevation():
     want = reference_sea(waves, 3.0, points)
     for g, w in zip(got, want):
         assert np.max(np.abs(g - w)) <= ROUNDOFF * max(1.0, float(np.max(np.abs(w))))
+
+
+@pytest.mark.parametrize("depth", [1000.0, None])
+@pytest.mark.parametrize("stretching", ["wheeler", "none"])
+def test_kinematics_cutoff_at_depth(depth, stretching):
+    """waves.kinematics_cutoff (docs/theory.md 'Wave kinematics cut-off at depth'): below
+    deep_z, where the summed bound of all components is the cut-off fraction of the sea's
+    bound, a point gets no wave kinematics and the still-water level; its true kinematics
+    are below the cut-off; every other point is unchanged to round-off."""
+    rng = np.random.default_rng(5)
+    waves = broad_sea(rng, depth, stretching)
+    cutoff = 1e-4          # this sea's long waves are high (sum |a| = 56 m): deep_z about -590 m
+    spec = pack_sea(waves, no_current(), 0.0, cutoff)
+    assert pack_sea(waves, no_current(), 0.0).deep_z == -np.inf          # off by default
+    k = waves.wavenumber
+    V = np.abs(waves.velocity_coefficients()) * (1.0 + waves.omega)
+    vref = V.sum()
+    den = 1.0 if depth is None else -np.expm1(-2.0 * k * depth)
+    summed_bound = float(np.sum(2.0 * V / den * np.exp(k * spec.deep_z)))
+    assert summed_bound == pytest.approx(cutoff * vref, rel=1e-9)
+    assert -1000.0 < spec.deep_z < -20.0
+    bottom = -1000.0 if depth else -1500.0
+    points = np.column_stack([rng.uniform(-300, 300, 300), rng.uniform(-50, 50, 300),
+                              np.concatenate([rng.uniform(-30.0, 3.0, 20), rng.uniform(bottom, -30.0, 280)])])
+    # the kernel's rule, after the ramp (r = 1): under the lowest surface, highest stretched height below deep_z
+    E = np.abs(waves.amplitude).sum()
+    zr = points[:, 2]
+    if stretching == "wheeler":
+        ze_hi = zr + E if depth is None else depth * (zr + E) / (depth - E)
+    else:
+        ze_hi = zr
+    skipped = (zr < -E) & (ze_hi < spec.deep_z)
+    assert skipped.sum() > 20 and (~skipped).sum() > 20            # both kinds of points are exercised
+    for t in (12.0, 37.9):
+        got = run_kernel(spec, t, points)
+        want = reference_sea(waves, t, points)
+        assert np.all(got[0][skipped] == 0.0)
+        assert np.all(got[1][skipped] == 0.0) and np.all(got[2][skipped] == 0.0)
+        assert np.max(np.abs(want[1][skipped])) <= cutoff * vref
+        assert np.max(np.abs(want[2][skipped])) <= cutoff * vref
+        for g, w in zip(got, want):
+            scale = max(1.0, float(np.max(np.abs(w))))
+            assert np.max(np.abs(g[~skipped] - w[~skipped])) <= ROUNDOFF * scale
