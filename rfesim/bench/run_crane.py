@@ -23,9 +23,10 @@ DURATION = 1800.0
 QUICK_DURATION = 300.0
 OUTPUT_INTERVAL = 0.2
 LIMITS = (
-    "What limits it. The cost of a step, about 1.3 ms at 0.1 s (measured separately on this scene: a residual "
-    "evaluation 0.28 ms, the first of each step with the sea kinematics 0.54 ms, an analytic Jacobian 0.8 ms, its "
-    "factorisation 0.04 ms, a recorded output 0.3 ms), with about 3.7 evaluations and 0.35 Jacobians a step. The "
+    "What limits it. The cost of a step, about 1.1 ms at 0.1 s (measured separately on this scene: a residual "
+    "evaluation 0.28 ms, the first of each step with the sea kinematics 0.54 ms, an analytic Jacobian 0.8 ms before "
+    "it reused the Newton iterate's evaluation and SDE forces (docs/slay_speed_notes.md), its factorisation "
+    "0.04 ms, a recorded output 0.3 ms), with about 3.8 evaluations and 0.35 Jacobians a step. The "
     "sea and the recording no longer dominate: the kinematics of dry RFEs are skipped and an output reuses the "
     "step's evaluation (docs/theory.md, 'Sea kinematics of dry RFEs; output recording'; before them a step cost "
     "about 3.6 ms in the same conditions). A longer step does not pay: at 0.2 s the error grows to about 0.7 % and "

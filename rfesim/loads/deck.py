@@ -22,6 +22,8 @@ import math
 
 from numba import njit
 
+from ._common import add_force_moment
+
 DECK_ONSET = 0.002          # m, delta_0
 DECK_SLIP_SPEED = 0.005     # m/s, v_s
 
@@ -84,9 +86,4 @@ def deck_forces(body_rfe, deck_att, deck_z, deck_half, deck_k, deck_c, deck_mu, 
         fx = N * nx - g * tx
         fy = N * ny - g * ty
         fz = N * nz - g * tz
-        F[i, 0] += fx
-        F[i, 1] += fy
-        F[i, 2] += fz
-        M[i, 0] += oy * fz - oz * fy
-        M[i, 1] += oz * fx - ox * fz
-        M[i, 2] += ox * fy - oy * fx
+        add_force_moment(F, M, i, ox, oy, oz, fx, fy, fz)

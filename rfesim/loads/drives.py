@@ -36,8 +36,7 @@ import numpy as np
 from numba import njit
 
 from ..interp import bracket
-from ..kinematics import matTvec_into, matvec_into
-from .sde import sde_geometry_rest_scratch
+from .sde import sde_moment_change_into
 
 
 @njit(cache=True)
@@ -221,20 +220,10 @@ def motor_forces(motor_sde, motor_t, motor_angle, motor_slope, motor_count, moto
 def torsion_moment_into(s, dm0, sde_left, sde_right, sde_arm_left, sde_arm_right, rest_flag, rest_static, rest_eff,
                         R, rbase, roff, M, v3, m33):
     """Add a change dm0 of SDE s's torsional moment (in {i'}) to M as the SDE kernel
-    applies its moments (eq. 8.90.2 through the exact J_r^-T)."""
+    applies its moments (rfesim.loads.sde.sde_moment_change_into)."""
     dm = v3[20]
-    tmp = v3[21]
-    mg = v3[22]
-    Jri = m33[3]
     dm[0] = dm0
     dm[1] = 0.0
     dm[2] = 0.0
-    a = sde_left[s]
-    b = sde_right[s]
-    sde_geometry_rest_scratch(s, sde_left, sde_right, sde_arm_left, sde_arm_right, rest_flag, rest_static,
-                              rest_eff, R, rbase, roff, v3, m33)
-    matTvec_into(Jri, dm, tmp)
-    matvec_into(R[b], tmp, mg)
-    for k in range(3):
-        M[b, k] -= mg[k]
-        M[a, k] += mg[k]
+    sde_moment_change_into(s, dm, sde_left, sde_right, sde_arm_left, sde_arm_right, rest_flag, rest_static,
+                           rest_eff, R, rbase, roff, M, v3[21], v3[22], v3, m33)

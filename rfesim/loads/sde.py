@@ -266,7 +266,6 @@ def plastic_sde_correction(sde_left, sde_right, sde_arm_left, sde_arm_right, sde
     dm = v3[5]
     tmp = v3[6]
     mg = v3[7]
-    Jri = m33[3]
     for s in range(sde_left.shape[0]):
         for k in range(6):
             k_tangent[s, k] = sde_stiffness[s, k]
@@ -283,15 +282,25 @@ def plastic_sde_correction(sde_left, sde_right, sde_arm_left, sde_arm_right, sde
         sigma[s, 5] += dm[2]
         k_tangent[s, 4] = out5[2] / d
         k_tangent[s, 5] = out5[4] / d
-        a = sde_left[s]
-        b = sde_right[s]
-        sde_geometry_rest_scratch(s, sde_left, sde_right, sde_arm_left, sde_arm_right, rest_flag, rest_static,
-                                  rest_eff, R, rbase, roff, v3, m33)
-        matTvec_into(Jri, dm, tmp)
-        matvec_into(R[b], tmp, mg)
-        for k in range(3):
-            M[b, k] -= mg[k]
-            M[a, k] += mg[k]
+        sde_moment_change_into(s, dm, sde_left, sde_right, sde_arm_left, sde_arm_right, rest_flag, rest_static,
+                               rest_eff, R, rbase, roff, M, tmp, mg, v3, m33)
+
+
+@njit(cache=True)
+def sde_moment_change_into(s, dm, sde_left, sde_right, sde_arm_left, sde_arm_right, rest_flag, rest_static, rest_eff,
+                           R, rbase, roff, M, tmp, mg, v3, m33):
+    """Add a change dm (3,) of SDE s's section moment (in {i'}) to M as the SDE kernel applies
+    its moments: eq. 8.90.2 through the exact J_r^-T (-mg on the right RFE, +mg on the left).
+    tmp, mg (3,) scratch outside v3[0:5]; the geometry scratch is v3[0:5], m33[0:6]."""
+    a = sde_left[s]
+    b = sde_right[s]
+    sde_geometry_rest_scratch(s, sde_left, sde_right, sde_arm_left, sde_arm_right, rest_flag, rest_static,
+                              rest_eff, R, rbase, roff, v3, m33)
+    matTvec_into(m33[3], dm, tmp)
+    matvec_into(R[b], tmp, mg)
+    for k in range(3):
+        M[b, k] -= mg[k]
+        M[a, k] += mg[k]
 
 
 @njit(cache=True)

@@ -106,13 +106,18 @@ def poses(km, att, q, qd, ref, ws):
 @njit(cache=True)
 def accumulate_forces(km, att, ws, scale):
     """Zero the accumulators and add every load module the scene contains."""
-    n = ws.F.shape[0]
-    for i in range(n):
+    zero_forces(ws)
+    sde_part(km, att, ws, ws.F, ws.M)
+    local_loads(km, att, ws, scale)
+
+
+@njit(cache=True)
+def zero_forces(ws):
+    """ws.F = ws.M = 0."""
+    for i in range(ws.F.shape[0]):
         for k in range(3):
             ws.F[i, k] = 0.0
             ws.M[i, k] = 0.0
-    sde_part(km, att, ws, ws.F, ws.M)
-    local_loads(km, att, ws, scale)
 
 
 @njit(cache=True)
@@ -287,12 +292,9 @@ def evaluate_keep_sde(km, att, q, qd, ref, ws, scale, Fsde, Msde):
     that the analytic Jacobian at this state needs (rfesim.solvers.jacobian), so that it
     does not evaluate the SDEs again."""
     poses(km, att, q, qd, ref, ws)
-    n = ws.F.shape[0]
-    for i in range(n):
-        for k in range(3):
-            ws.F[i, k] = 0.0
-            ws.M[i, k] = 0.0
+    zero_forces(ws)
     sde_part(km, att, ws, ws.F, ws.M)
+    n = ws.F.shape[0]
     for i in range(n):
         for k in range(3):
             Fsde[i, k] = ws.F[i, k]
