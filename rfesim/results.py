@@ -58,6 +58,9 @@ CHANNELS: dict[str, tuple[str, str]] = {
     "submerged_fraction": ("1", "Submerged fraction of the body's vertical extent"),
     "buoyancy": ("N", "Buoyancy force on the body (rho g V times the submerged fraction)"),
     "deck_force": ("N", "Normal force of the deck the body rests on (0: lifted off or no deck)"),
+    "tugger_tension": ("N", "Tension of the tugger line (its pull on the body, along the line)"),
+    "tugger_length": ("m", "Length of the tugger line from its deck point to its body point"),
+    "tugger_force": ("N", "Force of the tugger line on the body (global)"),
     "winch_payout": ("m", "Rope paid out by the winch since the start (negative: hauled in)"),
     "winch_speed": ("m/s", "Payout speed of the winch (negative: hauling in)"),
     "winch_tension": ("N", "Rope tension at the winch (axial force of the line's first SDE)"),
@@ -67,6 +70,7 @@ CHANNELS: dict[str, tuple[str, str]] = {
 }
 
 WINCH_CHANNELS = ("payout", "speed", "tension", "suspended_length", "rope_mass_suspended", "rope_mass_drum")
+TUGGER_CHANNELS = ("tension", "length", "force")
 
 BODY_CHANNELS = ("position", "velocity", "acceleration", "rotation", "angular_velocity", "connection_force",
                  "connection_tension", "submerged_fraction", "buoyancy", "deck_force")
@@ -246,6 +250,18 @@ class WinchResults:
 
 
 @dataclass
+class TuggerResults:
+    """Pull of one tugger line (rfesim.loads.tugger)."""
+
+    name: str
+    body: str                          # the body it pulls on
+    vessel: str                        # the vessel its deck end is on
+    tension: np.ndarray                # (nt,) N
+    length: np.ndarray                 # (nt,) m, deck point to body point
+    force: np.ndarray                  # (nt, 3) N, force of the line on the body (global)
+
+
+@dataclass
 class VesselResults:
     name: str
     position: np.ndarray              # (nt, 3) m
@@ -265,6 +281,7 @@ class Results:
     tensioners: dict[str, TensionerResults] = field(default_factory=dict)
     reels: dict[str, TensionerResults] = field(default_factory=dict)   # payout and tangential grip force
     winches: dict = field(default_factory=dict)    # WinchResults by winch name
+    tuggers: dict = field(default_factory=dict)    # TuggerResults by tugger name
     status: int = 0
     message: str = ""
     counters: dict = field(default_factory=dict)
@@ -293,6 +310,13 @@ class Results:
             return self.winches[name]
         except KeyError:
             raise KeyError(f"no winch '{name}' in the results (winches: {', '.join(self.winches) or 'none'})") \
+                from None
+
+    def tugger(self, name: str) -> TuggerResults:
+        try:
+            return self.tuggers[name]
+        except KeyError:
+            raise KeyError(f"no tugger '{name}' in the results (tuggers: {', '.join(self.tuggers) or 'none'})") \
                 from None
 
     def support(self, name: str) -> SupportResults:
@@ -444,6 +468,18 @@ def _write_netcdf(res: Results, path: str) -> None:
                 _var(g, "time", ("time",), res.time)
                 for ch in WINCH_CHANNELS:
                     _var(g, ch, ("time",), getattr(wr, ch), f"winch_{ch}")
+        if res.tuggers:
+            tg = f.create_group("tuggers")
+            for name, tr in res.tuggers.items():
+                g = tg.create_group(name)
+                g.attrs["body"] = tr.body
+                g.attrs["vessel"] = tr.vessel
+                g.dimensions = {"time": nt, "xyz": 3}
+                _var(g, "time", ("time",), res.time)
+                _var(g, "xyz", ("xyz",), [0, 1, 2], dtype=np.int32)
+                _var(g, "tension", ("time",), tr.tension, "tugger_tension")
+                _var(g, "length", ("time",), tr.length, "tugger_length")
+                _var(g, "force", ("time", "xyz"), tr.force, "tugger_force")
         if res.vessels:
             vg = f.create_group("vessels")
             for name, vr in res.vessels.items():
@@ -500,8 +536,12 @@ def open_results(path: str | os.PathLike) -> Results:
         winches = {name: WinchResults(name=name, line=_s(g.attrs.get("line", "")),
                                       **{ch: g[ch][()] for ch in WINCH_CHANNELS})
                    for name, g in f.get("winches", {}).items()}
+        tuggers = {name: TuggerResults(name=name, body=_s(g.attrs.get("body", "")), vessel=_s(g.attrs.get("vessel", "")),
+                                       **{ch: g[ch][()] for ch in TUGGER_CHANNELS})
+                   for name, g in f.get("tuggers", {}).items()}
         return Results(time=time, lines=lines, vessels=vessels, supports=supports, bodies=bodies,
-                       tensioners=tensioners, reels=reels, winches=winches, status=int(_scalar(attrs.get("status", 0))),
+                       tensioners=tensioners, reels=reels, winches=winches, tuggers=tuggers,
+                       status=int(_scalar(attrs.get("status", 0))),
                        message=_s(attrs.get("message", "")), counters=json.loads(_s(attrs.get("counters", "{}"))),
                        scenario_json=_s(attrs.get("scenario", "")), version=_s(attrs.get("rfesim_version", "")),
                        kind=_s(attrs.get("kind", "dynamics")))

@@ -120,10 +120,11 @@ class KernelModel(NamedTuple):
     has_bodies: bool = False
     body_deck_att: np.ndarray = np.zeros(0, np.int64)  # (nb,) int64, attachment whose deck carries the body, -1: none
     body_deck_z: np.ndarray = np.zeros(0)            # (nb,) m, deck level in the attachment frame
-    body_deck_half: np.ndarray = np.zeros(0)         # (nb,) m, half the body's vertical extent (centre to underside)
+    body_deck_corner: np.ndarray = np.zeros((0, 4, 3))  # (nb, 4, 3) m, corners of the footprint (body frame)
     body_deck_k: np.ndarray = np.zeros(0)            # (nb,) N/m, contact stiffness
     body_deck_c: np.ndarray = np.zeros(0)            # (nb,) N*s/m, contact damping
     body_deck_mu: np.ndarray = np.zeros(0)           # (nb,) friction coefficient
+    body_deck_anchor: np.ndarray = np.zeros((0, 4, 3))  # (nb, 4, 3) m, statics: the corners at the initial state (vessel frame)
     has_deck: bool = False                           # rfesim.loads.deck
     # --- reels (rfesim.loads.reel), one row per reel; nl = number of reels
     reel_att: np.ndarray = np.zeros(0, np.int64)     # (nl,) int64 attachment
@@ -170,6 +171,19 @@ class KernelModel(NamedTuple):
     motor_damping: np.ndarray = np.zeros(0)          # (nm,) N*m*s/rad, servo k_d (= the SDE's torsional damping)
     motor_torque: np.ndarray = np.zeros(0)           # (nm,) N*m, torque limit
     has_motors: bool = False
+    # --- tugger lines from a vessel's deck to a body (rfesim.loads.tugger); ng tuggers
+    tug_rfe: np.ndarray = np.zeros(0, np.int64)      # (ng,) int64, the body's RFE
+    tug_att: np.ndarray = np.zeros(0, np.int64)      # (ng,) int64, attachment (vessel) of the deck point
+    tug_deck: np.ndarray = np.zeros((0, 3))          # (ng, 3) m, deck point in the vessel frame
+    tug_point: np.ndarray = np.zeros((0, 3))         # (ng, 3) m, body point in the body frame
+    tug_kind: np.ndarray = np.zeros(0, np.int64)     # (ng,) int64, 0 constant tension (table), 1 elastic
+    tug_t: np.ndarray = np.zeros((0, 1))             # (ng, K) s, set-tension table times
+    tug_v: np.ndarray = np.zeros((0, 1))             # (ng, K) N, set tension
+    tug_count: np.ndarray = np.zeros(0, np.int64)    # (ng,) int64 rows of the table
+    tug_k: np.ndarray = np.zeros(0)                  # (ng,) N/m, elastic: axial stiffness of the line
+    tug_L0: np.ndarray = np.zeros(0)                 # (ng,) m, elastic: unstretched length
+    tug_c: np.ndarray = np.zeros(0)                  # (ng,) N*s/m, elastic: axial damping
+    has_tuggers: bool = False
 
 
 class Workspace(NamedTuple):
@@ -244,6 +258,8 @@ class Workspace(NamedTuple):
     motor_sat: np.ndarray = np.zeros(0, np.int64)    # (nm,) int64, 1: the motor is at its torque limit
     c_tangent: np.ndarray = np.zeros((0, 6))         # (nsde, 6) SDE damping for the Jacobian (motors at the limit: 0)
     deck_normal: np.ndarray = np.zeros(0)            # (nb,) N, normal force of each body's deck (rfesim.loads.deck)
+    tug_tension: np.ndarray = np.zeros(0)            # (ng,) N, tension of each tugger line (rfesim.loads.tugger)
+    tug_length: np.ndarray = np.zeros(0)             # (ng,) m, its length
     sea_reach: np.ndarray = np.zeros(0)              # (n,) m, how far below its centre each RFE (or body) can be wet
     step_state: np.ndarray = np.zeros(1, np.int64)   # (1,) int64, 1: the workspace holds the evaluation of the state
                                                      #   a generalised-alpha step just converged to (outputs reuse it)
@@ -272,7 +288,7 @@ class AttachmentState(NamedTuple):
 
 
 def new_workspace(n: int, nsde: int, nh: int = 1, nroller: int = 0, ntens: int = 0, nreel: int = 0,
-                  nmotor: int = 0, nbody: int = 0) -> Workspace:
+                  nmotor: int = 0, nbody: int = 0, ntug: int = 0) -> Workspace:
     return Workspace(
         R=np.zeros((n, 3, 3)), r=np.zeros((n, 3)), rbase=np.zeros((n, 3)), roff=np.zeros((n, 3)), v=np.zeros((n, 3)), w=np.zeros((n, 3)),
         wb=np.zeros((n, 3)), E=np.zeros((n, 3, 3)), Edot=np.zeros((n, 3)), F=np.zeros((n, 3)),
@@ -295,7 +311,7 @@ def new_workspace(n: int, nsde: int, nh: int = 1, nroller: int = 0, ntens: int =
         reel_grip_on_trial=np.zeros(n, np.int64), reel_D=np.zeros(max(nreel, 1)), reel_force=np.zeros(max(nreel, 1)),
         reel_time=np.zeros(2), sde_rest_eff=_identities(nsde), sde_rest_rate=np.zeros((nsde, 3)),
         sea_reach=np.zeros(n), step_state=np.zeros(1, np.int64), motor_sat=np.zeros(nmotor, np.int64),
-        c_tangent=np.zeros((nsde, 6)), deck_normal=np.zeros(nbody))
+        c_tangent=np.zeros((nsde, 6)), deck_normal=np.zeros(nbody), tug_tension=np.zeros(ntug), tug_length=np.zeros(ntug))
 
 
 def _identities(m: int) -> np.ndarray:

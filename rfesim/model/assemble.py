@@ -26,6 +26,7 @@ from ..kinematics import (cross_into, euler_rate_derivative_into, euler_rate_mat
                           matTvec_into, matvec_into, rot_zyx_into, solve3_sym_into)
 from ..loads.bodies import body_hydro_forces
 from ..loads.deck import deck_forces
+from ..loads.tugger import tugger_forces
 from ..loads.gravity import gravity_forces
 from ..loads.hydro import buoyancy_forces, morison_forces, submergence
 from ..loads.point import point_loads
@@ -219,8 +220,13 @@ def local_loads(km, att, ws, scale):
                               scale, ws.R, ws.r, ws.v, ws.w, ws.surface_z, ws.water_vel, ws.water_acc, ws.F, ws.M,
                               ws.Ma, ws.Ja, ws.sub_frac, ws.sub_point)
     if km.has_deck:
-        deck_forces(km.body_rfe, km.body_deck_att, km.body_deck_z, km.body_deck_half, km.body_deck_k, km.body_deck_c,
-                    km.body_deck_mu, att.p, att.R, att.v, att.w, ws.r, ws.v, ws.w, ws.F, ws.M, ws.deck_normal)
+        deck_forces(km.body_rfe, km.body_deck_att, km.body_deck_z, km.body_deck_corner, km.body_deck_k,
+                    km.body_deck_c, km.body_deck_mu, att.p, att.R, att.v, att.w, ws.R, ws.r, ws.v, ws.w, ws.F, ws.M,
+                    ws.deck_normal, ws.fric_mode, km.body_deck_anchor)
+    if km.has_tuggers:
+        tugger_forces(km.tug_rfe, km.tug_att, km.tug_deck, km.tug_point, km.tug_kind, km.tug_t, km.tug_v,
+                      km.tug_count, km.tug_k, km.tug_L0, km.tug_c, att.time[0], att.p, att.R, att.v, att.w, ws.R,
+                      ws.r, ws.v, ws.w, ws.F, ws.M, ws.tug_tension, ws.tug_length)
     if km.has_seabed:
         seabed_forces(km.rfe_length, km.rfe_contact_radius, km.rfe_seabed_c, km.bed_s, km.bed_z, km.bed_dir,
                       km.seabed_k, km.seabed_mu, km.seabed_kt, ws.R, ws.r, ws.v, ws.w, ws.F, ws.M,

@@ -115,8 +115,9 @@ def deck_arrays(sc, infos: list[BodyInfo], attachment_names: list[str]) -> dict:
     5 mm, damping the given fraction of critical on the body's mass."""
     g = float(sc.environment.gravity)
     nb = len(infos)
-    out = dict(body_deck_att=np.full(nb, -1, np.int64), body_deck_z=np.zeros(nb), body_deck_half=np.zeros(nb),
-               body_deck_k=np.zeros(nb), body_deck_c=np.zeros(nb), body_deck_mu=np.zeros(nb), has_deck=False)
+    out = dict(body_deck_att=np.full(nb, -1, np.int64), body_deck_z=np.zeros(nb),
+               body_deck_corner=np.zeros((nb, 4, 3)), body_deck_k=np.zeros(nb), body_deck_c=np.zeros(nb),
+               body_deck_mu=np.zeros(nb), body_deck_anchor=np.zeros((nb, 4, 3)), has_deck=False)
     for j, info in enumerate(infos):
         body = sc.bodies[info.name]
         deck = getattr(body, "deck", None)
@@ -125,11 +126,52 @@ def deck_arrays(sc, infos: list[BodyInfo], attachment_names: list[str]) -> dict:
         k = deck.stiffness if deck.stiffness is not None else max(body.mass * g, 1.0) / 0.005
         out["body_deck_att"][j] = attachment_names.index(deck.vessel)
         out["body_deck_z"][j] = deck.height
-        out["body_deck_half"][j] = 0.5 * body.vertical_extent()
+        a, b = body.deck_footprint()
+        out["body_deck_corner"][j] = [[sx * 0.5 * a, sy * 0.5 * b, -0.5 * body.vertical_extent()]
+                                      for sx, sy in ((1, 1), (-1, 1), (-1, -1), (1, -1))]
         out["body_deck_k"][j] = k
         out["body_deck_c"][j] = 2.0 * deck.damping_ratio * math.sqrt(k * body.mass)
         out["body_deck_mu"][j] = deck.friction
         out["has_deck"] = True
+    return out
+
+
+DECK_SEAT = 0.01        # m: a body whose underside starts within this of its deck is seated on it
+
+
+def deck_anchors(model, gravity: float) -> np.ndarray:
+    """(nb, 4, 3) m: the corners of each decked body's footprint at the model's initial state,
+    in its deck vessel's frame at t = 0 (the statics stick anchors, rfesim.loads.deck).
+
+    A body put on its deck (its lowest corner within DECK_SEAT of the deck plane, the
+    natural input) is first seated: moved along the deck normal to the penetration its own
+    weight gives, W / k + delta_0 / 2 (model.initial is changed in place). Statics then
+    starts where the contact has its full stiffness; at zero penetration the smooth onset
+    has none, and Newton's first step would be wild."""
+    from ..kinematics import rot_zyx
+    from ..loads.deck import DECK_ONSET
+    from ..vessel_kernel import attachment_kinematics, vessel_spec
+    from .arrays import new_attachment_state
+    km = model.km
+    out = np.zeros((km.body_rfe.shape[0], 4, 3))
+    att = new_attachment_state(len(model.attachment_names))
+    attachment_kinematics(vessel_spec(model.motions), 0.0, att)
+    X, q = model.initial.ref.X, model.initial.q
+    for j in range(km.body_rfe.shape[0]):
+        a = km.body_deck_att[j]
+        if a < 0:
+            continue
+        i = km.body_rfe[j]
+        n = att.R[a][:, 2]
+        Rb = model.initial.ref.R[i] @ rot_zyx(q[i, 3], q[i, 4], q[i, 5])
+        corners = X[i] + q[i, :3] + km.body_deck_corner[j] @ Rb.T
+        delta = -((corners - (att.p[a] + km.body_deck_z[j] * n)) @ n)
+        low = float(delta.max())
+        if abs(low) < DECK_SEAT and km.body_deck_k[j] > 0.0:
+            seat = km.rfe_mass[i] * gravity / km.body_deck_k[j] + 0.5 * DECK_ONSET
+            X[i] -= (seat - low) * n
+            corners = corners - (seat - low) * n
+        out[j] = (corners - att.p[a]) @ att.R[a]
     return out
 
 

@@ -103,6 +103,7 @@ class Model:
     reels: list = field(default_factory=list)      # rfesim.model.reels.ReelInfo, one per reel
     initial_plastic_history: np.ndarray | None = None   # (nsde, nh) plastic history at t = 0 (reeled pipe)
     winches: list = field(default_factory=list)    # rfesim.model.winches.WinchInfo, one per winch
+    tuggers: list = field(default_factory=list)    # rfesim.model.tuggers.TuggerInfo, one per tugger line
     joins: list = field(default_factory=list)      # rfesim.model.joins.JoinInfo, one per line-to-line join
 
     @property
@@ -744,6 +745,13 @@ def compile_scenario(sc, start: str | None = None) -> Model:
     if getattr(sc, "winches", None):
         from .winches import compile_winches
         model.winches = compile_winches(sc, model)
+    if km.has_deck:
+        from .bodies import deck_anchors
+        model.km = model.km._replace(body_deck_anchor=deck_anchors(model, float(env.gravity)))
+    if getattr(sc, "tuggers", None):
+        from .tuggers import tugger_arrays
+        arrays, model.tuggers = tugger_arrays(sc, model)
+        model.km = model.km._replace(**arrays)
     return model
 
 

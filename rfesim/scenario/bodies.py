@@ -18,6 +18,7 @@ Hydrodynamics scale with the submerged fraction of the body's vertical extent
 from __future__ import annotations
 
 import math
+from typing import Annotated
 
 from pydantic import Field, model_validator
 
@@ -93,6 +94,17 @@ class BodyDeck(_Strict):
                                  "on the body's mass [-]")
     friction: float = Field(0.3, ge=0.0, le=2.0, description="Coulomb friction coefficient between body and "
                             "deck [-]")
+    footprint: Annotated[list[float], Field(min_length=2, max_length=2)] | None = _units(
+        "m", "Size [a, b] of the rectangle the body stands on, along its x and y axes (contact at its four "
+        "corners); default: a square of side sqrt(volume / height), or the height without a volume", default=None)
+
+    @model_validator(mode="after")
+    def _footprint(self):
+        if self.footprint is not None:
+            for k, x in enumerate(self.footprint):
+                if not (math.isfinite(x) and x > 0.0):
+                    raise FieldError(f"footprint.{k}", f"must be a length greater than 0 m, got {x}")
+        return self
 
 
 class Body(_Strict):
@@ -153,6 +165,15 @@ class Body(_Strict):
         if self.inertia is not None:
             return [float(v) for v in self.inertia]
         return [self.mass * r * r for r in per_axis(self.radius_of_gyration)]
+
+    def deck_footprint(self) -> list[float]:
+        """[a, b] m: the rectangle the body stands on (deck.footprint, or a square of side
+        sqrt(volume / height), or the height)."""
+        if self.deck is not None and self.deck.footprint is not None:
+            return [float(x) for x in self.deck.footprint]
+        h = self.vertical_extent()
+        side = math.sqrt(self.volume / h) if self.volume > 0.0 else h
+        return [side, side]
 
     def vertical_extent(self) -> float:
         """m: the height, or the cube root of the volume (1 m without a volume)."""

@@ -30,7 +30,8 @@ on the rope (rfesim.model.winches).
 Names made for crane ``c``: lines ``c_pedestal``, ``c_boom`` (column) or ``c_stub``,
 ``c_legs``, ``c_crossbeam`` (a-frame), ``c_rope``; line types ``<line>_section``; the body
 ``c_payload`` (inline payloads); the winch ``c_winch``; the vessel ``c_vessel`` (inline
-vessels). Geometry in the vessel frame; SI units, angles in degrees.
+vessels); the tugger lines ``c_<name>`` (``tuggers``, rfesim.scenario.tuggers). Geometry in
+the vessel frame; SI units, angles in degrees.
 """
 from __future__ import annotations
 
@@ -43,6 +44,7 @@ from pydantic import Field, TypeAdapter, ValidationError, model_validator
 from .bodies import Body
 from .pipelay import STEEL_DENSITY, STEEL_E, _add, _to_global, _vessel_pose, expand_templates
 from .schema import FieldError, Vector3, Vessel, _Strict, _units
+from .tuggers import TuggerElastic, TuggerTension
 
 # A rope's bending stiffness against a solid bar of its diameter: the strands bend nearly on
 # their own (a stranded wire rope's effective EI lies between its wires' sum and the solid
@@ -196,6 +198,17 @@ class CylinderSpec(_Strict):
         default=None)
 
 
+class CraneTugger(_Strict):
+    """A tugger line from a deck point to the crane's payload (rfesim.scenario.tuggers)."""
+
+    deck_point: Vector3 = _units("m", "The line's deck end (winch or fairlead) in the vessel's frame")
+    body_point: Vector3 = _units("m", "The line's end on the payload, in its body frame (default: the centre)",
+                                 default=[0.0, 0.0, 0.0])
+    vessel: str | None = Field(None, description="The vessel whose deck carries the tugger (default: the "
+                               "crane's vessel)")
+    mode: Annotated[Union[TuggerTension, TuggerElastic], Field(discriminator="kind")]
+
+
 class _Crane(_Strict):
     vessel: Union[str, Vessel] = Field(default_factory=Vessel, description="A vessel name of `vessels`, or a "
                                        "vessel (position, heading_deg, motion) made as <name>_vessel")
@@ -207,6 +220,9 @@ class _Crane(_Strict):
                                                 "default: the top of the body's vertical extent)", default=None)
     winch: dict[str, Any] | None = Field(None, description="The winch on the rope (a `winches` entry without "
                                          "`line`): mode, heave_compensation, shock_absorber")
+    tuggers: dict[str, CraneTugger] = Field(default_factory=dict, description="Tugger lines steadying the "
+                                            "payload, made as top-level `tuggers` <crane>_<name> "
+                                            "(rfesim.scenario.tuggers)")
 
 
 class SlewingMotor(_Strict):
@@ -383,7 +399,7 @@ def _payload(out: dict, name: str, tpl, raw: dict, tip, rope_length: float) -> t
     return bname, attach
 
 
-def _rope_and_winch(out: dict, name: str, tpl, raw: dict, parent: str, tip) -> None:
+def _rope_and_winch(out: dict, name: str, tpl, raw: dict, parent: str, tip, vname: str) -> None:
     rope = f"{name}_rope"
     _add(out, "line_types", f"{rope}_section", tpl.rope.line_type(), "rope")
     body, attach = _payload(out, name, tpl, raw, tip, tpl.rope.length)
@@ -391,6 +407,14 @@ def _rope_and_winch(out: dict, name: str, tpl, raw: dict, parent: str, tip) -> N
         "type": f"{rope}_section", "length": tpl.rope.length, "elements": tpl.rope.count(),
         "end_a": {"attach": f"{parent}:end_b", "connection": "pinned", "direction": [0.0, 0.0, -1.0]},
         "end_b": {"attach": body, "position": attach}}, "rope")
+    for tname, tug in tpl.tuggers.items():
+        vessel = tug.vessel if tug.vessel is not None else vname
+        if vessel not in (out.get("vessels") or {}):
+            known = ", ".join(sorted(out.get("vessels") or {})) or "none defined"
+            raise FieldError(f"tuggers.{tname}.vessel", f"unknown vessel '{vessel}' (vessels: {known})")
+        _add(out, "tuggers", f"{name}_{tname}", {
+            "body": body, "vessel": vessel, "deck_point": list(tug.deck_point), "body_point": list(tug.body_point),
+            "mode": copy.deepcopy(raw["tuggers"][tname]["mode"])}, f"tuggers.{tname}")
     if tpl.winch is not None:
         winch = copy.deepcopy(tpl.winch)
         if "line" in winch:
@@ -445,7 +469,7 @@ def _column(out: dict, name: str, tpl: ColumnCrane, raw: dict, vname: str, vpos,
              "drives": drives}
     _add(out, "lines", boom, {"type": f"{boom}_section", "length": tpl.boom.length,
                               "elements": tpl.boom.count(), "end_a": end_a, "end_b": {"attach": "free"}}, "boom")
-    _rope_and_winch(out, name, tpl, raw, boom, tip)
+    _rope_and_winch(out, name, tpl, raw, boom, tip, vname)
 
 
 def _servo_gains(tpl: ColumnCrane, raw: dict, luff0: float) -> tuple[float, float]:
@@ -504,7 +528,7 @@ def _a_frame(out: dict, name: str, tpl: AFrame, raw: dict, vname: str, vpos, hea
                               "end_a": {"attach": f"{legs}:end_b", "connection": "clamped",
                                         "direction": _rot(vpos, heading, d_local)},
                               "end_b": {"attach": "free"}}, "crossbeam_mass")
-    _rope_and_winch(out, name, tpl, raw, beam, tip)
+    _rope_and_winch(out, name, tpl, raw, beam, tip, vname)
 
 
 def expand(data: dict) -> dict:

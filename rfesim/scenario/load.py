@@ -312,6 +312,8 @@ def check_references(sc: Scenario) -> list[tuple[str, str]]:
     errors.extend(check_body_references(sc))
     from .winches import check_winch_references
     errors.extend(check_winch_references(sc))
+    from .tuggers import check_tugger_references
+    errors.extend(check_tugger_references(sc))
     from .joins import check_join_references
     errors.extend(check_join_references(sc))
     an = sc.analysis

@@ -1338,6 +1338,7 @@ class Analysis(_Strict):
 from .chains import ChainSpec, check_formulations  # noqa: E402 - chains.py builds on the models above
 from .bodies import Body  # noqa: E402 - bodies.py builds on the models above
 from .winches import Winch  # noqa: E402 - winches.py builds on the models above
+from .tuggers import Tugger  # noqa: E402 - tuggers.py builds on the models above
 from .pipelay import PipelayTemplate  # noqa: E402 - pipelay.py builds on the models above
 from .cranes import CraneTemplate  # noqa: E402 - cranes.py builds on the models above
 
@@ -1361,6 +1362,8 @@ class Scenario(_Strict):
                                     "end B of a line (rfesim.scenario.bodies)")
     winches: dict[str, Winch] = Field(default_factory=dict, description="Winches paying out or hauling in a "
                                       "rope line (rfesim.scenario.winches)")
+    tuggers: dict[str, Tugger] = Field(default_factory=dict, description="Tugger lines from a vessel's deck "
+                                       "to a body, steadying a payload (rfesim.scenario.tuggers)")
     pipelay: dict[str, PipelayTemplate] = Field(default_factory=dict, description="Pipelay templates (s-lay, "
                                                 "j-lay, reel-lay), expanded into vessels, line_types, lines and "
                                                 "supports before validation (rfesim.scenario.expand); empty after")

@@ -153,6 +153,10 @@ class Recorder:
             self._residual_work = np.zeros((model.nsde, model.plastic_history_width))
         self.winch_data = {c.name: {ch: np.zeros(nt) for ch in WINCH_CHANNELS}
                            for c in getattr(system, "controllers", ())}
+        ntug = len(getattr(model, "tuggers", []))
+        self.tug_tension = np.zeros((nt, ntug))
+        self.tug_length = np.zeros((nt, ntug))
+        self.tug_force = np.zeros((nt, ntug, 3))
         self.body_data = {b.name: {ch: np.zeros((nt, 3)) for ch in ("position", "velocity", "acceleration", "rotation",
                                                                     "angular_velocity", "connection_force")}
                           | {ch: np.zeros(nt) for ch in ("connection_tension", "submerged_fraction", "buoyancy",
@@ -247,10 +251,25 @@ class Recorder:
         for c in getattr(sysm, "controllers", ()):
             for ch, value in c.channels().items():
                 self.winch_data[c.name][ch][k] = value
+        if km.has_tuggers:
+            self._record_tuggers(k, ws)
         if km.has_rollers:
             self.roller_reaction[k] = ws.roller_normal
             self.roller_force[k] = ws.roller_force
         self.k += 1
+
+    def _record_tuggers(self, k: int, ws) -> None:
+        """Tension, length and force on the body of each tugger line (rfesim.loads.tugger)."""
+        km = self.system.km
+        att = self.system.att
+        self.tug_tension[k] = ws.tug_tension
+        self.tug_length[k] = ws.tug_length
+        for j in range(km.tug_rfe.shape[0]):
+            i, a = km.tug_rfe[j], km.tug_att[j]
+            D = att.p[a] + att.R[a] @ km.tug_deck[j]
+            P = ws.r[i] + ws.R[i] @ km.tug_point[j]
+            L = np.linalg.norm(D - P)
+            self.tug_force[k, j] = ws.tug_tension[j] * (D - P) / L if L > 1e-9 else 0.0
 
     def _record_bodies(self, k: int, ws, qdd: np.ndarray) -> None:
         from ..kinematics import rotation_to_zyx
@@ -324,8 +343,14 @@ class Recorder:
         winches = {c.name: WinchResults(name=c.name, line=c.info.line,
                                         **{ch: arr[:nt].copy() for ch, arr in self.winch_data[c.name].items()})
                    for c in getattr(self.system, "controllers", ())}
+        from ..results import TuggerResults
+        tuggers = {ti.name: TuggerResults(name=ti.name, body=ti.body, vessel=ti.vessel,
+                                          tension=self.tug_tension[:nt, ti.index].copy(),
+                                          length=self.tug_length[:nt, ti.index].copy(),
+                                          force=self.tug_force[:nt, ti.index].copy())
+                   for ti in getattr(self.system.model, "tuggers", [])}
         return Results(time=self.time[:nt].copy(), lines=lines, vessels=vessels, supports=supports, bodies=bodies,
-                       tensioners=tensioners, reels=reels, winches=winches,
+                       tensioners=tensioners, reels=reels, winches=winches, tuggers=tuggers,
                        **kw)
 
 

@@ -57,26 +57,44 @@ def test_deck_and_rope_share_the_weight_then_the_rope_lifts_it_off_on_time():
     assert t_off == pytest.approx(t_haul, abs=0.1)
 
 
-def deck_reference(r, v, w, att_p, att_R, att_v, att_w, z, half, k, c, mu):
-    """The deck law of rfesim.loads.deck for one body, numpy vectors."""
+def corners_of(a, b, half):
+    """The footprint's corners in the body frame (the order of rfesim.model.bodies)."""
+    return np.array([[sx * a / 2, sy * b / 2, -half] for sx, sy in ((1, 1), (-1, 1), (-1, -1), (1, -1))])
+
+
+def deck_reference(R, r, v, w, att_p, att_R, att_v, att_w, z, corners, k, c, mu, anchor=None):
+    """The deck law of rfesim.loads.deck for one body, numpy vectors: the sum over the
+    footprint's corners of quarter-stiffness contacts (dynamics; statics with anchor)."""
     from rfesim.loads.deck import DECK_ONSET, DECK_SLIP_SPEED
     n = att_R[:, 2]
     P = att_p + att_R @ np.array([0.0, 0.0, z])
-    off = -half * n
-    B = r + off
-    delta = -np.dot(B - P, n)
-    if delta <= 0.0:
-        return np.zeros(3), np.zeros(3), 0.0
-    u = v + np.cross(w, off) - (att_v + np.cross(att_w, B - att_p))
-    un = float(u @ n)
-    fe = k * delta ** 2 / (2 * DECK_ONSET) if delta < DECK_ONSET else k * (delta - DECK_ONSET / 2)
-    s = min(1.0, delta / DECK_ONSET)
-    N = fe - s * c * un
-    if N <= 0.0:
-        return np.zeros(3), np.zeros(3), 0.0
-    ut = u - un * n
-    F = N * n - mu * N * ut / math.sqrt(ut @ ut + DECK_SLIP_SPEED ** 2)
-    return F, np.cross(off, F), N
+    F, M, Ntot = np.zeros(3), np.zeros(3), 0.0
+    for ci, p in enumerate(corners):
+        off = R @ p
+        B = r + off
+        delta = -np.dot(B - P, n)
+        if delta <= 0.0:
+            continue
+        u = v + np.cross(w, off) - (att_v + np.cross(att_w, B - att_p))
+        un = float(u @ n)
+        kq, cq = k / 4, c / 4
+        fe = kq * delta ** 2 / (2 * DECK_ONSET) if delta < DECK_ONSET else kq * (delta - DECK_ONSET / 2)
+        N = fe - min(1.0, delta / DECK_ONSET) * cq * un
+        if N <= 0.0:
+            continue
+        Ntot += N
+        if anchor is None:
+            ut = u - un * n
+            f = N * n - mu * N * ut / math.sqrt(ut @ ut + DECK_SLIP_SPEED ** 2)
+        else:
+            s = B - (att_p + att_R @ anchor[ci])
+            ft = -kq * (s - (s @ n) * n)
+            if np.linalg.norm(ft) > mu * N:
+                ft *= mu * N / np.linalg.norm(ft)
+            f = N * n + ft
+        F += f
+        M += np.cross(off, f)
+    return F, M, Ntot
 
 
 def test_deck_kernel_equals_the_reference():
@@ -84,7 +102,8 @@ def test_deck_kernel_equals_the_reference():
     from rfesim.loads.deck import deck_forces
     rng = np.random.default_rng(4)
     nb = 40
-    r = rng.normal(0, 1, (nb, 3)) + [0, 0, 3.0]
+    r = rng.normal(0, 0.3, (nb, 3)) + [0, 0, 3.0]
+    R = np.stack([rot_zyx(*rng.normal(0, 0.05, 3)) for _ in range(nb)])
     v, w = rng.normal(0, 0.3, (nb, 3)), rng.normal(0, 0.2, (nb, 3))
     att_p = np.array([[0.0, 0, 0], [1.0, 2.0, 0.3]])
     att_R = np.stack([np.eye(3), rot_zyx(0.4, 0.05, -0.08)])
@@ -92,18 +111,20 @@ def test_deck_kernel_equals_the_reference():
     att_w = np.array([[0.0, 0, 0], [0.01, 0.03, -0.02]])
     att = rng.integers(-1, 2, nb)
     z = rng.uniform(1.5, 2.5, nb)
-    half = rng.uniform(0.5, 1.5, nb)
+    corners = np.stack([corners_of(*rng.uniform(1, 4, 2), rng.uniform(0.5, 1.5)) for _ in range(nb)])
     k, c, mu = rng.uniform(1e6, 1e7, nb), rng.uniform(1e4, 1e5, nb), rng.uniform(0, 0.5, nb)
     F, M, N = np.zeros((nb, 3)), np.zeros((nb, 3)), np.zeros(nb)
-    deck_forces(np.arange(nb), att.astype(np.int64), z, half, k, c, mu, att_p, att_R, att_v, att_w, r, v, w, F, M, N)
+    mode, anchor = np.zeros(1, np.int64), np.zeros((nb, 4, 3))               # dynamics: no anchor
+    deck_forces(np.arange(nb), att.astype(np.int64), z, corners, k, c, mu, att_p, att_R, att_v, att_w, R, r, v, w, F, M,
+                N, mode, anchor)
     touched = 0
     for j in range(nb):
         if att[j] < 0:
             assert N[j] == 0.0 and not F[j].any()
             continue
         a = att[j]
-        Fr, Mr, Nr = deck_reference(r[j], v[j], w[j], att_p[a], att_R[a], att_v[a], att_w[a], z[j], half[j], k[j],
-                                    c[j], mu[j])
+        Fr, Mr, Nr = deck_reference(R[j], r[j], v[j], w[j], att_p[a], att_R[a], att_v[a], att_w[a], z[j], corners[j],
+                                    k[j], c[j], mu[j])
         touched += Nr > 0.0
         np.testing.assert_allclose(F[j], Fr, rtol=1e-12, atol=1e-9)
         np.testing.assert_allclose(M[j], Mr, rtol=1e-12, atol=1e-9)
