@@ -84,8 +84,26 @@ def cylinder_forces(torque: np.ndarray, angle_deg: np.ndarray, cylinder: dict, a
     return out
 
 
+def luffing_rope_tensions(torque: np.ndarray, angle_deg: np.ndarray, luffing_rope: dict,
+                          boom_length: float) -> np.ndarray:
+    """Tension of the luffing rope (N, per part of line) from the luffing drive torque (N*m,
+    the joint's moment on the boom about the drive axis, positive toward larger angles) and
+    the boom angle history; ``luffing_rope``: the template's luffing_rope (gantry, eye,
+    falls)."""
+    from .scenario.cranes import LuffingRopeSpec, luffing_rope_lever
+    spec = LuffingRopeSpec.model_validate({"length": [[0.0, 1.0]]} | dict(luffing_rope))
+    eye = spec.eye if spec.eye is not None else boom_length
+    out = np.empty(len(torque))
+    for k, (m, a) in enumerate(zip(torque, angle_deg)):
+        _, lever = luffing_rope_lever(spec, eye, math.radians(a))
+        # the falls pulling toward the gantry put on the boom the moment the driven joint does
+        out[k] = m / (lever * spec.falls) if abs(lever) > 1e-9 else math.nan
+    return out
+
+
 def crane_summary(res, crane: str, *, static_tension: float | None = None, slack_fraction: float = 0.01,
-                  cylinder: dict | None = None) -> dict:
+                  cylinder: dict | None = None, luffing_rope: dict | None = None,
+                  boom_length: float | None = None) -> dict:
     """Crane outputs of ``crane`` (the name of its template). Returns a dict:
 
     ``time``; ``rope_tension`` (nt,) N at the sheave (first rope SDE) and ``hook_tension``
@@ -98,7 +116,9 @@ def crane_summary(res, crane: str, *, static_tension: float | None = None, slack
     luffing); ``bend_moment_range`` {line: {arc_length, min, max, mean}} along the boom /
     legs and the pedestal; ``tip_position``, ``tip_acceleration`` (nt, 3): the sheave;
     ``cylinder_force`` (nt,) N per cylinder, pushing positive (with ``cylinder``, the
-    template's cylinder dict, or when the scenario names one)."""
+    template's cylinder dict); ``luffing_rope_tension`` (nt,) N per part of line (with
+    ``luffing_rope``, the template's luffing_rope dict, and ``boom_length`` when its eye is
+    not given)."""
     base_line, boom_line = _member(res, crane)
     rope = res.line(f"{crane}_rope")
     time = np.asarray(res.time, float)
@@ -143,4 +163,10 @@ def crane_summary(res, crane: str, *, static_tension: float | None = None, slack
         a_frame = boom_line.endswith("_legs")
         ang = out["drive_angle"]["luffing"]
         out["cylinder_force"] = cylinder_forces(out["drive_torque"]["luffing"], ang, cylinder, a_frame)
+    if luffing_rope is not None and "luffing" in out["drive_torque"]:
+        if luffing_rope.get("eye") is None and boom_length is None:
+            raise ValueError("luffing_rope without an eye needs boom_length (the eye is at the tip)")
+        out["luffing_rope_tension"] = luffing_rope_tensions(out["drive_torque"]["luffing"],
+                                                            out["drive_angle"]["luffing"], luffing_rope,
+                                                            float(boom_length or 0.0))
     return out

@@ -209,6 +209,22 @@ class CraneTugger(_Strict):
     mode: Annotated[Union[TuggerTension, TuggerElastic], Field(discriminator="kind")]
 
 
+class LuffingRopeSpec(_Strict):
+    """A luffing rope (topping lift) between a gantry point and an eye on the boom, in the
+    plane of luffing (x toward the boom's outreach, z up, from the boom hinge): its length
+    table drives the boom angle through the triangle hinge - gantry - eye."""
+
+    gantry: Annotated[list[float], Field(min_length=2, max_length=2)] = _units(
+        "m", "Gantry point [x, z] from the boom hinge in the luffing plane (behind and above it)")
+    eye: float | None = _units("m", "Distance of the rope's eye from the hinge along the boom (default: the "
+                               "boom's length, the tip)", default=None, gt=0.0)
+    falls: int = Field(1, ge=1, le=24, description="Parts of line between the gantry and the eye (the pull on "
+                       "the boom is falls times the rope tension)")
+    length: list[Annotated[list[float], Field(min_length=2, max_length=2)]] = _units(
+        "m", "Distance gantry - eye against time [[t s, length m], ...] (the winch pays out falls times its "
+        "change)")
+
+
 class _Crane(_Strict):
     vessel: Union[str, Vessel] = Field(default_factory=Vessel, description="A vessel name of `vessels`, or a "
                                        "vessel (position, heading_deg, motion) made as <name>_vessel")
@@ -250,8 +266,11 @@ class ColumnCrane(_Crane):
     slewing_deg: AngleProfile = Field(0.0, description="Slewing angle about the pedestal axis from the vessel's "
                                       "x axis (deg), or a table [[t s, deg], ...]", json_schema_extra={"units": "deg"})
     luffing_deg: AngleProfile | None = Field(None, description="Boom angle above the horizontal (deg), or a table "
-                                             "(or give cylinder.stroke)", json_schema_extra={"units": "deg"})
+                                             "(or give cylinder.stroke, or luffing_rope.length)",
+                                             json_schema_extra={"units": "deg"})
     cylinder: CylinderSpec | None = None
+    luffing_rope: LuffingRopeSpec | None = Field(None, description="Luffing by a rope from a gantry: its length "
+                                                 "table drives the boom angle (instead of luffing_deg)")
     slewing_motor: SlewingMotor | None = Field(None, description="Slewing by a torque-limited servo motor "
                                                "following slewing_deg (default: slewing_deg is imposed exactly)")
 
@@ -293,14 +312,22 @@ class AFrame(_Crane):
 def _luffing(tpl, field: str, lo: float, hi: float) -> None:
     value = getattr(tpl, field)
     stroke = tpl.cylinder.stroke if tpl.cylinder is not None else None
-    if value is None and stroke is None:
-        raise FieldError(field, "give the angle (a constant or a table), or cylinder.stroke")
-    if value is not None and stroke is not None:
-        raise FieldError("cylinder.stroke", f"give {field} or cylinder.stroke, not both")
+    rope = getattr(tpl, "luffing_rope", None)
+    given = [name for name, v in ((field, value), ("cylinder.stroke", stroke), ("luffing_rope", rope))
+             if v is not None]
+    if not given:
+        raise FieldError(field, "give the angle (a constant or a table), or cylinder.stroke"
+                                + (", or luffing_rope" if hasattr(tpl, "luffing_rope") else ""))
+    if len(given) > 1:
+        raise FieldError(given[1], f"give one of {' or '.join(given)}, not both")
     if value is not None:
         _check_profile(value, field, lo, hi)
-    else:
+    elif stroke is not None:
         _check_profile(stroke, "cylinder.stroke", 1e-3, 1e3, "m")
+    else:
+        _check_profile(rope.length, "luffing_rope.length", 1e-3, 1e3, "m")
+        if rope.eye is not None and rope.eye > tpl.boom.length:
+            raise FieldError("luffing_rope.eye", f"{rope.eye} m is beyond the boom's {tpl.boom.length} m")
 
 
 CraneTemplate = Annotated[Union[ColumnCrane, AFrame], Field(discriminator="type")]
@@ -336,13 +363,53 @@ def cylinder_lever(cyl: CylinderSpec, angle: float) -> tuple[float, float]:
     return L, px * uz - pz * ux
 
 
+def luffing_rope_angle(rope: LuffingRopeSpec, eye: float, length: float) -> float:
+    """Boom angle (rad, in the luffing plane from x toward z) at which the luffing rope from
+    ``rope.gantry`` to the eye at ``eye`` along the boom has ``length``: the branch below the
+    gantry's direction, on which the rope lengthens as the boom is lowered. Raises
+    FieldError when the triangle cannot close."""
+    gx, gz = rope.gantry
+    rho = math.hypot(gx, gz)
+    c = (eye * eye + rho * rho - length * length) / (2.0 * eye * rho)
+    if not -1.0 <= c <= 1.0:
+        lo, hi = abs(eye - rho), eye + rho
+        raise FieldError("luffing_rope.length", f"a luffing rope of {length:.4g} m cannot reach: with this gantry "
+                                                f"and eye its length lies in [{lo:.4g}, {hi:.4g}] m")
+    return math.atan2(gz, gx) - math.acos(c)
+
+
+def luffing_rope_lever(rope: LuffingRopeSpec, eye: float, angle: float) -> tuple[float, float]:
+    """(rope length m, lever arm m about the hinge) at the boom angle ``angle`` (rad): the
+    moment of a unit pull toward the gantry on the eye, positive toward larger angles."""
+    gx, gz = rope.gantry
+    px, pz = eye * math.cos(angle), eye * math.sin(angle)
+    dx, dz = gx - px, gz - pz
+    L = math.hypot(dx, dz)
+    return L, (px * dz - pz * dx) / L
+
+
 def _angle_profile(tpl, field: str, to_plane) -> tuple[float, list | None]:
     """(initial angle deg, table [[t, deg]] or None) of the luffing drive in the template's
-    own convention; a stroke table is converted through the cylinder triangle (``to_plane``
-    maps the template angle to the luffing-plane angle and back)."""
+    own convention; a stroke table is converted through the cylinder triangle, a luffing
+    rope's length table through the gantry triangle (``to_plane`` maps the template angle to
+    the luffing-plane angle and back)."""
     value = getattr(tpl, field)
     if value is not None:
         return _initial(value), _table(value)
+    rope = getattr(tpl, "luffing_rope", None)
+    if rope is not None:
+        eye = rope.eye if rope.eye is not None else tpl.boom.length
+        rows = []
+        for i, (t, length) in enumerate(rope.length):
+            try:
+                a = luffing_rope_angle(rope, eye, length)
+            except FieldError as exc:
+                raise FieldError(f"luffing_rope.length.{i}.1", exc.reason) from None
+            if not -10.0 <= math.degrees(a) <= 85.0:
+                raise FieldError(f"luffing_rope.length.{i}.1", f"{length:.4g} m puts the boom at "
+                                                               f"{math.degrees(a):.4g} deg, outside [-10, 85] deg")
+            rows.append([float(t), math.degrees(to_plane(a, inverse=True))])
+        return _initial(rows), _table(rows)
     rows = []
     for i, (t, length) in enumerate(tpl.cylinder.stroke):
         try:

@@ -182,3 +182,48 @@ def test_a_frame_cylinders_carry_the_hinge_moment():
     # the cylinders hold the frame: 2 F lever (toward the larger plane angle, inboard) = the tipping moment
     assert 2.0 * F * lever == pytest.approx(tipping, rel=0.01)
     assert F < 0.0              # the payload outboard: the cylinders pull
+
+
+def test_luffing_rope_length_drives_the_boom_and_its_tension_holds_the_hinge_moment():
+    """A column crane luffed by a two-fall rope from a gantry: the length table sets the boom
+    angle through the triangle hinge - gantry - tip (the drive angle equals the triangle's
+    to 1e-9), and in statics the rope's pull times its lever about the hinge equals the
+    moment of the boom, rope and payload weights about the hinge."""
+    from rfesim.scenario.cranes import LuffingRopeSpec, luffing_rope_angle, luffing_rope_lever
+    rope = {"gantry": [-2.0, 6.0], "falls": 2, "length": [[0.0, 17.0], [1.0, 17.0], [3.0, 15.0]]}
+    data = column(luffing_deg=None, luffing_rope=rope)
+    data["analysis"]["dynamics"] = {"duration": 3.0, "output_interval": 0.5,
+                                    "integrator": {"kind": "generalized-alpha", "time_step": 0.02}}
+    res = rfesim.simulate(data)
+    out = crane_summary(res, "c", luffing_rope=rope, boom_length=20.0)
+    spec = LuffingRopeSpec.model_validate(rope)
+    np.testing.assert_allclose(np.radians(out["drive_angle"]["luffing"][[0, -1]]),
+                               [luffing_rope_angle(spec, 20.0, 17.0), luffing_rope_angle(spec, 20.0, 15.0)],
+                               rtol=0, atol=1e-9)
+    assert out["drive_angle"]["luffing"][-1] > out["drive_angle"]["luffing"][0]      # shorter rope: boom up
+    # statics at the start: moment of the weights of everything beyond the hinge
+    sc, system, state = static_system(data)
+    km, ws = system.km, system.ws
+    ped = system.model.line("c_pedestal")
+    hinge = np.array([0.0, 0.0, 2.0 + 8.0])
+    lifted = np.arange(km.rfe_mass.shape[0]) >= ped.rfe_stop            # boom, rope, payload
+    outreach = ws.r[lifted, 0] - hinge[0]                               # the boom points along +x
+    tipping = np.sum(km.rfe_mass[lifted] * G * outreach)
+    res0 = rfesim.statics(data)
+    T = crane_summary(res0, "c", luffing_rope=rope, boom_length=20.0)["luffing_rope_tension"][0]
+    _, lever = luffing_rope_lever(spec, 20.0, luffing_rope_angle(spec, 20.0, 17.0))
+    assert lever > 0.0 and T > 0.0                                      # the rope pulls the boom up
+    assert 2.0 * T * lever == pytest.approx(tipping, rel=0.01)
+
+
+@pytest.mark.parametrize("over, field, words", [
+    ({"luffing_rope": {"gantry": [-2.0, 6.0], "length": [[0.0, 17.0]]}}, "luffing_rope", "not both"),
+    ({"luffing_deg": None, "luffing_rope": {"gantry": [-2.0, 6.0], "length": [[0.0, 40.0]]}},
+     "luffing_rope.length.0.1", "cannot reach"),
+    ({"luffing_deg": None, "luffing_rope": {"gantry": [-2.0, 6.0], "eye": 25.0, "length": [[0.0, 17.0]]}},
+     "luffing_rope.eye", "beyond the boom"),
+])
+def test_luffing_rope_errors_name_the_field(over, field, words):
+    with pytest.raises(rfesim.ScenarioError) as err:
+        rfesim.statics(column(**over))
+    assert f"cranes.c.{field}" in str(err.value) and words in str(err.value)
