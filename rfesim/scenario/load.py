@@ -249,8 +249,8 @@ def check_references(sc: Scenario) -> list[tuple[str, str]]:
     """Cross-field checks: names a scenario uses must exist and be consistent."""
     errors: list[tuple[str, str]] = []
     vessel_names = set(sc.vessels)
-    for group in ("vessels", "line_types", "lines"):
-        for name in getattr(sc, group):
+    for group in ("vessels", "line_types", "lines", "winches", "tuggers"):
+        for name in getattr(sc, group, {}):
             if not name:
                 errors.append((group, "a name is empty: give every entry a non-empty name"))
             elif any(c in name for c in "/:\\") or name.strip() != name:

@@ -91,18 +91,12 @@ class Tugger(_Strict):
 
 
 def check_tugger_references(sc) -> list[tuple[str, str]]:
-    """A tugger pulls on an existing body from an existing vessel; an elastic one's length
-    must be positive."""
+    """A tugger pulls on an existing body from an existing vessel (its names are checked
+    with the other groups' in rfesim.scenario.load)."""
     errors: list[tuple[str, str]] = []
     for name, tg in getattr(sc, "tuggers", {}).items():
-        base = f"tuggers.{name}"
-        if not name or any(c in name for c in "/:\\") or name.strip() != name:
-            errors.append((base, f"bad name {name!r}: names must be non-empty and must not contain '/', ':' or "
-                                 f"'\\' or outer spaces"))
-        if tg.body not in sc.bodies:
-            known = ", ".join(sorted(sc.bodies)) or "none defined"
-            errors.append((f"{base}.body", f"unknown body '{tg.body}' (bodies: {known})"))
-        if tg.vessel not in sc.vessels:
-            known = ", ".join(sorted(sc.vessels)) or "none defined"
-            errors.append((f"{base}.vessel", f"unknown vessel '{tg.vessel}' (vessels: {known})"))
+        for field, value, group in (("body", tg.body, "bodies"), ("vessel", tg.vessel, "vessels")):
+            if value not in getattr(sc, group):
+                known = ", ".join(sorted(getattr(sc, group))) or "none defined"
+                errors.append((f"tuggers.{name}.{field}", f"unknown {field} '{value}' ({group}: {known})"))
     return errors

@@ -150,9 +150,6 @@ def check_winch_references(sc) -> list[tuple[str, str]]:
     dyn = sc.analysis.dynamics
     for name, w in sc.winches.items():
         base = f"winches.{name}"
-        if not name or any(c in name for c in "/:\\") or name.strip() != name:
-            errors.append((base, f"bad name {name!r}: names must be non-empty and must not contain '/', ':' or "
-                                 f"'\\' or outer spaces"))
         if w.line not in sc.lines:
             known = ", ".join(sorted(sc.lines)) or "none defined"
             errors.append((f"{base}.line", f"unknown line '{w.line}' (lines: {known})"))
