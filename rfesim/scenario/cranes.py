@@ -23,8 +23,9 @@ Jacobian:
   line carrying the crossbeam's mass) -> pinned joint (the top sheave) -> rope -> payload.
 
 Drives are angle tables (deg against s); a luffing cylinder's stroke table is turned into
-the angle table by the triangle hinge - cylinder base - cylinder eye (``cylinder``), and its
-force is an output (rfesim.crane_results). The winch (``winch``) is passed to ``winches``
+the angle table by the triangle hinge - cylinder base - cylinder eye (``cylinder``), a
+luffing rope's length table by the triangle hinge - gantry - eye (``luffing_rope``), and
+their forces are outputs (rfesim.crane_results). The winch (``winch``) is passed to ``winches``
 on the rope (rfesim.model.winches).
 
 Names made for crane ``c``: lines ``c_pedestal``, ``c_boom`` (column) or ``c_stub``,
