@@ -33,22 +33,22 @@ CONVERGED = 0.002
 OUTPUT_INTERVAL = 0.4            # s, a multiple of both time steps (the driver shortens a step that does not divide it)
 TARGET_WALL = 180.0
 LIMITS = (
-    "What limits it (docs/slay_speed_notes.md, measured on the shared machine at load 1-2). Per call: the "
-    "residual with the water kinematics frozen 0.35-0.41 ms, the analytic Jacobian as the Newton iteration "
-    "forms it 1.35 ms (it reuses the iterate's residual and SDE forces; 6 local evaluations of 0.18 ms and the "
-    "SDE tangent 0.34 ms), its banded factorisation 0.1 ms, the water kinematics of the step 0.73 ms (with "
-    "the waves' kinematics cut-off at depth of docs/theory.md: 174 of the 238 RFEs lie below it; 2.0 ms "
-    "without). 3 hours at 0.1 s are 108000 steps: 180 s leaves 1.7 ms per step; at 0.2 s 3.3 ms. Measured over "
-    "300 s: 6.6 ms per step at 0.1 s (5.9 evaluations, 1.41 Jacobians, 32 halvings) and 10.2 ms at 0.2 s "
-    "(7.6 evaluations, 2.23 Jacobians, 85 halvings; the failed attempts take about 15 % of the work). Full "
-    "Newton with a fresh Jacobian at every iterate converges only linearly (rate 1e-1 to 1e-2) in quiet steps, "
-    "the same with the analytic, forward- and central-difference Jacobians: the residual is non-smooth within "
-    "a step at the stinger tip (the lift-off roller) and at touchdown, and the failing steps have their largest "
-    "residual mostly on the stinger RFEs. Accuracy: the largest sagbend moment is set by touchdown events and "
-    "converges slowly in the step, not at second order (over 100-200 s 86.07, 84.65, 83.51 kN*m at 0.2, 0.1, "
-    "0.05 s; over 200-300 s 92.91, 92.43, 93.39): see the convergence table. Next: a contact that is smooth "
-    "within a step at the stinger tip (the contact point clamped to the RFE ends, the roller friction shared "
-    "between RFEs outside the Jacobian) and an analytic local Jacobian for the mass and hydrodynamic terms.")
+    "What limits it (docs/slay_speed_notes.md, measured on the shared machine). Per call: the residual with the "
+    "water kinematics frozen 0.35-0.41 ms, the analytic Jacobian as the Newton iteration forms it 1.35 ms (6 local "
+    "evaluations of 0.18 ms and the SDE tangent 0.34 ms), its banded factorisation 0.1 ms, the water kinematics of "
+    "the step 0.73 ms. 3 hours at 0.1 s are 108000 steps: 180 s leaves 1.7 ms per step. Measured over 300 s at "
+    "0.1 s: 4.05 evaluations, 0.75 Jacobians and 8 halvings per 3014 steps, about 3.5 ms per step by the per-call "
+    "costs (5.2 ms before branch slay-smooth: Jacobian refresh at the predictor only after a step of more than 8 "
+    "evaluations, Newton tolerance 1e-3 of an element weight, roller friction stick spring 1e6 N/m). The residual "
+    "is smooth enough at the solution (full Newton converges quadratically once the contact states settle); the "
+    "iterations are lost to contact states that change within a step: roller stick/slip above all (in a V station "
+    "the contact points slide along the roller axes as the penetration changes), the lift-off roller (clear of "
+    "the pipe at the predictor, overrun by the first Newton step), onset crossings and seabed contact. Even full "
+    "Newton needs 4-5 evaluations per 0.2 s step from the predictor, and 0.2 s is not accurate enough (its "
+    "maximum moves by 1.5 % with which steps are halved). Accuracy: the largest sagbend moment is set by "
+    "touchdown events and converges slowly in the step: see the convergence table. Next: an analytic local "
+    "Jacobian (mass, gravity, buoyancy, Morison; finite differences only for the contacts) and a cheaper "
+    "evaluation; a contact-aware first Newton step at the lift-off roller.")
 TARGET_ERROR = 0.02
 
 

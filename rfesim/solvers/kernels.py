@@ -18,7 +18,7 @@ from .residual import residual_general, residual_norm, residual_q  # noqa: F401 
 from ..vessel_kernel import attachment_kinematics
 from .banded import bt_factor, bt_solve
 
-SLOW_STEP = 4                   # residual evaluations after which the next step refreshes its Jacobian
+SLOW_STEP = 8                   # residual evaluations after which the next step refreshes its Jacobian
 REBASE_THRESHOLD = 0.5          # rad: re-base an RFE's reference rotation beyond this angle
 RUNAWAY_SPEED = 1.0e5           # m/s or rad/s: a state faster than this has diverged
 RUNAWAY_DISTANCE = 1.0e7        # m
