@@ -23,20 +23,29 @@ DURATION = 1800.0
 QUICK_DURATION = 300.0
 OUTPUT_INTERVAL = 0.2
 LIMITS = (
-    "What limits it. The cost of a step, about 1.1 ms at 0.1 s (measured separately on this scene: a residual "
-    "evaluation 0.28 ms, the first of each step with the sea kinematics 0.54 ms, an analytic Jacobian 0.8 ms before "
-    "it reused the Newton iterate's evaluation and SDE forces (docs/slay_speed_notes.md), its factorisation "
-    "0.04 ms, a recorded output 0.3 ms), with about 3.8 evaluations and 0.35 Jacobians a step. The "
-    "sea and the recording no longer dominate: the kinematics of dry RFEs are skipped and an output reuses the "
-    "step's evaluation (docs/theory.md, 'Sea kinematics of dry RFEs; output recording'; before them a step cost "
-    "about 3.6 ms in the same conditions). A longer step does not pay: at 0.2 s the error grows to about 0.7 % and "
-    "every step forms a new Jacobian (2.9 ms a step): the rope's axial springs (EA/T about 1000) turn with the "
-    "swinging payload and the whole structure turns with the vessel, so a Jacobian two or three steps old makes "
-    "modified Newton diverge (the spectral radius of J0^-1 J4 - I after four 0.2 s steps: 0.83). The 200x target "
-    "needs about 0.5 ms a step at 0.1 s: a cheaper SDE kernel (0.15 ms of the 0.28 ms evaluation for 100 SDEs), a "
-    "Jacobian refresh of the analytic SDE part alone between full ones, and a predictor that carries the vessel's "
-    "rigid motion to the structure on it (the first residual of a step is 100 to 200 times the payload's weight, "
-    "at the pedestal, whose axial stiffness reads the predictor's error).")
+    "What limits it. The cost of a step at 0.1 s: about 3.8 residual evaluations and 0.35 Jacobians, and an "
+    "output every other step. The evaluation's largest part, the SDE pass, and the poses now run in scalar form "
+    "(docs/theory.md, 'Scalar hot kernels and one-call recording'; timed inside numba, 0.061 -> 0.016 ms for the "
+    "100 SDEs, 0.014 -> 0.006 ms for the poses), with the same results to the bit (the same counts and maximum as "
+    "before them). Run at the same time as the code before them on this shared machine (load 4-5), the production "
+    "run took 26.5 s of CPU against 36.1 s (1.36x less; wall 124 s against 155 s); the 19.7 s the code before "
+    "them took on a quiet machine (91x) then scales to about 14.5 s (about 120x): the target is still missed. CPU "
+    "per call in the same conditions, before -> after: an evaluation 0.134 -> 0.085 ms, the first of a step with "
+    "the sea kinematics 0.353 -> 0.280 ms, a Jacobian 0.57 -> 0.53 ms, a recorded output 0.40 -> 0.31 ms. What "
+    "remains per step: the sea kinematics (about 0.2 ms: 200 components at each of the dozen wet RFEs, a cosine, "
+    "a sine and an exponential each, and the per-component constants recomputed at every call), the further "
+    "evaluations, the Jacobians, whose SDE tangent, maps and assembly are not in scalar form (one costs about six "
+    "evaluations), and the recording, mostly Python copying the channels line by line and the joint outputs (an "
+    "output every other step costs about a third of the step). Tried and not kept: a Jacobian refresh after 3 "
+    "evaluations instead of 4 (3.16 evaluations and 0.383 Jacobians a step instead of 3.64 and 0.281 over 300 s, "
+    "the same wall time); a predictor that carries the vessel's rigid motion to the pedestal and boom (the first "
+    "residual grows from about 3 to 40-150 payload weights, at the boom tip: the boom's vibration is not rigid); "
+    "the analytic SDE part of the Jacobian refreshed at every step (2.83 instead of 3.53 evaluations and 0.17 "
+    "instead of 0.29 Jacobians a step over 15 s, but the refresh, about 0.25 ms, costs what it saves); accepting "
+    "a step on the estimated contraction without the confirming evaluation (0.3 evaluations a step, on the steps "
+    "between outputs only). A longer step does not pay: at 0.2 s the error grows to about 0.7 % and every step "
+    "forms a new Jacobian (the rope's axial springs, EA/T about 1000, turn with the swinging payload and the "
+    "structure turns with the vessel; the spectral radius of J0^-1 J4 - I after four 0.2 s steps: 0.83).")
 TARGET_FACTOR = 200.0
 TARGET_ERROR = 0.01
 

@@ -31,7 +31,8 @@ from ..loads.gravity import gravity_forces
 from ..loads.hydro import buoyancy_forces, morison_forces, submergence
 from ..loads.point import point_loads
 from ..loads.drives import drive_rest_into, motor_forces
-from ..loads.sde import sde_forces_rest_into, commit_plastic, plastic_sde_correction
+from ..loads.sde import commit_plastic, plastic_sde_correction
+from ..loads.sde_fused import sde_forces_rest_fused
 from ..loads.rollers import commit_roller_friction, roller_forces
 from ..loads.seabed import commit_friction, seabed_forces
 from ..loads.tensioner import commit_tensioners, tensioner_forces
@@ -42,7 +43,175 @@ from ..sea.kernel import sea_kinematics_into, sea_kinematics_reach
 
 @njit(cache=True)
 def poses(km, att, q, qd, ref, ws):
-    """Orientation, position, velocities of every RFE from the coordinates (eqs. 8.73-8.74)."""
+    """Orientation, position, velocities of every RFE from the coordinates (eqs. 8.73-8.74):
+    ``poses_fused``, the scalar form of ``poses_reference``."""
+    poses_fused(km.rfe_kind, km.rfe_attach, km.rfe_attach_offset, km.rfe_pin_arm, km.rfe_clamp_R, att.R, att.p,
+                att.v, att.w, q, qd, ref.R, ref.X, ws.R, ws.E, ws.Edot, ws.wb, ws.w, ws.r, ws.rbase, ws.roff, ws.v)
+
+
+@njit(cache=True)
+def poses_fused(rfe_kind, rfe_attach, rfe_attach_offset, rfe_pin_arm, rfe_clamp_R, att_R, att_p, att_v, att_w, q, qd,
+                ref_R, ref_X, R, E, Edot, wb, w, r, rbase, roff, v):
+    """``poses_reference`` (the same results to the bit) on the arrays themselves, with
+    scalar locals and one sine and cosine per angle: the readable version's array views
+    and helper calls per RFE cost more than its arithmetic."""
+    for i in range(q.shape[0]):
+        kind = rfe_kind[i]
+        if kind == 2:
+            a = rfe_attach[i]
+            for j in range(3):
+                for k in range(3):
+                    R[i, j, k] = att_R[a, j, 0] * rfe_clamp_R[i, 0, k] + att_R[a, j, 1] * rfe_clamp_R[i, 1, k] \
+                        + att_R[a, j, 2] * rfe_clamp_R[i, 2, k]
+            o0 = rfe_attach_offset[i, 0]; o1 = rfe_attach_offset[i, 1]; o2 = rfe_attach_offset[i, 2]
+            P0 = att_R[a, 0, 0] * o0 + att_R[a, 0, 1] * o1 + att_R[a, 0, 2] * o2
+            P1 = att_R[a, 1, 0] * o0 + att_R[a, 1, 1] * o1 + att_R[a, 1, 2] * o2
+            P2 = att_R[a, 2, 0] * o0 + att_R[a, 2, 1] * o1 + att_R[a, 2, 2] * o2
+            x0 = rfe_pin_arm[i, 0]; x1 = rfe_pin_arm[i, 1]; x2 = rfe_pin_arm[i, 2]
+            m0 = R[i, 0, 0] * x0 + R[i, 0, 1] * x1 + R[i, 0, 2] * x2
+            m1 = R[i, 1, 0] * x0 + R[i, 1, 1] * x1 + R[i, 1, 2] * x2
+            m2 = R[i, 2, 0] * x0 + R[i, 2, 1] * x1 + R[i, 2, 2] * x2
+            P0 += att_p[a, 0]
+            P1 += att_p[a, 1]
+            P2 += att_p[a, 2]
+            r[i, 0] = P0 - m0
+            r[i, 1] = P1 - m1
+            r[i, 2] = P2 - m2
+            rbase[i, 0] = P0
+            rbase[i, 1] = P1
+            rbase[i, 2] = P2
+            roff[i, 0] = -m0
+            roff[i, 1] = -m1
+            roff[i, 2] = -m2
+            w0 = att_w[a, 0]; w1 = att_w[a, 1]; w2 = att_w[a, 2]
+            w[i, 0] = w0
+            w[i, 1] = w1
+            w[i, 2] = w2
+            c0 = r[i, 0] - att_p[a, 0]
+            c1 = r[i, 1] - att_p[a, 1]
+            c2 = r[i, 2] - att_p[a, 2]
+            v[i, 0] = att_v[a, 0] + (w1 * c2 - w2 * c1)
+            v[i, 1] = att_v[a, 1] + (w2 * c0 - w0 * c2)
+            v[i, 2] = att_v[a, 2] + (w0 * c1 - w1 * c0)
+            wb[i, 0] = R[i, 0, 0] * w0 + R[i, 1, 0] * w1 + R[i, 2, 0] * w2
+            wb[i, 1] = R[i, 0, 1] * w0 + R[i, 1, 1] * w1 + R[i, 2, 1] * w2
+            wb[i, 2] = R[i, 0, 2] * w0 + R[i, 1, 2] * w1 + R[i, 2, 2] * w2
+            for k in range(3):
+                Edot[i, k] = 0.0
+                for m in range(3):
+                    E[i, k, m] = 0.0
+            continue
+        psi = q[i, 3]
+        theta = q[i, 4]
+        phi = q[i, 5]
+        cz = math.cos(psi)
+        sz = math.sin(psi)
+        cy = math.cos(theta)
+        sy = math.sin(theta)
+        cx = math.cos(phi)
+        sx = math.sin(phi)
+        z00 = cz * cy
+        z01 = cz * sy * sx - sz * cx
+        z02 = cz * sy * cx + sz * sx
+        z10 = sz * cy
+        z11 = sz * sy * sx + cz * cx
+        z12 = sz * sy * cx - cz * sx
+        z20 = -sy
+        z21 = cy * sx
+        z22 = cy * cx
+        for j in range(3):
+            f0 = ref_R[i, j, 0]
+            f1 = ref_R[i, j, 1]
+            f2 = ref_R[i, j, 2]
+            R[i, j, 0] = f0 * z00 + f1 * z10 + f2 * z20
+            R[i, j, 1] = f0 * z01 + f1 * z11 + f2 * z21
+            R[i, j, 2] = f0 * z02 + f1 * z12 + f2 * z22
+        E00 = -sy
+        E01 = 0.0
+        E02 = 1.0
+        E10 = cy * sx
+        E11 = cx
+        E12 = 0.0
+        E20 = cy * cx
+        E21 = -sx
+        E22 = 0.0
+        E[i, 0, 0] = E00
+        E[i, 0, 1] = E01
+        E[i, 0, 2] = E02
+        E[i, 1, 0] = E10
+        E[i, 1, 1] = E11
+        E[i, 1, 2] = E12
+        E[i, 2, 0] = E20
+        E[i, 2, 1] = E21
+        E[i, 2, 2] = E22
+        dpsi = qd[i, 3]
+        dtheta = qd[i, 4]
+        dphi = qd[i, 5]
+        b0 = E00 * dpsi + E01 * dtheta + E02 * dphi
+        b1 = E10 * dpsi + E11 * dtheta + E12 * dphi
+        b2 = E20 * dpsi + E21 * dtheta + E22 * dphi
+        wb[i, 0] = b0
+        wb[i, 1] = b1
+        wb[i, 2] = b2
+        w0 = R[i, 0, 0] * b0 + R[i, 0, 1] * b1 + R[i, 0, 2] * b2
+        w1 = R[i, 1, 0] * b0 + R[i, 1, 1] * b1 + R[i, 1, 2] * b2
+        w2 = R[i, 2, 0] * b0 + R[i, 2, 1] * b1 + R[i, 2, 2] * b2
+        w[i, 0] = w0
+        w[i, 1] = w1
+        w[i, 2] = w2
+        Edot[i, 0] = -dpsi * dtheta * cy
+        Edot[i, 1] = -dtheta * dphi * sx + dpsi * (-dtheta * sy * sx + cy * cx * dphi)
+        Edot[i, 2] = -dtheta * dphi * cx + dpsi * (-dtheta * sy * cx - cy * sx * dphi)
+        if kind == 0:
+            for k in range(3):
+                rbase[i, k] = ref_X[i, k]
+                roff[i, k] = q[i, k]
+                r[i, k] = ref_X[i, k] + q[i, k]
+                v[i, k] = qd[i, k]
+        else:
+            a = rfe_attach[i]
+            o0 = rfe_attach_offset[i, 0]; o1 = rfe_attach_offset[i, 1]; o2 = rfe_attach_offset[i, 2]
+            P0 = att_R[a, 0, 0] * o0 + att_R[a, 0, 1] * o1 + att_R[a, 0, 2] * o2
+            P1 = att_R[a, 1, 0] * o0 + att_R[a, 1, 1] * o1 + att_R[a, 1, 2] * o2
+            P2 = att_R[a, 2, 0] * o0 + att_R[a, 2, 1] * o1 + att_R[a, 2, 2] * o2
+            P0 += att_p[a, 0]
+            P1 += att_p[a, 1]
+            P2 += att_p[a, 2]
+            x0 = rfe_pin_arm[i, 0]; x1 = rfe_pin_arm[i, 1]; x2 = rfe_pin_arm[i, 2]
+            m0 = R[i, 0, 0] * x0 + R[i, 0, 1] * x1 + R[i, 0, 2] * x2
+            m1 = R[i, 1, 0] * x0 + R[i, 1, 1] * x1 + R[i, 1, 2] * x2
+            m2 = R[i, 2, 0] * x0 + R[i, 2, 1] * x1 + R[i, 2, 2] * x2
+            r0 = P0 - m0
+            r1 = P1 - m1
+            r2 = P2 - m2
+            r[i, 0] = r0
+            r[i, 1] = r1
+            r[i, 2] = r2
+            rbase[i, 0] = P0
+            rbase[i, 1] = P1
+            rbase[i, 2] = P2
+            roff[i, 0] = -m0
+            roff[i, 1] = -m1
+            roff[i, 2] = -m2
+            c0 = P0 - att_p[a, 0]
+            c1 = P1 - att_p[a, 1]
+            c2 = P2 - att_p[a, 2]
+            u0 = att_w[a, 0]; u1 = att_w[a, 1]; u2 = att_w[a, 2]
+            v0 = att_v[a, 0] + (u1 * c2 - u2 * c1)
+            v1 = att_v[a, 1] + (u2 * c0 - u0 * c2)
+            v2 = att_v[a, 2] + (u0 * c1 - u1 * c0)
+            c0 = r0 - P0
+            c1 = r1 - P1
+            c2 = r2 - P2
+            v[i, 0] = v0 + (w1 * c2 - w2 * c1)
+            v[i, 1] = v1 + (w2 * c0 - w0 * c2)
+            v[i, 2] = v2 + (w0 * c1 - w1 * c0)
+
+
+@njit(cache=True)
+def poses_reference(km, att, q, qd, ref, ws):
+    """Orientation, position, velocities of every RFE from the coordinates (eqs. 8.73-8.74);
+    the readable reference of ``poses_fused`` (tests/unit/test_fused_kernels.py)."""
     Rz = ws.m33[0]
     P = ws.v3[0]
     tmp = ws.v3[1]
@@ -149,9 +318,10 @@ def sde_forces_all(km, att, ws, F, M):
     """The elastic and damping SDE forces (with rest rotations and drives) added to F, M;
     ws.eps, ws.sigma, ws.sde_point are written."""
     drive_rests(km, att, ws)
-    sde_forces_rest_into(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, km.sde_stiffness,
-                         km.sde_damping, km.sde_has_rest, km.sde_rest, ws.sde_rest_eff, ws.sde_rest_rate, ws.R,
-                         ws.rbase, ws.roff, ws.v, ws.w, F, M, ws.eps, ws.sigma, ws.sde_point, ws.v3, ws.m33)
+    # the scalar form of rfesim.loads.sde.sde_forces_rest_into (the same numbers, 4x faster)
+    sde_forces_rest_fused(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, km.sde_stiffness,
+                          km.sde_damping, km.sde_has_rest, km.sde_rest, ws.sde_rest_eff, ws.sde_rest_rate, ws.R,
+                          ws.rbase, ws.roff, ws.v, ws.w, F, M, ws.eps, ws.sigma, ws.sde_point)
 
 
 @njit(cache=True)
@@ -322,9 +492,82 @@ def evaluate_frozen_sde(km, att, q, qd, ref, ws, scale, Fsde, Msde):
     project(km, att, ws)
 
 
+@njit(cache=True, inline="always")
+def _project_free(i, m, inertia, Ja, Ma, R, E, wb, Edot, F, M, Mgen, fgen):
+    """The free-RFE (kind 0) branch of ``project`` in scalar form (the same numbers to the
+    bit: the zero entries of the diagonal inertia are multiplied as the 3x3 helpers do)."""
+    for a in range(6):
+        fgen[i, a] = 0.0
+        for b in range(6):
+            Mgen[i, a, b] = 0.0
+    j0 = inertia[i, 0] + Ja[i, 0]
+    j1 = inertia[i, 1] + Ja[i, 1]
+    j2 = inertia[i, 2] + Ja[i, 2]
+    for a in range(3):
+        for b in range(3):
+            Mgen[i, a, b] = Ma[i, a, b]
+        Mgen[i, a, a] += m
+        fgen[i, a] = F[i, a]
+    m0 = M[i, 0]
+    m1 = M[i, 1]
+    m2 = M[i, 2]
+    rh0 = R[i, 0, 0] * m0 + R[i, 1, 0] * m1 + R[i, 2, 0] * m2
+    rh1 = R[i, 0, 1] * m0 + R[i, 1, 1] * m1 + R[i, 2, 1] * m2
+    rh2 = R[i, 0, 2] * m0 + R[i, 1, 2] * m1 + R[i, 2, 2] * m2
+    w0 = wb[i, 0]
+    w1 = wb[i, 1]
+    w2 = wb[i, 2]
+    t0 = j0 * w0 + 0.0 * w1 + 0.0 * w2
+    t1 = 0.0 * w0 + j1 * w1 + 0.0 * w2
+    t2 = 0.0 * w0 + 0.0 * w1 + j2 * w2
+    c0 = w1 * t2 - w2 * t1
+    c1 = w2 * t0 - w0 * t2
+    c2 = w0 * t1 - w1 * t0
+    d0 = Edot[i, 0]
+    d1 = Edot[i, 1]
+    d2 = Edot[i, 2]
+    u0 = j0 * d0 + 0.0 * d1 + 0.0 * d2
+    u1 = 0.0 * d0 + j1 * d1 + 0.0 * d2
+    u2 = 0.0 * d0 + 0.0 * d1 + j2 * d2
+    rh0 -= c0 + u0
+    rh1 -= c1 + u1
+    rh2 -= c2 + u2
+    for b in range(3):
+        e0 = E[i, 0, b]
+        e1 = E[i, 1, b]
+        e2 = E[i, 2, b]
+        # column b of T1 = Jb E
+        s0 = j0 * e0 + 0.0 * e1 + 0.0 * e2
+        s1 = 0.0 * e0 + j1 * e1 + 0.0 * e2
+        s2 = 0.0 * e0 + 0.0 * e1 + j2 * e2
+        for a in range(3):
+            Mgen[i, 3 + a, 3 + b] = E[i, 0, a] * s0 + E[i, 1, a] * s1 + E[i, 2, a] * s2
+        fgen[i, 3 + b] = e0 * rh0 + e1 * rh1 + e2 * rh2
+
+
 @njit(cache=True)
 def project(km, att, ws):
-    """Generalised mass blocks and forces of every RFE (eqs. 8.92, 8.94)."""
+    """Generalised mass blocks and forces of every RFE (eqs. 8.92, 8.94); free RFEs through
+    the scalar ``_project_free``, the others as written in ``project_reference``."""
+    for i in range(ws.F.shape[0]):
+        if km.rfe_kind[i] == 0:
+            _project_free(i, km.rfe_mass[i], km.rfe_inertia, ws.Ja, ws.Ma, ws.R, ws.E, ws.wb, ws.Edot, ws.F, ws.M,
+                          ws.Mgen, ws.fgen)
+        else:
+            _project_one(km, att, ws, i)
+
+
+@njit(cache=True)
+def project_reference(km, att, ws):
+    """Generalised mass blocks and forces of every RFE (eqs. 8.92, 8.94), readable; the
+    reference of ``project`` (tests/unit/test_fused_kernels.py)."""
+    for i in range(ws.F.shape[0]):
+        _project_one(km, att, ws, i)
+
+
+@njit(cache=True)
+def _project_one(km, att, ws, i):
+    """Generalised mass block and force of RFE i (eqs. 8.92, 8.94)."""
     Jb = ws.m33[0]
     Jg = ws.m33[1]
     Mt = ws.m33[2]
@@ -337,109 +580,108 @@ def project(km, att, ws):
     tmp2 = ws.v3[2]
     c = ws.v3[3]
     P = ws.v3[4]
-    for i in range(ws.F.shape[0]):
-        Mg = ws.Mgen[i]
-        f = ws.fgen[i]
+    Mg = ws.Mgen[i]
+    f = ws.fgen[i]
+    for a in range(6):
+        f[a] = 0.0
+        for b in range(6):
+            Mg[a, b] = 0.0
+    kind = km.rfe_kind[i]
+    if kind == 2:
         for a in range(6):
-            f[a] = 0.0
-            for b in range(6):
-                Mg[a, b] = 0.0
-        kind = km.rfe_kind[i]
-        if kind == 2:
-            for a in range(6):
-                Mg[a, a] = 1.0
-            continue
-        m = km.rfe_mass[i]
+            Mg[a, a] = 1.0
+        return
+    m = km.rfe_mass[i]
+    for a in range(3):
+        for b in range(3):
+            Jb[a, b] = 0.0
+        Jb[a, a] = km.rfe_inertia[i, a] + ws.Ja[i, a]
+    E = ws.E[i]
+    wb = ws.wb[i]
+    if kind == 0:
         for a in range(3):
             for b in range(3):
-                Jb[a, b] = 0.0
-            Jb[a, a] = km.rfe_inertia[i, a] + ws.Ja[i, a]
-        E = ws.E[i]
-        wb = ws.wb[i]
-        if kind == 0:
-            for a in range(3):
-                for b in range(3):
-                    Mg[a, b] = ws.Ma[i, a, b]
-                Mg[a, a] += m
-                f[a] = ws.F[i, a]
-            # body-frame moment minus gyroscopic and Euler-rate terms
-            matTvec_into(ws.R[i], ws.M[i], rhs)
-            matvec_into(Jb, wb, tmp)
-            cross_into(wb, tmp, tmp2)
-            matvec_into(Jb, ws.Edot[i], tmp)
-            for a in range(3):
-                rhs[a] -= tmp2[a] + tmp[a]
-            # E^T J E and E^T rhs
-            matmul_into(Jb, E, T1)
-            for a in range(3):
-                for b in range(3):
-                    Mg[3 + a, 3 + b] = E[0, a] * T1[0, b] + E[1, a] * T1[1, b] + E[2, a] * T1[2, b]
-                f[3 + a] = E[0, a] * rhs[0] + E[1, a] * rhs[1] + E[2, a] * rhs[2]
-        else:
-            for a in range(3):
-                Mg[a, a] = 1.0
-            at = km.rfe_attach[i]
-            R = ws.R[i]
-            matvec_into(att.R[at], km.rfe_attach_offset[i], P)
-            for k in range(3):
-                P[k] += att.p[at, k]
-                c[k] = ws.r[i, k] - P[k]
-            # Jg = R Jb R^T ; Mt = m I + Ma ; JP = Jg - [c]x Mt [c]x
-            for a in range(3):
-                for b in range(3):
-                    s = 0.0
-                    for k in range(3):
-                        s += R[a, k] * Jb[k, k] * R[b, k]
-                    Jg[a, b] = s
-                    Mt[a, b] = ws.Ma[i, a, b]
-                Mt[a, a] += m
-            Cx[0, 0] = 0.0
-            Cx[0, 1] = -c[2]
-            Cx[0, 2] = c[1]
-            Cx[1, 0] = c[2]
-            Cx[1, 1] = 0.0
-            Cx[1, 2] = -c[0]
-            Cx[2, 0] = -c[1]
-            Cx[2, 1] = c[0]
-            Cx[2, 2] = 0.0
-            matmul_into(Mt, Cx, T1)
-            for a in range(3):
-                for b in range(3):
-                    JP[a, b] = Jg[a, b] - (Cx[a, 0] * T1[0, b] + Cx[a, 1] * T1[1, b] + Cx[a, 2] * T1[2, b])
-            # acceleration of the pin point: a + alpha x d + w x (w x d), d = P - p_att
-            for k in range(3):
-                tmp2[k] = P[k] - att.p[at, k]
-            cross_into(att.alpha[at], tmp2, tmp)
-            cross_into(att.w[at], tmp2, rhs)
-            cross_into(att.w[at], rhs, tmp2)
-            w = ws.w[i]
-            for k in range(3):
-                tmp2[k] += att.a[at, k] + tmp[k]          # a_P
-            cross_into(w, c, tmp)
-            cross_into(w, tmp, rhs)                        # w x (w x c)
-            for k in range(3):
-                tmp2[k] += rhs[k]                          # a_P + w x (w x c)
-            matvec_into(Mt, tmp2, tmp)
-            cross_into(c, tmp, rhs)                        # c x Mt(...)
-            # rhs_g = M + c x F - w x (Jg w) - c x Mt(...) - JP R Edot
-            cross_into(c, ws.F[i], tmp)
-            for k in range(3):
-                rhs[k] = ws.M[i, k] + tmp[k] - rhs[k]
-            matvec_into(Jg, w, tmp)
-            cross_into(w, tmp, tmp2)
-            matvec_into(R, ws.Edot[i], tmp)
-            for k in range(3):
-                rhs[k] -= tmp2[k]
-            matvec_into(JP, tmp, tmp2)
-            for k in range(3):
-                rhs[k] -= tmp2[k]
-            # B = R E (angle rates -> global angular velocity)
-            matmul_into(R, E, B)
-            matmul_into(JP, B, T1)
-            for a in range(3):
-                for b in range(3):
-                    Mg[3 + a, 3 + b] = B[0, a] * T1[0, b] + B[1, a] * T1[1, b] + B[2, a] * T1[2, b]
-                f[3 + a] = B[0, a] * rhs[0] + B[1, a] * rhs[1] + B[2, a] * rhs[2]
+                Mg[a, b] = ws.Ma[i, a, b]
+            Mg[a, a] += m
+            f[a] = ws.F[i, a]
+        # body-frame moment minus gyroscopic and Euler-rate terms
+        matTvec_into(ws.R[i], ws.M[i], rhs)
+        matvec_into(Jb, wb, tmp)
+        cross_into(wb, tmp, tmp2)
+        matvec_into(Jb, ws.Edot[i], tmp)
+        for a in range(3):
+            rhs[a] -= tmp2[a] + tmp[a]
+        # E^T J E and E^T rhs
+        matmul_into(Jb, E, T1)
+        for a in range(3):
+            for b in range(3):
+                Mg[3 + a, 3 + b] = E[0, a] * T1[0, b] + E[1, a] * T1[1, b] + E[2, a] * T1[2, b]
+            f[3 + a] = E[0, a] * rhs[0] + E[1, a] * rhs[1] + E[2, a] * rhs[2]
+    else:
+        for a in range(3):
+            Mg[a, a] = 1.0
+        at = km.rfe_attach[i]
+        R = ws.R[i]
+        matvec_into(att.R[at], km.rfe_attach_offset[i], P)
+        for k in range(3):
+            P[k] += att.p[at, k]
+            c[k] = ws.r[i, k] - P[k]
+        # Jg = R Jb R^T ; Mt = m I + Ma ; JP = Jg - [c]x Mt [c]x
+        for a in range(3):
+            for b in range(3):
+                s = 0.0
+                for k in range(3):
+                    s += R[a, k] * Jb[k, k] * R[b, k]
+                Jg[a, b] = s
+                Mt[a, b] = ws.Ma[i, a, b]
+            Mt[a, a] += m
+        Cx[0, 0] = 0.0
+        Cx[0, 1] = -c[2]
+        Cx[0, 2] = c[1]
+        Cx[1, 0] = c[2]
+        Cx[1, 1] = 0.0
+        Cx[1, 2] = -c[0]
+        Cx[2, 0] = -c[1]
+        Cx[2, 1] = c[0]
+        Cx[2, 2] = 0.0
+        matmul_into(Mt, Cx, T1)
+        for a in range(3):
+            for b in range(3):
+                JP[a, b] = Jg[a, b] - (Cx[a, 0] * T1[0, b] + Cx[a, 1] * T1[1, b] + Cx[a, 2] * T1[2, b])
+        # acceleration of the pin point: a + alpha x d + w x (w x d), d = P - p_att
+        for k in range(3):
+            tmp2[k] = P[k] - att.p[at, k]
+        cross_into(att.alpha[at], tmp2, tmp)
+        cross_into(att.w[at], tmp2, rhs)
+        cross_into(att.w[at], rhs, tmp2)
+        w = ws.w[i]
+        for k in range(3):
+            tmp2[k] += att.a[at, k] + tmp[k]          # a_P
+        cross_into(w, c, tmp)
+        cross_into(w, tmp, rhs)                        # w x (w x c)
+        for k in range(3):
+            tmp2[k] += rhs[k]                          # a_P + w x (w x c)
+        matvec_into(Mt, tmp2, tmp)
+        cross_into(c, tmp, rhs)                        # c x Mt(...)
+        # rhs_g = M + c x F - w x (Jg w) - c x Mt(...) - JP R Edot
+        cross_into(c, ws.F[i], tmp)
+        for k in range(3):
+            rhs[k] = ws.M[i, k] + tmp[k] - rhs[k]
+        matvec_into(Jg, w, tmp)
+        cross_into(w, tmp, tmp2)
+        matvec_into(R, ws.Edot[i], tmp)
+        for k in range(3):
+            rhs[k] -= tmp2[k]
+        matvec_into(JP, tmp, tmp2)
+        for k in range(3):
+            rhs[k] -= tmp2[k]
+        # B = R E (angle rates -> global angular velocity)
+        matmul_into(R, E, B)
+        matmul_into(JP, B, T1)
+        for a in range(3):
+            for b in range(3):
+                Mg[3 + a, 3 + b] = B[0, a] * T1[0, b] + B[1, a] * T1[1, b] + B[2, a] * T1[2, b]
+            f[3 + a] = B[0, a] * rhs[0] + B[1, a] * rhs[1] + B[2, a] * rhs[2]
 
 
 @njit(cache=True)

@@ -92,11 +92,22 @@ def drive_rows(joins_drives: list[tuple[int, np.ndarray, list]]) -> list[dict]:
     return rows
 
 
+_DRIVE_TABLE = []
+
+
 def drive_angle(km, j: int, t: float) -> float:
     """Prescribed angle (rad) of drive row j at time t (the kernel's monotone cubic)."""
-    from ..loads.drives import drive_table
+    if not _DRIVE_TABLE:
+        from ..loads.drives import drive_table
+        from ..solvers.fastcall import FastCall
+        _DRIVE_TABLE.append(FastCall(drive_table))      # called at every recorded time
     c = int(km.drive_count[j])
-    return float(drive_table(km.drive_t[j, :c], km.drive_angle[j, :c], km.drive_slope[j, :c], t)[0])
+    return float(_DRIVE_TABLE[0](km.drive_t[j, :c], km.drive_angle[j, :c], km.drive_slope[j, :c], float(t))[0])
+
+
+def drive_angles(km, info: JoinInfo, t: float) -> list[float]:
+    """drive_angle of every drive of a join at time t."""
+    return [drive_angle(km, j, t) for j in range(info.drive_start, info.drive_stop)]
 
 
 def axis_rotation(axis: np.ndarray, angle: float) -> np.ndarray:
@@ -105,27 +116,48 @@ def axis_rotation(axis: np.ndarray, angle: float) -> np.ndarray:
     return np.eye(3) + math.sin(angle) * K + (1.0 - math.cos(angle)) * (K @ K)
 
 
-def rest_rotation(km, info: JoinInfo, t: float) -> tuple[np.ndarray, list[np.ndarray]]:
+def rest_rotation(km, info: JoinInfo, t: float, angles: list[float] | None = None
+                  ) -> tuple[np.ndarray, list[np.ndarray]]:
     """sde_rest_eff(t) of a joint and, per drive, its axis in the parent end RFE's frame at
-    time t (turned by the drives before it): crane spec section 3."""
+    time t (turned by the drives before it): crane spec section 3. ``angles``: the drives'
+    angles at t (drive_angles) if already known."""
     rest = np.asarray(info.rest, float)
     D = np.eye(3)
     axes = []
-    for j in range(info.drive_start, info.drive_stop):
+    for m, j in enumerate(range(info.drive_start, info.drive_stop)):
         a = km.drive_axis[j]
         axes.append(D @ a)
-        D = D @ axis_rotation(a, drive_angle(km, j, t) - float(km.drive_phi0[j]))
+        phi = angles[m] if angles is not None else drive_angle(km, j, t)
+        D = D @ axis_rotation(a, phi - float(km.drive_phi0[j]))
     return D @ rest, axes
 
 
-def joint_loads(km, ws, info: JoinInfo, t: float, end: np.ndarray | None = None) -> dict:
+def drive_axes(km, info: JoinInfo, t: float, angles: list[float] | None = None) -> list[np.ndarray]:
+    """The axes of rest_rotation(km, info, t, angles)[1] without the rotations that do not
+    turn any axis (the last drive's, and the static rest rotation)."""
+    D = None
+    axes = []
+    last = info.drive_stop - 1
+    for m, j in enumerate(range(info.drive_start, info.drive_stop)):
+        a = km.drive_axis[j]
+        axes.append(a.copy() if D is None else D @ a)
+        if j < last:
+            phi = angles[m] if angles is not None else drive_angle(km, j, t)
+            Rj = axis_rotation(a, phi - float(km.drive_phi0[j]))
+            D = Rj if D is None else D @ Rj
+    return axes
+
+
+def joint_loads(km, ws, info: JoinInfo, t: float, end: np.ndarray | None = None,
+                angles: list[float] | None = None) -> dict:
     """Force and moment of the joint SDE of an evaluated workspace, as the SDE kernel
     applies them (eq. 8.90, rfesim.model.outputs.sde_end_loads):
 
     child_force/child_moment: force of the child on the parent and its moment about the
     child's end-A point (the sign of an attached end); parent_force/parent_moment: force of
     the parent on the child, moment about the parent's end-B point; drive_axes: the global
-    axis of each drive now. ``end``: the SDE's sde_end_loads if already computed."""
+    axis of each drive now. ``end``: the SDE's sde_end_loads if already computed; ``angles``:
+    the drives' angles at t (drive_angles) if already known."""
     out = end
     if out is None:
         from .outputs import sde_end_loads
@@ -134,7 +166,7 @@ def joint_loads(km, ws, info: JoinInfo, t: float, end: np.ndarray | None = None)
         sde_end_loads(km, ws, info.sde, np.zeros((n, 3)), np.zeros((n, 3)), out)
     loads = dict(child_force=-out[2], child_moment=-out[3], parent_force=-out[0], parent_moment=-out[1])
     if info.drive_stop > info.drive_start:
-        axes = rest_rotation(km, info, t)[1]
+        axes = drive_axes(km, info, t, angles)
         loads["drive_axes"] = [ws.R[info.parent_rfe] @ ax for ax in axes]
     else:
         loads["drive_axes"] = []
@@ -145,11 +177,15 @@ def joint_loads(km, ws, info: JoinInfo, t: float, end: np.ndarray | None = None)
     return loads
 
 
-def drive_outputs(km, info: JoinInfo, loads: dict, t: float) -> tuple[np.ndarray, np.ndarray]:
+def drive_outputs(km, info: JoinInfo, loads: dict, t: float, angles: list[float] | None = None
+                  ) -> tuple[np.ndarray, np.ndarray]:
     """(drive_angle deg, drive_torque N*m) of the drives of one join: the prescribed angle
-    and the joint moment on the child about each drive's current axis."""
+    and the joint moment on the child about each drive's current axis (``angles``: the
+    drives' angles at t in rad, if already known)."""
     on_child = -loads["child_moment"]
-    angles = [math.degrees(drive_angle(km, j, t)) for j in range(info.drive_start, info.drive_stop)]
+    if angles is None:
+        angles = drive_angles(km, info, t)
+    angles = [math.degrees(a) for a in angles]
     if info.motor >= 0:
         from ..loads.drives import drive_table
         m, c = info.motor, int(km.motor_count[info.motor])

@@ -160,3 +160,22 @@ def sde_end_loads(km, ws, s, F, M, out):
         for k in range(3):
             out[2 * side, k] = F[i, k]
             out[2 * side + 1, k] = M[i, k] - tmp[k]
+
+
+@njit(cache=True)
+def record_outputs(km, att, ws, qdd, react, sde_length, tension, shear, bend, torque, curvature, line_ranges, pts,
+                   end_sdes, end_F, end_M, end):
+    """Every output kernel of a recorded time in one call (``reactions``, ``sde_channels``,
+    ``line_points`` of each line, ``sde_end_loads_many``): a call from Python unboxes the
+    model and workspace tuples (over a hundred arrays, 20-40 us) once instead of once per
+    kernel. line_ranges (nlines, 5): rfe_start, rfe_stop, sde_start, sde_stop and the
+    line's first row in pts."""
+    reactions(km, att, ws, qdd, react)
+    sde_channels(ws, sde_length, tension, shear, bend, torque, curvature)
+    for j in range(line_ranges.shape[0]):
+        o = line_ranges[j, 4]
+        m = line_ranges[j, 3] - line_ranges[j, 2] + 2
+        line_points(ws, line_ranges[j, 0], line_ranges[j, 1], line_ranges[j, 2], line_ranges[j, 3], km.rfe_length,
+                    pts[o:o + m])
+    if end_sdes.shape[0] > 0:
+        sde_end_loads_many(km, ws, end_sdes, end_F, end_M, end)

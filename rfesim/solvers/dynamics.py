@@ -93,13 +93,10 @@ class Recorder:
     """Preallocated output arrays, filled at output times."""
 
     def __init__(self, system: System, nt: int):
-        from ..model.outputs import line_points, reactions, sde_channels, sde_end_loads_many
+        from ..model.outputs import record_outputs
         from .fastcall import FastCall
-        # every output kernel is called once per output time with the same model tuples
-        self._reactions = FastCall(reactions)
-        self._sde_channels = FastCall(sde_channels)
-        self._line_points = FastCall(line_points)
-        self._end_loads = FastCall(sde_end_loads_many)
+        # the output kernels, all in one call per output time with the same model tuples
+        self._record_outputs = FastCall(record_outputs)
         self.system = system
         model = system.model
         # the SDEs whose end loads are outputs: joints between lines, then body connections
@@ -138,7 +135,16 @@ class Recorder:
         nsde = model.nsde
         self._ch = {ch: np.zeros(nsde) for ch in ("tension", "shear_force", "bend_moment", "torque", "curvature")}
         self._react = np.zeros((model.n, 6))
-        self._pts = {li.name: np.zeros((li.elements + 2, 3)) for li in model.lines}
+        # the points of every line in one buffer (rows li.elements + 2 per line)
+        self._pts_all = np.zeros((sum(li.elements + 2 for li in model.lines), 3))
+        self._line_ranges = np.zeros((len(model.lines), 5), np.int64)
+        self._pts = {}
+        row = 0
+        for j, li in enumerate(model.lines):
+            assert li.sde_stop - li.sde_start == li.elements
+            self._line_ranges[j] = (li.rfe_start, li.rfe_stop, li.sde_start, li.sde_stop, row)
+            self._pts[li.name] = self._pts_all[row:row + li.elements + 2]
+            row += li.elements + 2
         nr = model.km.roller_attach.shape[0]
         self.roller_reaction = np.zeros((nt, nr))
         self.roller_force = np.zeros((nt, nr, 3))
@@ -183,12 +189,10 @@ class Recorder:
             ws.step_state[0] = 0        # the generalised-alpha step left the evaluation of this very state
         else:
             sysm.evaluate(state)
-        self._reactions(km, sysm.att, ws, qdd, self._react)
         ch = self._ch
-        self._sde_channels(ws, km.sde_length, ch["tension"], ch["shear_force"], ch["bend_moment"], ch["torque"],
-                           ch["curvature"])
-        if self._end_sdes.shape[0]:
-            self._end_loads(km, ws, self._end_sdes, self._end_F, self._end_M, self._end)
+        self._record_outputs(km, sysm.att, ws, qdd, self._react, km.sde_length, ch["tension"], ch["shear_force"],
+                             ch["bend_moment"], ch["torque"], ch["curvature"], self._line_ranges, self._pts_all,
+                             self._end_sdes, self._end_F, self._end_M, self._end)
         k = self.k
         self.time[k] = state.t
         if km.has_plastic:
@@ -198,8 +202,6 @@ class Recorder:
                                     ws.out5, self._residual)
         for li in sysm.model.lines:
             d = self.line_data[li.name]
-            self._line_points(ws, li.rfe_start, li.rfe_stop, li.sde_start, li.sde_stop, km.rfe_length,
-                              self._pts[li.name])
             d["position"][k] = self._pts[li.name]
             for name in ("tension", "shear_force", "bend_moment", "torque", "curvature"):
                 d[name][k] = ch[name][li.sde_start:li.sde_stop]
@@ -209,8 +211,9 @@ class Recorder:
             d["end_b_force"][k] = -self._react[ib, :3]
             d["end_a_moment"][k] = -self._react[ia, 3:]
             d["end_b_moment"][k] = -self._react[ib, 3:]
-            d["seabed_force"][k] = ws.contact_force[li.rfe_start:li.rfe_stop]
-            d["seabed_friction"][k] = ws.friction_force[li.rfe_start:li.rfe_stop]
+            if km.has_seabed:           # zero (as allocated) without a seabed
+                d["seabed_force"][k] = ws.contact_force[li.rfe_start:li.rfe_stop]
+                d["seabed_friction"][k] = ws.friction_force[li.rfe_start:li.rfe_stop]
             if li.name in self._stress_geometry:
                 from ..materials.sde_plastic import pipe_stress_into
                 out = np.zeros((li.elements, 7))
@@ -298,17 +301,18 @@ class Recorder:
 
     def _record_joins(self, k: int, ws, t: float) -> None:
         """The joint loads as the end loads of the two joined lines, and the drive channels."""
-        from ..model.joins import drive_outputs, joint_loads
+        from ..model.joins import drive_angles, drive_outputs, joint_loads
         km = self.system.km
         for j, ji in enumerate(self.system.model.joins):
-            loads = joint_loads(km, ws, ji, t, self._end[j])
+            angles = drive_angles(km, ji, t) if ji.drive_stop > ji.drive_start else None
+            loads = joint_loads(km, ws, ji, t, self._end[j], angles)
             child, parent = self.line_data[ji.child], self.line_data[ji.parent]
             child["end_a_force"][k] = loads["child_force"]
             child["end_a_moment"][k] = loads["child_moment"]
             parent["end_b_force"][k] = loads["parent_force"]
             parent["end_b_moment"][k] = loads["parent_moment"]
             if ji.drive_names:
-                child["drive_angle"][k], child["drive_torque"][k] = drive_outputs(km, ji, loads, t)
+                child["drive_angle"][k], child["drive_torque"][k] = drive_outputs(km, ji, loads, t, angles)
 
     def results(self, **kw):
         from ..results import LineResults, Results, VesselResults
@@ -468,13 +472,15 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
         flags = np.zeros(3, np.int64)
         qdd_prev = st.qdd.copy()
         analytic = integ.jacobian == "analytic"
+        from .fastcall import FastCall
+        ga_call = FastCall(ga_advance)      # one call per output interval: skip numba's typing of ~50 arguments
 
         def one_step(trial, t0, hh):
-            return ga_advance(km, vs, att, ws, trial.q, trial.qd, trial.qdd, trial.aux, trial.ref, t0, hh, 1, am, af,
-                              beta, gamma, tol, integ.max_iterations, integ.jacobian_reuse, mask, system.length_scale,
-                              force_ref, system.J, system.Fac, system.Q0, system.V0, system.r, system.dq,
-                              system.qd_buf, system.A_buf, system.qp, system.rp, system.hs, flags, stats, fail,
-                              analytic, system.Ks, system.Kds, system.T, system.Fsde, system.Msde, qdd_prev)
+            return ga_call(km, vs, att, ws, trial.q, trial.qd, trial.qdd, trial.aux, trial.ref, t0, hh, 1, am, af,
+                           beta, gamma, tol, integ.max_iterations, integ.jacobian_reuse, mask, system.length_scale,
+                           force_ref, system.J, system.Fac, system.Q0, system.V0, system.r, system.dq,
+                           system.qd_buf, system.A_buf, system.qp, system.rp, system.hs, flags, stats, fail,
+                           analytic, system.Ks, system.Kds, system.T, system.Fsde, system.Msde, qdd_prev)
 
         for k_out in range(1, n_out + 1):
             t_target = t_start + k_out * out_dt
@@ -498,11 +504,11 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
             nsteps = int(round((t_target - st.t) / h))
             saved = st.copy()
             saved_history = system.history()
-            status = ga_advance(km, vs, att, ws, st.q, st.qd, st.qdd, st.aux, st.ref, st.t, h, nsteps, am, af, beta,
-                                gamma, tol, integ.max_iterations, integ.jacobian_reuse, mask, system.length_scale,
-                                force_ref, system.J, system.Fac, system.Q0, system.V0, system.r, system.dq,
-                                system.qd_buf, system.A_buf, system.qp, system.rp, system.hs, flags, stats, fail,
-                                analytic, system.Ks, system.Kds, system.T, system.Fsde, system.Msde, qdd_prev)
+            status = ga_call(km, vs, att, ws, st.q, st.qd, st.qdd, st.aux, st.ref, st.t, h, nsteps, am, af, beta,
+                             gamma, tol, integ.max_iterations, integ.jacobian_reuse, mask, system.length_scale,
+                             force_ref, system.J, system.Fac, system.Q0, system.V0, system.r, system.dq,
+                             system.qd_buf, system.A_buf, system.qp, system.rp, system.hs, flags, stats, fail,
+                             analytic, system.Ks, system.Kds, system.T, system.Fsde, system.Msde, qdd_prev)
             if status != 0:
                 # redo this output interval step by step, halving a failing step down to h/64;
                 # the step that failed (Newton) starts at h/2: at h it was just given two
@@ -526,13 +532,13 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
                         flags[0] = 0
                         s2 = 0
                         for m in range(sub):
-                            s2 = ga_advance(km, vs, att, ws, trial.q, trial.qd, trial.qdd, trial.aux, trial.ref,
-                                            t_step0 + m * h / sub, h / sub, 1, am, af, beta, gamma, tol,
-                                            integ.max_iterations, integ.jacobian_reuse, mask, system.length_scale,
-                                            force_ref, system.J, system.Fac, system.Q0, system.V0, system.r,
-                                            system.dq, system.qd_buf, system.A_buf, system.qp, system.rp, system.hs,
-                                            flags, stats, fail, analytic, system.Ks, system.Kds, system.T,
-                                            system.Fsde, system.Msde, qdd_prev)
+                            s2 = ga_call(km, vs, att, ws, trial.q, trial.qd, trial.qdd, trial.aux, trial.ref,
+                                         t_step0 + m * h / sub, h / sub, 1, am, af, beta, gamma, tol,
+                                         integ.max_iterations, integ.jacobian_reuse, mask, system.length_scale,
+                                         force_ref, system.J, system.Fac, system.Q0, system.V0, system.r,
+                                         system.dq, system.qd_buf, system.A_buf, system.qp, system.rp, system.hs,
+                                         flags, stats, fail, analytic, system.Ks, system.Kds, system.T,
+                                         system.Fsde, system.Msde, qdd_prev)
                             if s2 != 0:
                                 break
                         if s2 == 0:
