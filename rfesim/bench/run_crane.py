@@ -23,13 +23,14 @@ DURATION = 1800.0
 QUICK_DURATION = 300.0
 OUTPUT_INTERVAL = 0.2
 LIMITS = (
-    "What limits it. The cost of a step at 0.1 s: about 3.8 residual evaluations and 0.35 Jacobians, and an "
+    "What limits it. The cost of a step at 0.1 s: about 4 residual evaluations and 0.2-0.35 Jacobians, and an "
     "output every other step. The evaluation's largest part, the SDE pass, and the poses now run in scalar form "
     "(docs/theory.md, 'Scalar hot kernels and one-call recording'; timed inside numba, 0.061 -> 0.016 ms for the "
     "100 SDEs, 0.014 -> 0.006 ms for the poses), with the same results to the bit (the same counts and maximum as "
     "before them). Run at the same time as the code before them on this shared machine (load 4-5), the production "
     "run took 26.5 s of CPU against 36.1 s (1.36x less; wall 124 s against 155 s); the 19.7 s the code before "
-    "them took on a quiet machine (91x) then scales to about 14.5 s (about 120x): the target is still missed. CPU "
+    "them took on a quiet machine (91x) then scales to about 14.5 s (about 120x); measured on the quiet machine "
+    "(load 0.8) the production run took 15.6 s (116x): the target is still missed. CPU "
     "per call in the same conditions, before -> after: an evaluation 0.134 -> 0.085 ms, the first of a step with "
     "the sea kinematics 0.353 -> 0.280 ms, a Jacobian 0.57 -> 0.53 ms, a recorded output 0.40 -> 0.31 ms. What "
     "remains per step: the sea kinematics (about 0.2 ms: 200 components at each of the dozen wet RFEs, a cosine, "
