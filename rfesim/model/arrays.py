@@ -184,6 +184,13 @@ class KernelModel(NamedTuple):
     tug_L0: np.ndarray = np.zeros(0)                 # (ng,) m, elastic: unstretched length
     tug_c: np.ndarray = np.zeros(0)                  # (ng,) N*s/m, elastic: axial damping
     has_tuggers: bool = False
+    # --- reeving: a sheave's rope run toward its winch (rfesim.loads.reeving); nv reevings
+    rv_sde: np.ndarray = np.zeros(0, np.int64)       # (nv,) int64, the pinned join SDE (the sheave)
+    rv_kind: np.ndarray = np.zeros(0, np.int64)      # (nv,) int64, lead: 0 a point of an attachment, 1 a line end
+    rv_att: np.ndarray = np.zeros(0, np.int64)       # (nv,) int64, kind 0: the attachment (vessel or fixed)
+    rv_rfe: np.ndarray = np.zeros(0, np.int64)       # (nv,) int64, kind 1: the line end's RFE
+    rv_point: np.ndarray = np.zeros((0, 3))          # (nv, 3) m, lead point: attachment frame (0), arm in the RFE frame (1)
+    has_reeving: bool = False
 
 
 class Workspace(NamedTuple):
@@ -260,6 +267,9 @@ class Workspace(NamedTuple):
     deck_normal: np.ndarray = np.zeros(0)            # (nb,) N, normal force of each body's deck (rfesim.loads.deck)
     tug_tension: np.ndarray = np.zeros(0)            # (ng,) N, tension of each tugger line (rfesim.loads.tugger)
     tug_length: np.ndarray = np.zeros(0)             # (ng,) m, its length
+    rv_tension: np.ndarray = np.zeros(0)             # (nv,) N, tension at each reeving's sheave (rfesim.loads.reeving)
+    rv_dir: np.ndarray = np.zeros((0, 3))            # (nv, 3) unit direction from the sheave to the lead
+    rv_fdir: np.ndarray = np.zeros((0, 3))           # (nv, 3) unit direction of the join's force on the parent
     sea_reach: np.ndarray = np.zeros(0)              # (n,) m, how far below its centre each RFE (or body) can be wet
     step_state: np.ndarray = np.zeros(1, np.int64)   # (1,) int64, 1: the workspace holds the evaluation of the state
                                                      #   a generalised-alpha step just converged to (outputs reuse it)
@@ -288,7 +298,7 @@ class AttachmentState(NamedTuple):
 
 
 def new_workspace(n: int, nsde: int, nh: int = 1, nroller: int = 0, ntens: int = 0, nreel: int = 0,
-                  nmotor: int = 0, nbody: int = 0, ntug: int = 0) -> Workspace:
+                  nmotor: int = 0, nbody: int = 0, ntug: int = 0, nreeve: int = 0) -> Workspace:
     return Workspace(
         R=np.zeros((n, 3, 3)), r=np.zeros((n, 3)), rbase=np.zeros((n, 3)), roff=np.zeros((n, 3)), v=np.zeros((n, 3)), w=np.zeros((n, 3)),
         wb=np.zeros((n, 3)), E=np.zeros((n, 3, 3)), Edot=np.zeros((n, 3)), F=np.zeros((n, 3)),
@@ -311,7 +321,8 @@ def new_workspace(n: int, nsde: int, nh: int = 1, nroller: int = 0, ntens: int =
         reel_grip_on_trial=np.zeros(n, np.int64), reel_D=np.zeros(max(nreel, 1)), reel_force=np.zeros(max(nreel, 1)),
         reel_time=np.zeros(2), sde_rest_eff=_identities(nsde), sde_rest_rate=np.zeros((nsde, 3)),
         sea_reach=np.zeros(n), step_state=np.zeros(1, np.int64), motor_sat=np.zeros(nmotor, np.int64),
-        c_tangent=np.zeros((nsde, 6)), deck_normal=np.zeros(nbody), tug_tension=np.zeros(ntug), tug_length=np.zeros(ntug))
+        c_tangent=np.zeros((nsde, 6)), deck_normal=np.zeros(nbody), tug_tension=np.zeros(ntug), tug_length=np.zeros(ntug),
+        rv_tension=np.zeros(nreeve), rv_dir=np.zeros((nreeve, 3)), rv_fdir=np.zeros((nreeve, 3)))
 
 
 def _identities(m: int) -> np.ndarray:

@@ -27,6 +27,7 @@ from ..kinematics import (cross_into, euler_rate_derivative_into, euler_rate_mat
 from ..loads.bodies import body_hydro_forces
 from ..loads.deck import deck_forces
 from ..loads.tugger import tugger_forces
+from ..loads.reeving import reeving_forces
 from ..loads.gravity import gravity_forces
 from ..loads.hydro import buoyancy_forces, morison_forces, submergence
 from ..loads.point import point_loads
@@ -293,7 +294,8 @@ def zero_forces(ws):
 @njit(cache=True)
 def sde_part(km, att, ws, F, M):
     """Every SDE force and moment added to F, M: elastic and damping (with rest rotations and
-    drives), the elasto-plastic correction, slack ropes, servo motors."""
+    drives), the elasto-plastic correction, slack ropes, servo motors, and the sheaves' pull
+    toward the rope's lead (reeving: the tension of a join SDE, so it goes with them)."""
     sde_forces_all(km, att, ws, F, M)
     if km.has_plastic:
         plastic_forces(km, ws, M)
@@ -301,6 +303,11 @@ def sde_part(km, att, ws, F, M):
         tension_only_forces(km, ws, F, M)
     if km.has_motors:
         motor_moments(km, att, ws, -1, M)
+    if km.has_reeving:
+        reeving_forces(km.rv_sde, km.rv_kind, km.rv_att, km.rv_rfe, km.rv_point, km.sde_left, km.sde_right,
+                       km.sde_arm_left, km.sde_arm_right, km.sde_has_rest, km.sde_rest, ws.sde_rest_eff, ws.R,
+                       ws.rbase, ws.roff, ws.sigma, ws.sde_point, att.p, att.R, F, M, ws.rv_tension, ws.rv_dir,
+                       ws.rv_fdir)
 
 
 @njit(cache=True)

@@ -752,6 +752,9 @@ def compile_scenario(sc, start: str | None = None) -> Model:
         from .tuggers import tugger_arrays
         arrays, model.tuggers = tugger_arrays(sc, model)
         model.km = model.km._replace(**arrays)
+    if any(getattr(ln.end_a, "reeving", None) is not None for ln in (sc.lines or {}).values()):
+        from .reeving import reeving_arrays
+        model.km = model.km._replace(**reeving_arrays(sc, model))
     return model
 
 

@@ -240,6 +240,11 @@ class _Crane(_Strict):
     tuggers: dict[str, CraneTugger] = Field(default_factory=dict, description="Tugger lines steadying the "
                                             "payload, made as top-level `tuggers` <crane>_<name> "
                                             "(rfesim.scenario.tuggers)")
+    reeving: Union[Literal["boom"], Vector3, None] = Field(
+        None, description='The hoist rope\'s run from the sheave to its winch: "boom" (along the boom, or the '
+        'legs, to its foot: the winch on the crane), or the deck point [x, y, z] of the winch or its guide '
+        'sheave (vessel frame); the sheave is pulled toward it by the rope tension (rfesim.loads.reeving). '
+        'Default: left out (the winch pays out at the sheave)', json_schema_extra={"units": "m"})
 
 
 class SlewingMotor(_Strict):
@@ -467,14 +472,18 @@ def _payload(out: dict, name: str, tpl, raw: dict, tip, rope_length: float) -> t
     return bname, attach
 
 
-def _rope_and_winch(out: dict, name: str, tpl, raw: dict, parent: str, tip, vname: str) -> None:
+def _rope_and_winch(out: dict, name: str, tpl, raw: dict, parent: str, tip, vname: str, foot: str) -> None:
     rope = f"{name}_rope"
     _add(out, "line_types", f"{rope}_section", tpl.rope.line_type(), "rope")
     body, attach = _payload(out, name, tpl, raw, tip, tpl.rope.length)
+    end_a = {"attach": f"{parent}:end_b", "connection": "pinned", "direction": [0.0, 0.0, -1.0]}
+    if tpl.reeving == "boom":
+        end_a["reeving"] = {"lead": f"{foot}:end_a"}
+    elif tpl.reeving is not None:
+        end_a["reeving"] = {"lead": vname, "point": [float(c) for c in tpl.reeving]}
     _add(out, "lines", rope, {
         "type": f"{rope}_section", "length": tpl.rope.length, "elements": tpl.rope.count(),
-        "end_a": {"attach": f"{parent}:end_b", "connection": "pinned", "direction": [0.0, 0.0, -1.0]},
-        "end_b": {"attach": body, "position": attach}}, "rope")
+        "end_a": end_a, "end_b": {"attach": body, "position": attach}}, "rope")
     for tname, tug in tpl.tuggers.items():
         vessel = tug.vessel if tug.vessel is not None else vname
         if vessel not in (out.get("vessels") or {}):
@@ -537,7 +546,7 @@ def _column(out: dict, name: str, tpl: ColumnCrane, raw: dict, vname: str, vpos,
              "drives": drives}
     _add(out, "lines", boom, {"type": f"{boom}_section", "length": tpl.boom.length,
                               "elements": tpl.boom.count(), "end_a": end_a, "end_b": {"attach": "free"}}, "boom")
-    _rope_and_winch(out, name, tpl, raw, boom, tip, vname)
+    _rope_and_winch(out, name, tpl, raw, boom, tip, vname, boom)
 
 
 def _servo_gains(tpl: ColumnCrane, raw: dict, luff0: float) -> tuple[float, float]:
@@ -596,7 +605,7 @@ def _a_frame(out: dict, name: str, tpl: AFrame, raw: dict, vname: str, vpos, hea
                               "end_a": {"attach": f"{legs}:end_b", "connection": "clamped",
                                         "direction": _rot(vpos, heading, d_local)},
                               "end_b": {"attach": "free"}}, "crossbeam_mass")
-    _rope_and_winch(out, name, tpl, raw, beam, tip, vname)
+    _rope_and_winch(out, name, tpl, raw, beam, tip, vname, legs)
 
 
 def expand(data: dict) -> dict:

@@ -912,6 +912,30 @@ class Motor(_Strict):
         return self
 
 
+class Reeving(_Strict):
+    """The rope's run from a pinned join (a sheave) back toward its winch: a frictionless
+    sheave carries the rope's tension on both sides, so the join's parent is also pulled
+    toward the lead by the tension at the sheave (rfesim.loads.reeving)."""
+
+    lead: str = Field(..., min_length=1, description='Where the rope runs to from the sheave: a vessel name or '
+                      '"fixed" (a deck winch or guide sheave at point), or an end of a line, "<line>:end_a" or '
+                      '"<line>:end_b" (a rope running along a boom to its foot; the equal pull acts there)')
+    point: Vector3 | None = _units("m", "The lead point: in the vessel frame for a vessel, global for fixed "
+                                   "(not for a line end)", default=None)
+
+    @model_validator(mode="after")
+    def _check(self):
+        if ":" in self.lead:
+            line, _, end = self.lead.partition(":")
+            if not line or end not in ("end_a", "end_b"):
+                raise FieldError("lead", f"a line end is '<line>:end_a' or '<line>:end_b' (got {self.lead!r})")
+            if self.point is not None:
+                raise FieldError("point", "a line-end lead is that end's point: leave out point")
+        elif self.point is None:
+            raise FieldError("point", f"give the lead point on '{self.lead}' (the deck winch or guide sheave)")
+        return self
+
+
 class LineEnd(_Strict):
     attach: str = Field("free", description='"fixed" (global frame), "free", a vessel name, (end B) a body '
                                             'name (position: the attachment point in the body frame), or (end '
@@ -931,6 +955,9 @@ class LineEnd(_Strict):
                                 '("<line>:end_b"), applied in the listed order (slewing before luffing)')
     motor: Motor | None = Field(None, description='A torque-limited servo motor turning a clamped, coaxial '
                                 'join ("<line>:end_b") about its own axis (a slewing ring); not with drives')
+    reeving: Reeving | None = Field(None, description='The rope of a pinned join ("<line>:end_b", the sheave) '
+                                    'runs on to a lead (its winch): the parent is pulled toward the lead by '
+                                    'the tension at the sheave (rfesim.loads.reeving)')
 
     @model_validator(mode="after")
     def _direction(self):
@@ -943,6 +970,9 @@ class LineEnd(_Strict):
             if not parent or point != "end_b":
                 raise FieldError("attach", f"a join names end B of another line, '<line>:end_b' (got "
                                            f"{self.attach!r})")
+        if self.reeving is not None and (":" not in self.attach or self.connection != "pinned"):
+            raise FieldError("reeving", 'reeving runs from a sheave, a pinned join ("attach": "<line>:end_b", '
+                                        '"connection": "pinned")')
         if self.motor is not None and (":" not in self.attach or self.connection != "clamped"):
             raise FieldError("motor", 'a motor acts only on a clamped join ("attach": "<line>:end_b", '
                                       '"connection": "clamped")')

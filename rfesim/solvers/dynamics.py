@@ -406,6 +406,8 @@ def _raise(system: System, fail: np.ndarray, status: int, make_results, what: st
 def run_dynamics(system: System, state: State, settings, progress=None, recorder: Recorder | None = None,
                  counters: Counters | None = None) -> tuple[State, Recorder, Counters]:
     """Integrate from state.t over settings.duration, recording at output times."""
+    from ..model.reeving import check_dynamics
+    check_dynamics(system.model)
     integ = settings.integrator
     T = float(settings.duration)
     t_start = state.t

@@ -23,6 +23,7 @@ import numpy as np
 from numba import njit
 
 from ..kinematics import cross_into, matmul_into, matvec_into
+from ..loads.reeving import reeving_tangent
 from ..loads.sde_tangent import sde_tangent_rest
 from ..model.assemble import sde_part
 from .residual import residual_general, residual_q
@@ -111,6 +112,10 @@ def jacobian_analytic_at(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask,
         sde_tangent_rest(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, km.sde_stiffness,
                          km.sde_damping, km.sde_has_rest, km.sde_rest, ws.sde_rest_eff, ws.R, ws.rbase, ws.roff,
                          ws.sigma, Ks, Kds)
+    if km.has_reeving:
+        # the sheave's pull toward the lead has the join's tension (rfesim.loads.reeving)
+        reeving_tangent(km.rv_sde, km.sde_left, ws.rbase, ws.roff, ws.sde_point, ws.rv_tension, ws.rv_dir,
+                        ws.rv_fdir, Ks, Kds)
     _maps(km, att, ws, T)
     cK = 1.0 if mode == 0 else cq
     cD = 0.0 if mode == 0 else cv

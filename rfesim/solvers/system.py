@@ -20,7 +20,7 @@ class System:
         self.n = n
         self.ws = new_workspace(n, nsde, model.plastic_history_width, km.roller_attach.shape[0],
                                 km.tens_att.shape[0], km.reel_att.shape[0], km.motor_sde.shape[0],
-                                km.body_rfe.shape[0], km.tug_rfe.shape[0])
+                                km.body_rfe.shape[0], km.tug_rfe.shape[0], km.rv_sde.shape[0])
         if getattr(model, "initial_plastic_history", None) is not None:
             self.ws.plastic_hist[:] = model.initial_plastic_history     # pipe reeled on before t = 0
         self.vs = vessel_spec(model.motions)

@@ -1,0 +1,319 @@
+"""Reeving (rfesim.loads.reeving): the sheave is also pulled toward the rope's lead (its
+winch) by the tension at the sheave.
+
+* kernel against a readable reference (the join's force from the readable SDE kernel);
+* the analytic Jacobian with the pull against finite differences;
+* statics of an A-frame whose rope leads to a deck winch: the cylinders carry the weights'
+  moment and the pull's moment about the hinge; the tension at the sheave is the weight
+  hanging under it;
+* a column crane whose rope runs along the boom to its foot: the pull is internal (the
+  pedestal base loads are still exactly the weights' resultant and moment) and the boom is
+  compressed by the rope tension;
+* an A-frame overboarding run with a deck winch lead converges;
+* errors name the field."""
+from __future__ import annotations
+
+import copy
+import math
+
+import numpy as np
+import pytest
+
+import rfesim
+from rfesim.api import _static_state
+from rfesim.crane_results import crane_summary
+from rfesim.errors import ScenarioError
+from rfesim.loads.reeving import reeving_forces
+from rfesim.loads.sde import sde_forces_rest_into
+from rfesim.model.compile import compile_scenario
+from rfesim.scenario.cranes import CylinderSpec, cylinder_lever
+from rfesim.solvers.banded import bt_to_dense
+from rfesim.solvers.jacobian import jacobian_analytic
+from rfesim.solvers.kernels import jacobian_fd_general
+from rfesim.solvers.system import System
+
+G = 9.81
+DECK_WINCH = [6.0, 0.0, 3.0]         # forward of the hinge (outboard is -x), vessel frame
+
+
+def a_frame(reeving=None, tilt=20.0, dynamics=False):
+    tpl = {"type": "a-frame", "position": [0.0, 0.0, 2.0], "outboard_deg": 180.0,
+           "legs": {"length": 8.0, "outer_diameter": 0.6, "wall_thickness": 0.025},
+           "tilt_deg": [[0.0, tilt], [1.0, tilt]], "crossbeam_mass": 2000.0,
+           "cylinder": {"base": [-3.0, 0.0], "eye": 5.0, "count": 2},
+           "rope": {"length": 6.0, "elements": 6},
+           "payload": {"mass": 10000.0, "radius_of_gyration": 1.0}}
+    if reeving is not None:
+        tpl["reeving"] = reeving
+    dyn = {"duration": 0.2, "output_interval": 0.1,
+           "integrator": {"kind": "generalized-alpha", "time_step": 0.05}}
+    return {"environment": {"gravity": G}, "cranes": {"af": tpl},
+            "analysis": {"statics": {"enabled": True}, "dynamics": dyn if dynamics else {"enabled": False}}}
+
+
+def column(reeving=None):
+    tpl = {"type": "column", "position": [0.0, 0.0, 2.0],
+           "pedestal": {"length": 8.0, "outer_diameter": 2.0, "wall_thickness": 0.04, "elements": 4},
+           "boom": {"length": 20.0, "outer_diameter": 0.8, "wall_thickness": 0.02, "elements": 10},
+           "slewing_deg": 0.0, "luffing_deg": 40.0, "rope": {"length": 10.0, "elements": 10},
+           "payload": {"mass": 5000.0, "radius_of_gyration": 1.0}}
+    if reeving is not None:
+        tpl["reeving"] = reeving
+    return {"environment": {"gravity": G}, "cranes": {"c": tpl},
+            "analysis": {"statics": {"enabled": True}, "dynamics": {"enabled": False}}}
+
+
+def static_system(data):
+    sc = rfesim.Scenario.model_validate(data)
+    system = System(compile_scenario(sc))
+    state, info = _static_state(system, sc)
+    system.evaluate(state)
+    return sc, system, state
+
+
+def reference_pull(system, j):
+    """(tension, force on the parent, moment about its centre, lead point) of reeving j from
+    the readable SDE kernel: the join SDE alone gives its force on the parent."""
+    km, ws, att = system.km, system.ws, system.att
+    s = int(km.rv_sde[j])
+    a = int(km.sde_left[s])
+    n = ws.R.shape[0]
+    F = np.zeros((n, 3))
+    M = np.zeros((n, 3))
+    one = slice(s, s + 1)
+    sde_forces_rest_into(km.sde_left[one], km.sde_right[one], km.sde_arm_left[one], km.sde_arm_right[one],
+                         km.sde_stiffness[one], km.sde_damping[one], km.sde_has_rest[one], km.sde_rest[one],
+                         ws.sde_rest_eff[one], ws.sde_rest_rate[one], ws.R, ws.rbase, ws.roff, ws.v, ws.w, F, M,
+                         np.zeros((1, 6)), np.zeros((1, 6)), np.zeros((1, 3)), np.zeros((40, 3)),
+                         np.zeros((16, 3, 3)))
+    f = F[a]
+    T = np.linalg.norm(f)
+    b = int(km.sde_right[s])
+    P = 0.5 * (ws.r[a] + ws.R[a] @ km.sde_arm_left[s] + ws.r[b] + ws.R[b] @ km.sde_arm_right[s])   # the sheave
+    if km.rv_kind[j] == 0:
+        L = att.p[km.rv_att[j]] + att.R[km.rv_att[j]] @ km.rv_point[j]
+    else:
+        k = km.rv_rfe[j]
+        L = ws.r[k] + ws.R[k] @ km.rv_point[j]
+    e = (L - P) / np.linalg.norm(L - P)
+    return T, T * e, np.cross(P - ws.r[a], T * e), L
+
+
+@pytest.mark.parametrize("lead", [DECK_WINCH, "boom"])
+def test_reeving_kernel_against_its_readable_reference(lead):
+    sc, system, state = static_system(a_frame(reeving=lead))
+    km, ws, att = system.km, system.ws, system.att
+    n = ws.R.shape[0]
+    F = np.zeros((n, 3))
+    M = np.zeros((n, 3))
+    T_out, e_out, f_out = np.zeros(1), np.zeros((1, 3)), np.zeros((1, 3))
+    reeving_forces(km.rv_sde, km.rv_kind, km.rv_att, km.rv_rfe, km.rv_point, km.sde_left, km.sde_right,
+                   km.sde_arm_left, km.sde_arm_right, km.sde_has_rest, km.sde_rest, ws.sde_rest_eff, ws.R,
+                   ws.rbase, ws.roff, ws.sigma, ws.sde_point, att.p, att.R, F, M, T_out, e_out, f_out)
+    T, force, moment, L = reference_pull(system, 0)
+    a = int(km.sde_left[km.rv_sde[0]])
+    assert T > 5e4                                           # the payload and rope hang on the sheave
+    assert T_out[0] == pytest.approx(T, rel=1e-9)
+    assert np.allclose(F[a], force, rtol=0, atol=1e-9 * T)
+    assert np.allclose(M[a], moment, rtol=0, atol=1e-8 * T)
+    if km.rv_kind[0] == 1:                                   # along the legs: the equal pull at the foot
+        k = int(km.rv_rfe[0])
+        assert np.allclose(F[k], -force, rtol=0, atol=1e-9 * T)
+        assert np.allclose(F.sum(axis=0), 0.0, atol=1e-9 * T)
+    else:
+        assert np.count_nonzero(np.abs(F).sum(axis=1)) == 1  # the reaction goes to the vessel
+
+
+@pytest.mark.parametrize("mode", [0, 1])
+def test_analytic_jacobian_with_reeving_against_finite_differences(mode):
+    """The pull's tension depends on the join's stretch: the analytic Jacobian carries it
+    (rfesim.loads.reeving.reeving_tangent); without it the parent's rows are off by the
+    rope's join stiffness."""
+    sc, system, state = static_system(a_frame(reeving=DECK_WINCH))
+    rng = np.random.default_rng(3)
+    q = state.q.copy()
+    scale = np.where(np.arange(6) < 3, 1e-6 * system.length_scale[:, None], 1e-6)
+    q[system.mask] += (rng.normal(size=q.shape) * scale)[system.mask]
+    h = 0.02
+    cq, cv = h * h * 0.3, h * 0.6
+    Q0 = q - cq * rng.normal(size=q.shape)
+    V0 = rng.normal(scale=0.01, size=q.shape)
+    args = (system.km, system.att, q, state.ref, system.ws, 1.0, mode, Q0, V0, cq, cv, system.mask, system.qd_buf,
+            system.A_buf)
+    jacobian_fd_general(*args, np.zeros_like(q), system.qp, system.rp, system.hs, system.length_scale, system.J,
+                        True, 1e-6)
+    reference = bt_to_dense(system.J.copy())
+    jacobian_analytic(*args, np.zeros_like(q), system.qp, system.rp, system.hs, system.length_scale, system.J,
+                      system.Ks, system.Kds, system.T, system.Fsde, system.Msde)
+    analytic = bt_to_dense(system.J.copy())
+    # the rows of the sheave's two RFEs (the crossbeam's last, the rope's first) and their neighbours
+    s = int(system.km.rv_sde[0])
+    a, b = int(system.km.sde_left[s]), int(system.km.sde_right[s])
+    rows = np.arange(6 * (a - 1), 6 * (b + 2))
+    rows = rows[system.mask.ravel()[rows]]
+    ref_rows, ana_rows = reference[rows], analytic[rows]
+    size = np.abs(ref_rows).max(axis=1, keepdims=True)
+    err = np.abs(ana_rows - ref_rows) / size
+    assert err.max() < 5e-3, err.max()     # the tolerance of tests/unit/test_jacobian.py
+    # and the pull's coupling matters: without reeving the parent's force rows against the rope's
+    # first RFE differ by e (f/T)^T times the join's, of the order of the join stiffness
+    plain = (system.km._replace(has_reeving=False),) + args[1:]
+    jacobian_fd_general(*plain, np.zeros_like(q), system.qp, system.rp, system.hs, system.length_scale, system.J,
+                        True, 1e-6)
+    without = bt_to_dense(system.J.copy())
+    block, block0 = reference[6 * a:6 * a + 3, 6 * b:6 * b + 3], without[6 * a:6 * a + 3, 6 * b:6 * b + 3]
+    assert np.abs(block - block0).max() > 0.3 * np.abs(block0).max()
+
+
+def test_a_frame_deck_winch_pull_adds_its_moment_about_the_hinge():
+    """A-frame at rest 20 deg outboard, 10 t on the hook, rope led to a deck winch forward:
+    2 F l (cylinders) = the weights' tipping moment + the pull's moment about the hinge,
+    within 1 %; the tension at the sheave is the weight hanging under it (payload + rope,
+    in air) within 1 %; the pull cuts the cylinder force by more than a third."""
+    data = a_frame(reeving=DECK_WINCH)
+    res = rfesim.simulate(data)
+    out = crane_summary(res, "af", cylinder=data["cranes"]["af"]["cylinder"])
+    base = crane_summary(rfesim.simulate(a_frame()), "af", cylinder=data["cranes"]["af"]["cylinder"])
+    sc, system, state = static_system(data)
+    km, ws = system.km, system.ws
+    stub = system.model.line("af_stub")
+    lifted = np.arange(km.rfe_mass.shape[0]) >= stub.rfe_stop
+    tipping = np.sum(km.rfe_mass[lifted] * G * -(ws.r[lifted, 0]))          # outboard is -x, hinge x = 0
+    T, force, moment, L = reference_pull(system, 0)
+    s = int(km.rv_sde[0])
+    P = ws.sde_point[s]
+    hinge = np.array([0.0, 0.0, 2.0])
+    pull_tipping = -np.cross(P - hinge, force)[1]                           # turning the frame outboard
+    assert pull_tipping < 0.0                                               # the winch forward pulls it in
+    rope = system.model.line("af_rope")
+    hanging = 10000.0 + km.rfe_mass[rope.rfe_start:rope.rfe_stop].sum()
+    assert ws.rv_tension[0] == pytest.approx(hanging * G, rel=0.01)
+    _, lever = cylinder_lever(CylinderSpec(base=[-3.0, 0.0], eye=5.0), math.radians(90.0 - 20.0))
+    F = out["cylinder_force"][0]
+    assert 2.0 * F * lever == pytest.approx(tipping + pull_tipping, rel=0.01)
+    assert abs(F) < (1.0 - 1.0 / 3.0) * abs(base["cylinder_force"][0])
+
+
+def test_rope_along_the_boom_is_internal_and_compresses_the_boom():
+    """Column crane, rope led along the boom to its foot: the pull and its reaction are
+    internal, so the pedestal base still carries exactly the weights' resultant and moment
+    (deformed positions); the boom's axial force grows in compression by the tension."""
+    res = rfesim.statics(column(reeving="boom"))
+    sc, system, state = static_system(column(reeving="boom"))
+    km, ws = system.km, system.ws
+    base = np.array([0.0, 0.0, 2.0])
+    W = km.rfe_mass * G
+    moment = np.cross(ws.r - base, np.outer(W, [0.0, 0.0, -1.0])).sum(axis=0)
+    ped = res.line("c_pedestal")
+    assert np.allclose(ped.end_a_force[0], [0.0, 0.0, -W.sum()], rtol=0, atol=1e-6 * W.sum())
+    assert np.allclose(ped.end_a_moment[0], moment, rtol=0, atol=1e-6 * np.abs(moment).max())
+    plain = rfesim.statics(column())
+    T = float(ws.rv_tension[0])
+    mid = 5                                                  # an SDE half way along the boom
+    axial = res.line("c_boom").tension[0, mid]
+    axial0 = plain.line("c_boom").tension[0, mid]
+    assert axial - axial0 == pytest.approx(-T, rel=0.01)
+
+
+def _a_frame_scenario(duration):
+    import json
+    from pathlib import Path
+    path = Path(__file__).resolve().parents[2] / "scenarios" / "a_frame.json"
+    data = json.loads(path.read_text())
+    motion = data["vessels"]["barge"]["motion"]
+    motion["file"] = str(path.parent / motion["file"])
+    data["analysis"]["dynamics"]["duration"] = duration
+    return data
+
+
+def test_a_frame_overboarding_with_the_rope_along_the_legs_runs():
+    """The a_frame scenario's first 45 s (lift, swing out over the stern, start lowering)
+    with the rope led along the legs to the hinge: it completes; the pull passes through the
+    hinge, so the cylinder force at the start is that without reeving (to 1e-3), and the
+    tension at the sheave stays near the hanging weight."""
+    data = _a_frame_scenario(45.0)
+    plain = rfesim.simulate(copy.deepcopy(data))
+    data["cranes"]["aframe"]["reeving"] = "boom"
+    res = rfesim.simulate(data)
+    cyl = data["cranes"]["aframe"]["cylinder"]
+    out, out0 = crane_summary(res, "aframe", cylinder=cyl), crane_summary(plain, "aframe", cylinder=cyl)
+    assert res.time[-1] == pytest.approx(45.0)
+    assert out["cylinder_force"][0] == pytest.approx(out0["cylinder_force"][0], rel=1e-3)
+    assert np.all(np.isfinite(out["cylinder_force"]))
+    assert 0.8 * 20000.0 * G < np.median(out["rope_tension"]) < 1.3 * 20000.0 * G
+
+
+def test_a_deck_lead_is_refused_in_dynamics_naming_the_field():
+    """A lead at a vessel point is for statics: in dynamics the rope's run changes length as
+    the sheave moves and that length is not given to the hanging rope (a non-conservative
+    pull: the overboarding run went unstable at 28 s). The refusal comes before the statics."""
+    data = _a_frame_scenario(45.0)
+    data["cranes"]["aframe"]["reeving"] = [-38.0, 0.0, 4.0]
+    with pytest.raises(ScenarioError) as exc:
+        rfesim.simulate(data)
+    text = str(exc.value)
+    assert "lines.aframe_rope.end_a.reeving.lead" in text and "statics only" in text
+    data["analysis"]["dynamics"]["enabled"] = False
+    res = rfesim.simulate(data)                             # statics alone: fine
+    assert res.time.shape[0] == 1
+
+
+@pytest.mark.parametrize("edit, field, words", [
+    (lambda d: d["cranes"]["af"].update(reeving=[0.0, 1.0]), "cranes.af.reeving", ""),
+    (lambda d: d["cranes"]["af"].update(reeving="legs"), "cranes.af.reeving", ""),
+])
+def test_template_reeving_errors_name_the_field(edit, field, words):
+    data = a_frame()
+    edit(data)
+    with pytest.raises(ScenarioError) as exc:
+        rfesim.Scenario.model_validate(data)
+    assert field in str(exc.value)
+
+
+def _line_scene(reeving, connection="pinned"):
+    return {"environment": {"gravity": G},
+            "vessels": {"ship": {}},
+            "line_types": {"bar": {"outer_diameter": 0.3, "wall_thickness": 0.02, "youngs_modulus": 2.1e11,
+                                   "density": 7850.0},
+                           "rope": {"outer_diameter": 0.04, "EA": 1e8, "EIy": 10.0, "EIz": 10.0, "GJ": 10.0,
+                                    "mass_per_length": 8.0}},
+            "lines": {"boom": {"type": "bar", "length": 5.0, "elements": 2,
+                               "end_a": {"attach": "ship", "position": [0, 0, 10], "direction": [1, 0, 0],
+                                         "connection": "clamped"}, "end_b": {"attach": "free"}},
+                      "rope": {"type": "rope", "length": 5.0, "elements": 2,
+                               "end_a": {"attach": "boom:end_b", "connection": connection,
+                                         "direction": [0, 0, -1], "reeving": reeving},
+                               "end_b": {"attach": "free"}}}}
+
+
+@pytest.mark.parametrize("reeving, connection, field, words", [
+    ({"lead": "ship", "point": [0, 0, 0]}, "clamped", "lines.rope.end_a.reeving", "pinned join"),
+    ({"lead": "ship"}, "pinned", "lines.rope.end_a.reeving.point", "give the lead point"),
+    ({"lead": "boom:end_a", "point": [0, 0, 0]}, "pinned", "lines.rope.end_a.reeving.point", "leave out point"),
+    ({"lead": "boom:middle"}, "pinned", "lines.rope.end_a.reeving.lead", "'<line>:end_a'"),
+    ({"lead": "barge", "point": [0, 0, 0]}, "pinned", "lines.rope.end_a.reeving.lead", "unknown vessel 'barge'"),
+    ({"lead": "mast:end_a"}, "pinned", "lines.rope.end_a.reeving.lead", "unknown line 'mast'"),
+    ({"lead": "boom:end_b"}, "pinned", "lines.rope.end_a.reeving.lead", "the sheave itself"),
+])
+def test_reeving_errors_name_the_field(reeving, connection, field, words):
+    data = _line_scene(reeving, connection)
+    with pytest.raises(ScenarioError) as exc:
+        compile_scenario(rfesim.Scenario.model_validate(data))
+    text = str(exc.value)
+    assert field in text and words in text, text
+
+
+def test_reeving_on_a_line_scene_pulls_the_boom_tip_toward_the_lead():
+    """A 5 m cantilever with a 5 m rope hanging from its tip, the rope led back to the
+    cantilever's root: the tip's vertical deflection is that of the hanging weight alone
+    (the pull is along the chord, nearly axial), and the root's axial force grows by T."""
+    data = copy.deepcopy(_line_scene({"lead": "boom:end_a"}))
+    data["analysis"] = {"statics": {"enabled": True}, "dynamics": {"enabled": False}}
+    data["lines"]["rope"]["end_b"] = {"attach": "free"}
+    res = rfesim.statics(data)
+    plain = copy.deepcopy(data)
+    del plain["lines"]["rope"]["end_a"]["reeving"]
+    res0 = rfesim.statics(plain)
+    T = 8.0 * 5.0 * G
+    dN = res.line("boom").tension[0, 0] - res0.line("boom").tension[0, 0]
+    assert dN == pytest.approx(-T, rel=0.02)
