@@ -23,7 +23,7 @@ import numpy as np
 from numba import njit
 
 from ..kinematics import (cross_into, euler_rate_derivative_into, euler_rate_matrix_into, matmul_into,
-                          matTvec_into, matvec_into, rot_zyx_into, solve3_sym_into)
+                          matTvec_into, matvec_into, rot_zyx_into, skew_into, solve3_sym_into)
 from ..loads.bodies import body_hydro_forces
 from ..loads.deck import deck_forces
 from ..loads.tugger import tugger_forces
@@ -50,6 +50,22 @@ def poses(km, att, q, qd, ref, ws):
                 att.v, att.w, q, qd, ref.R, ref.X, ws.R, ws.E, ws.Edot, ws.wb, ws.w, ws.r, ws.rbase, ws.roff, ws.v)
 
 
+@njit(cache=True, inline="always")
+def _pinned_point(i, a, R, att_R, att_p, rfe_attach_offset, rfe_pin_arm):
+    """(P, m) of RFE i on attachment a: its attachment point P = p_a + R_a o (o the offset in
+    the attachment frame) and its arm m = R_i x from the centre to the point (x the pin arm in
+    the RFE frame); the centre is P - m. Scalar, for the fused pose kernel."""
+    o0 = rfe_attach_offset[i, 0]; o1 = rfe_attach_offset[i, 1]; o2 = rfe_attach_offset[i, 2]
+    P0 = att_R[a, 0, 0] * o0 + att_R[a, 0, 1] * o1 + att_R[a, 0, 2] * o2 + att_p[a, 0]
+    P1 = att_R[a, 1, 0] * o0 + att_R[a, 1, 1] * o1 + att_R[a, 1, 2] * o2 + att_p[a, 1]
+    P2 = att_R[a, 2, 0] * o0 + att_R[a, 2, 1] * o1 + att_R[a, 2, 2] * o2 + att_p[a, 2]
+    x0 = rfe_pin_arm[i, 0]; x1 = rfe_pin_arm[i, 1]; x2 = rfe_pin_arm[i, 2]
+    m0 = R[i, 0, 0] * x0 + R[i, 0, 1] * x1 + R[i, 0, 2] * x2
+    m1 = R[i, 1, 0] * x0 + R[i, 1, 1] * x1 + R[i, 1, 2] * x2
+    m2 = R[i, 2, 0] * x0 + R[i, 2, 1] * x1 + R[i, 2, 2] * x2
+    return P0, P1, P2, m0, m1, m2
+
+
 @njit(cache=True)
 def poses_fused(rfe_kind, rfe_attach, rfe_attach_offset, rfe_pin_arm, rfe_clamp_R, att_R, att_p, att_v, att_w, q, qd,
                 ref_R, ref_X, R, E, Edot, wb, w, r, rbase, roff, v):
@@ -64,17 +80,7 @@ def poses_fused(rfe_kind, rfe_attach, rfe_attach_offset, rfe_pin_arm, rfe_clamp_
                 for k in range(3):
                     R[i, j, k] = att_R[a, j, 0] * rfe_clamp_R[i, 0, k] + att_R[a, j, 1] * rfe_clamp_R[i, 1, k] \
                         + att_R[a, j, 2] * rfe_clamp_R[i, 2, k]
-            o0 = rfe_attach_offset[i, 0]; o1 = rfe_attach_offset[i, 1]; o2 = rfe_attach_offset[i, 2]
-            P0 = att_R[a, 0, 0] * o0 + att_R[a, 0, 1] * o1 + att_R[a, 0, 2] * o2
-            P1 = att_R[a, 1, 0] * o0 + att_R[a, 1, 1] * o1 + att_R[a, 1, 2] * o2
-            P2 = att_R[a, 2, 0] * o0 + att_R[a, 2, 1] * o1 + att_R[a, 2, 2] * o2
-            x0 = rfe_pin_arm[i, 0]; x1 = rfe_pin_arm[i, 1]; x2 = rfe_pin_arm[i, 2]
-            m0 = R[i, 0, 0] * x0 + R[i, 0, 1] * x1 + R[i, 0, 2] * x2
-            m1 = R[i, 1, 0] * x0 + R[i, 1, 1] * x1 + R[i, 1, 2] * x2
-            m2 = R[i, 2, 0] * x0 + R[i, 2, 1] * x1 + R[i, 2, 2] * x2
-            P0 += att_p[a, 0]
-            P1 += att_p[a, 1]
-            P2 += att_p[a, 2]
+            P0, P1, P2, m0, m1, m2 = _pinned_point(i, a, R, att_R, att_p, rfe_attach_offset, rfe_pin_arm)
             r[i, 0] = P0 - m0
             r[i, 1] = P1 - m1
             r[i, 2] = P2 - m2
@@ -171,17 +177,7 @@ def poses_fused(rfe_kind, rfe_attach, rfe_attach_offset, rfe_pin_arm, rfe_clamp_
                 v[i, k] = qd[i, k]
         else:
             a = rfe_attach[i]
-            o0 = rfe_attach_offset[i, 0]; o1 = rfe_attach_offset[i, 1]; o2 = rfe_attach_offset[i, 2]
-            P0 = att_R[a, 0, 0] * o0 + att_R[a, 0, 1] * o1 + att_R[a, 0, 2] * o2
-            P1 = att_R[a, 1, 0] * o0 + att_R[a, 1, 1] * o1 + att_R[a, 1, 2] * o2
-            P2 = att_R[a, 2, 0] * o0 + att_R[a, 2, 1] * o1 + att_R[a, 2, 2] * o2
-            P0 += att_p[a, 0]
-            P1 += att_p[a, 1]
-            P2 += att_p[a, 2]
-            x0 = rfe_pin_arm[i, 0]; x1 = rfe_pin_arm[i, 1]; x2 = rfe_pin_arm[i, 2]
-            m0 = R[i, 0, 0] * x0 + R[i, 0, 1] * x1 + R[i, 0, 2] * x2
-            m1 = R[i, 1, 0] * x0 + R[i, 1, 1] * x1 + R[i, 1, 2] * x2
-            m2 = R[i, 2, 0] * x0 + R[i, 2, 1] * x1 + R[i, 2, 2] * x2
+            P0, P1, P2, m0, m1, m2 = _pinned_point(i, a, R, att_R, att_p, rfe_attach_offset, rfe_pin_arm)
             r0 = P0 - m0
             r1 = P1 - m1
             r2 = P2 - m2
@@ -642,15 +638,7 @@ def _project_one(km, att, ws, i):
                 Jg[a, b] = s
                 Mt[a, b] = ws.Ma[i, a, b]
             Mt[a, a] += m
-        Cx[0, 0] = 0.0
-        Cx[0, 1] = -c[2]
-        Cx[0, 2] = c[1]
-        Cx[1, 0] = c[2]
-        Cx[1, 1] = 0.0
-        Cx[1, 2] = -c[0]
-        Cx[2, 0] = -c[1]
-        Cx[2, 1] = c[0]
-        Cx[2, 2] = 0.0
+        skew_into(c, Cx)
         matmul_into(Mt, Cx, T1)
         for a in range(3):
             for b in range(3):
