@@ -192,13 +192,14 @@ def rest_at(km, t: float) -> tuple[np.ndarray, np.ndarray]:
 
 @njit(cache=True)
 def motor_forces(motor_sde, motor_t, motor_angle, motor_slope, motor_count, motor_stiffness, motor_damping,
-                 motor_torque, t, only, sat, sde_left, sde_right, sde_arm_left, sde_arm_right, rest_flag, rest_static,
+                 motor_torque, motor_shift, t, only, sat, sde_left, sde_right, sde_arm_left, sde_arm_right, rest_flag, rest_static,
                  rest_eff, R, rbase, roff, sigma, M, v3, m33):
     """Correct the torsional moment of every motor SDE (``only`` >= 0: that SDE alone) from
     the elastic law already applied (sigma[s, 3] = k_p theta_x + k_d dtheta_x/dt) to the
     torque-limited servo law above; the difference is applied like the SDE moment itself
     (eq. 8.90.2 through the exact J_r^-T), sigma is corrected too. sat[j] = 1 for a motor at
-    its limit (its tangent is then 0: rfesim.solvers.jacobian), else 0."""
+    its limit (its tangent is then 0: rfesim.solvers.jacobian), else 0. motor_shift[j]: the
+    twist already moved into the joint's rest rotation (rfesim.model.joins.rebase_motors)."""
     for j in range(motor_sde.shape[0]):
         s = motor_sde[j]
         if only >= 0 and s != only:
@@ -206,7 +207,8 @@ def motor_forces(motor_sde, motor_t, motor_angle, motor_slope, motor_count, moto
         c = motor_count[j]
         phi, rate = drive_table(motor_t[j, :c], motor_angle[j, :c], motor_slope[j, :c], t)
         phi0 = drive_table(motor_t[j, :c], motor_angle[j, :c], motor_slope[j, :c], 0.0)[0]
-        raw = sigma[s, 3] - motor_stiffness[j] * (phi - phi0) - motor_damping[j] * rate
+        # theta_x is measured from the rest rotation, which has taken motor_shift of the twist
+        raw = sigma[s, 3] - motor_stiffness[j] * (phi - phi0 - motor_shift[j]) - motor_damping[j] * rate
         lim = motor_torque[j]
         new = min(max(raw, -lim), lim)
         sat[j] = 1 if abs(raw) > lim else 0

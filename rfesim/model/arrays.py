@@ -170,6 +170,8 @@ class KernelModel(NamedTuple):
     motor_stiffness: np.ndarray = np.zeros(0)        # (nm,) N*m/rad, servo k_p (= the SDE's torsional stiffness)
     motor_damping: np.ndarray = np.zeros(0)          # (nm,) N*m*s/rad, servo k_d (= the SDE's torsional damping)
     motor_torque: np.ndarray = np.zeros(0)           # (nm,) N*m, torque limit
+    motor_shift: np.ndarray = np.zeros(0)            # (nm,) rad, twist moved into the joint's rest rotation so far
+                                                     #   (rfesim.model.joins.rebase_motors; written between steps)
     has_motors: bool = False
     # --- tugger lines from a vessel's deck to a body (rfesim.loads.tugger); ng tuggers
     tug_rfe: np.ndarray = np.zeros(0, np.int64)      # (ng,) int64, the body's RFE
@@ -441,7 +443,7 @@ def motor_arrays(motors: list[dict]) -> dict:
     K = max([2] + [len(m["table"]) for m in motors])
     out = dict(motor_sde=np.zeros(nm, np.int64), motor_t=np.zeros((nm, K)), motor_angle=np.zeros((nm, K)),
                motor_slope=np.zeros((nm, K)), motor_count=np.zeros(nm, np.int64), motor_stiffness=np.zeros(nm),
-               motor_damping=np.zeros(nm), motor_torque=np.zeros(nm), has_motors=nm > 0)
+               motor_damping=np.zeros(nm), motor_torque=np.zeros(nm), motor_shift=np.zeros(nm), has_motors=nm > 0)
     for j, m in enumerate(motors):
         table = np.asarray(m["table"], float).reshape(-1, 2)
         if table.shape[0] == 1:

@@ -341,8 +341,8 @@ def motor_moments(km, att, ws, only, M):
     """Servo motors of coaxial joins: the torque-limited torsional moment (after the elastic
     SDE forces; ``only`` >= 0: that SDE alone), rfesim.loads.drives.motor_forces."""
     motor_forces(km.motor_sde, km.motor_t, km.motor_angle, km.motor_slope, km.motor_count, km.motor_stiffness,
-                 km.motor_damping, km.motor_torque, att.time[0], only, ws.motor_sat, km.sde_left, km.sde_right, km.sde_arm_left,
-                 km.sde_arm_right, km.sde_has_rest, km.sde_rest, ws.sde_rest_eff, ws.R, ws.rbase, ws.roff, ws.sigma,
+                 km.motor_damping, km.motor_torque, km.motor_shift, att.time[0], only, ws.motor_sat, km.sde_left,
+                 km.sde_right, km.sde_arm_left, km.sde_arm_right, km.sde_has_rest, km.sde_rest, ws.sde_rest_eff, ws.R, ws.rbase, ws.roff, ws.sigma,
                  M, ws.v3, ws.m33)
 
 

@@ -190,7 +190,32 @@ def drive_outputs(km, info: JoinInfo, loads: dict, t: float, angles: list[float]
         from ..loads.drives import drive_table
         m, c = info.motor, int(km.motor_count[info.motor])
         phi0 = float(drive_table(km.motor_t[m, :c], km.motor_angle[m, :c], km.motor_slope[m, :c], 0.0)[0])
-        angles.append(math.degrees(phi0 + loads["motor_twist"]))
+        angles.append(math.degrees(phi0 + float(km.motor_shift[m]) + loads["motor_twist"]))
     angles = np.array(angles)
     torques = np.array([float(on_child @ ax) for ax in loads["drive_axes"]])
     return angles, torques
+
+
+REBASE_TWIST = math.pi / 3.0    # rad: a motor joint's twist beyond this is moved into its rest rotation
+
+
+def rebase_motors(km, ws) -> bool:
+    """Move the twist of every servo motor joint beyond REBASE_TWIST into the joint's rest
+    rotation (between steps, ws holding the evaluation of the state reached): R0 <- R0 Rx(tw)
+    and motor_shift += tw, so the joint's rotation vector theta = log(R0^T R_a^T R_b), unique
+    within +-pi, stays small however far the motor slews (docs/theory.md, 'Slewing motor with
+    a torque limit'). The elastic law is unchanged to first order in the joint's (tiny)
+    bending; the servo's set angle is shifted by the same tw (rfesim.loads.drives). Returns
+    True when a joint was rebased (the factorised Jacobian then belongs to the old rest)."""
+    moved = False
+    for j in range(km.motor_sde.shape[0]):
+        s = int(km.motor_sde[j])
+        tw = float(ws.eps[s, 3])
+        if abs(tw) <= REBASE_TWIST:
+            continue
+        km.sde_rest[s] = km.sde_rest[s] @ axis_rotation(np.array([1.0, 0.0, 0.0]), tw)
+        if km.sde_has_rest[s] == 0:
+            km.sde_has_rest[s] = 1
+        km.motor_shift[j] += tw
+        moved = True
+    return moved

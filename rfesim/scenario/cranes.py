@@ -283,13 +283,6 @@ class ColumnCrane(_Crane):
     @model_validator(mode="after")
     def _drives(self):
         _check_profile(self.slewing_deg, "slewing_deg", -3600.0, 3600.0)
-        if self.slewing_motor is not None and not isinstance(self.slewing_deg, (int, float)):
-            a0 = _initial(self.slewing_deg)
-            for i, row in enumerate(self.slewing_deg):
-                if abs(row[1] - a0) >= 170.0:
-                    raise FieldError(f"slewing_deg.{i}", f"{row[1]} deg is {abs(row[1] - a0):g} deg from the start "
-                                                         f"({a0:g} deg): a slewing motor turns the crane less than "
-                                                         f"170 deg from its start")
         _luffing(self, "luffing_deg", -10.0, 85.0)
         return self
 

@@ -13,7 +13,7 @@ import time as _time
 
 import numpy as np
 
-from ..errors import CancelledError, SolverError
+from ..errors import CancelledError, ScenarioError, SolverError
 from ..model.assemble import solve_accelerations
 from ..model.compile import State
 from .banded import bt_matvec
@@ -403,11 +403,27 @@ def _raise(system: System, fail: np.ndarray, status: int, make_results, what: st
     raise SolverError(f"the run diverged: {quantity}", time=t, element=where, quantity=quantity, results=res)
 
 
+def _check_motor_rates(km, out_dt: float) -> None:
+    """A servo motor's joint is rebased between output intervals (rfesim.model.joins.
+    rebase_motors): it must turn less than 90 deg within one interval (its set angle's
+    rate, bounded by 3x the steepest secant of its table, times the interval)."""
+    for j in range(km.motor_sde.shape[0]):
+        c = int(km.motor_count[j])
+        t, a = km.motor_t[j, :c], km.motor_angle[j, :c]
+        rate = 3.0 * float(np.max(np.abs(np.diff(a) / np.diff(t)))) if c > 1 else 0.0
+        if rate * out_dt >= 0.5 * math.pi:
+            raise ScenarioError([("analysis.dynamics.output_interval",
+                                  f"{out_dt:g} s is too long for a servo motor turning up to "
+                                  f"{math.degrees(rate):.4g} deg/s: its joint is rebased between outputs and must "
+                                  f"turn less than 90 deg in one (give at most {0.5 * math.pi / rate:.3g} s)")])
+
+
 def run_dynamics(system: System, state: State, settings, progress=None, recorder: Recorder | None = None,
                  counters: Counters | None = None) -> tuple[State, Recorder, Counters]:
     """Integrate from state.t over settings.duration, recording at output times."""
     from ..model.reeving import check_dynamics
     check_dynamics(system.model)
+    from ..model.joins import rebase_motors
     integ = settings.integrator
     T = float(settings.duration)
     t_start = state.t
@@ -445,6 +461,8 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
         h = out_dt / per_out
         counters["time_step"] = h
     n_out = int(math.floor(T / out_dt + 1e-9))
+    if km.has_motors:
+        _check_motor_rates(km, out_dt)
     if recorder is None:
         recorder = Recorder(system, n_out + 2)
     if recorder.k == 0 or recorder.time[recorder.k - 1] < st.t:
@@ -501,6 +519,8 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
                 if status != 0:
                     _raise(system, fail, status, make_results)
                 recorder.record(st, st.qdd)
+                if km.has_motors and rebase_motors(km, ws):
+                    flags[0] = 0           # the factorised Jacobian belongs to the old rest rotation
                 report(st.t)
                 continue
             nsteps = int(round((t_target - st.t) / h))
@@ -560,6 +580,8 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
             counters.add(stats)
             stats[:] = 0
             recorder.record(st, st.qdd)
+            if km.has_motors and rebase_motors(km, ws):
+                flags[0] = 0           # the factorised Jacobian belongs to the old rest rotation
             report(st.t)
     elif integ.kind == "rk4":
         k_q, k_v = z(4, n, 6), z(4, n, 6)
@@ -576,6 +598,8 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
                 _raise(system, fail, status, make_results, "RK4: ")
             st.t = t_target
             recorder.record(st, st.qdd)
+            if km.has_motors:
+                rebase_motors(km, ws)
             report(st.t)
     else:
         k_q, k_v = z(7, n, 6), z(7, n, 6)
@@ -594,6 +618,8 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
                 _raise(system, fail, status, make_results, "adaptive RK: ")
             st.t = t_target
             recorder.record(st, st.qdd)
+            if km.has_motors:
+                rebase_motors(km, ws)
             report(st.t)
     counters["wall_time"] = _time.perf_counter() - wall0
     return st, recorder, counters
