@@ -20,7 +20,6 @@ import numpy as np
 import pytest
 
 import rfesim
-from rfesim.api import _static_state
 from rfesim.crane_results import crane_summary
 from rfesim.errors import ScenarioError
 from rfesim.loads.reeving import reeving_forces
@@ -30,7 +29,7 @@ from rfesim.scenario.cranes import CylinderSpec, cylinder_lever
 from rfesim.solvers.banded import bt_to_dense
 from rfesim.solvers.jacobian import jacobian_analytic
 from rfesim.solvers.kernels import jacobian_fd_general
-from rfesim.solvers.system import System
+from test_cranes import static_system
 
 G = 9.81
 DECK_WINCH = [6.0, 0.0, 3.0]         # forward of the hinge (outboard is -x), vessel frame
@@ -61,14 +60,6 @@ def column(reeving=None):
         tpl["reeving"] = reeving
     return {"environment": {"gravity": G}, "cranes": {"c": tpl},
             "analysis": {"statics": {"enabled": True}, "dynamics": {"enabled": False}}}
-
-
-def static_system(data):
-    sc = rfesim.Scenario.model_validate(data)
-    system = System(compile_scenario(sc))
-    state, info = _static_state(system, sc)
-    system.evaluate(state)
-    return sc, system, state
 
 
 def reference_pull(system, j):
