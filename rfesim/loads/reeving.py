@@ -32,7 +32,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 from numba import njit
 
 from ._common import add_force_moment
@@ -45,20 +44,13 @@ KIND_LINE_END = 1   # an end of a line: the equal and opposite pull acts there
 @njit(cache=True)
 def reeving_forces(rv_sde, rv_kind, rv_att, rv_rfe, rv_point, sde_left, sde_right, sde_arm_left, sde_arm_right,
                    rest_flag, rest_static, rest_eff, R, rbase, roff, sigma, sde_point, att_p, att_R, F, M,
-                   tension_out, dir_out, fdir_out):
+                   tension_out, dir_out, fdir_out, v3, m33):
     """Add every reeving's pull to F, M (global, about the RFE centres). tension_out[j]: the
     tension at the sheave (N); dir_out[j]: the unit direction e from the sheave to the lead;
-    fdir_out[j]: the unit direction of the join's force on the parent (for the Jacobian)."""
-    pa = np.empty(3)
-    pb = np.empty(3)
-    g = np.empty(3)
-    Rrel = np.empty((3, 3))
-    th = np.empty(3)
-    Rh = np.empty((3, 3))
-    Rp = np.empty((3, 3))
-    Jri = np.empty((3, 3))
-    Jrh = np.empty((3, 3))
-    Ras = np.empty((3, 3))
+    fdir_out[j]: the unit direction of the join's force on the parent (for the Jacobian).
+    v3 (>= 4, 3), m33 (>= 6, 3, 3): scratch (the workspace's, as the other SDE corrections)."""
+    pa, pb, g, th = v3[0], v3[1], v3[2], v3[3]
+    Rrel, Rh, Rp, Jri, Jrh, Ras = m33[0], m33[1], m33[2], m33[3], m33[4], m33[5]
     for j in range(rv_sde.shape[0]):
         s = rv_sde[j]
         a = sde_left[s]

@@ -303,7 +303,7 @@ def sde_part(km, att, ws, F, M):
         reeving_forces(km.rv_sde, km.rv_kind, km.rv_att, km.rv_rfe, km.rv_point, km.sde_left, km.sde_right,
                        km.sde_arm_left, km.sde_arm_right, km.sde_has_rest, km.sde_rest, ws.sde_rest_eff, ws.R,
                        ws.rbase, ws.roff, ws.sigma, ws.sde_point, att.p, att.R, F, M, ws.rv_tension, ws.rv_dir,
-                       ws.rv_fdir)
+                       ws.rv_fdir, ws.v3, ws.m33)
 
 
 @njit(cache=True)

@@ -100,7 +100,8 @@ def test_reeving_kernel_against_its_readable_reference(lead):
     T_out, e_out, f_out = np.zeros(1), np.zeros((1, 3)), np.zeros((1, 3))
     reeving_forces(km.rv_sde, km.rv_kind, km.rv_att, km.rv_rfe, km.rv_point, km.sde_left, km.sde_right,
                    km.sde_arm_left, km.sde_arm_right, km.sde_has_rest, km.sde_rest, ws.sde_rest_eff, ws.R,
-                   ws.rbase, ws.roff, ws.sigma, ws.sde_point, att.p, att.R, F, M, T_out, e_out, f_out)
+                   ws.rbase, ws.roff, ws.sigma, ws.sde_point, att.p, att.R, F, M, T_out, e_out, f_out,
+                   np.zeros((32, 3)), np.zeros((16, 3, 3)))
     T, force, moment, L = reference_pull(system, 0)
     a = int(km.sde_left[km.rv_sde[0]])
     assert T > 5e4                                           # the payload and rope hang on the sheave
