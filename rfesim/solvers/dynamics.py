@@ -16,6 +16,8 @@ import numpy as np
 from ..errors import CancelledError, ScenarioError, SolverError
 from ..model.assemble import solve_accelerations
 from ..model.compile import State
+from ..model.joins import rebase_motors
+from ..model.reeving import check_dynamics
 from .banded import bt_matvec
 from .kernels import Q_JACOBIAN, Q_NEWTON, Q_POSITION, Q_VELOCITY, dp_advance, ga_advance, genalpha_parameters, \
     rk4_advance, _DP_A, _DP_B, _DP_C, _DP_E
@@ -421,9 +423,7 @@ def _check_motor_rates(km, out_dt: float) -> None:
 def run_dynamics(system: System, state: State, settings, progress=None, recorder: Recorder | None = None,
                  counters: Counters | None = None) -> tuple[State, Recorder, Counters]:
     """Integrate from state.t over settings.duration, recording at output times."""
-    from ..model.reeving import check_dynamics
     check_dynamics(system.model)
-    from ..model.joins import rebase_motors
     integ = settings.integrator
     T = float(settings.duration)
     t_start = state.t
