@@ -112,8 +112,12 @@ def drive_angles(km, info: JoinInfo, t: float) -> list[float]:
 
 def axis_rotation(axis: np.ndarray, angle: float) -> np.ndarray:
     """Rot(axis, angle) (Rodrigues; axis a unit vector)."""
-    K = np.array([[0.0, -axis[2], axis[1]], [axis[2], 0.0, -axis[0]], [-axis[1], axis[0], 0.0]])
-    return np.eye(3) + math.sin(angle) * K + (1.0 - math.cos(angle)) * (K @ K)
+    x, y, z = float(axis[0]), float(axis[1]), float(axis[2])
+    s, c1 = math.sin(angle), 1.0 - math.cos(angle)
+    # I + s K + (1 - cos) K^2, K = [axis]x and K^2 = a a^T - I (unit axis), written out
+    return np.array([[1.0 - c1 * (y * y + z * z), c1 * x * y - s * z, c1 * x * z + s * y],
+                     [c1 * x * y + s * z, 1.0 - c1 * (x * x + z * z), c1 * y * z - s * x],
+                     [c1 * x * z - s * y, c1 * y * z + s * x, 1.0 - c1 * (x * x + y * y)]])
 
 
 def rest_rotation(km, info: JoinInfo, t: float, angles: list[float] | None = None

@@ -91,6 +91,10 @@ def _max_damping_ratio(system: System) -> float:
     return float(z.max()) if z.size else 0.0
 
 
+SDE_CHANNELS = ("tension", "shear_force", "bend_moment", "torque", "curvature")
+END_CHANNELS = ("end_a_force", "end_b_force", "end_a_moment", "end_b_moment", "end_a_direction", "end_b_direction")
+
+
 class Recorder:
     """Preallocated output arrays, filled at output times."""
 
@@ -111,14 +115,23 @@ class Recorder:
         self.k = 0
         self.time = np.zeros(nt)
         self.line_data = {}
-        for li in model.lines:
+        # the channels written for every line at every output live in one array per channel
+        # over all lines (each line's arrays are views of its part), so that an output time
+        # copies each channel once instead of once per line
+        nsde = model.nsde
+        nl = len(model.lines)
+        self._sde_out = {ch: np.zeros((nt, nsde)) for ch in SDE_CHANNELS}
+        self._pos_out = np.zeros((nt, sum(li.elements + 2 for li in model.lines), 3))
+        self._end_out = {ch: np.zeros((nt, nl, 3)) for ch in END_CHANNELS}
+        self._ia = np.array([li.rfe_start for li in model.lines], np.int64)
+        self._ib = np.array([li.rfe_stop - 1 for li in model.lines], np.int64)
+        row = 0
+        for j, li in enumerate(model.lines):
             npts = li.elements + 2
             self.line_data[li.name] = {
-                "position": np.zeros((nt, npts, 3)),
-                **{ch: np.zeros((nt, li.elements)) for ch in ("tension", "shear_force", "bend_moment", "torque",
-                                                               "curvature")},
-                **{ch: np.zeros((nt, 3)) for ch in ("end_a_force", "end_b_force", "end_a_moment", "end_b_moment",
-                                                     "end_a_direction", "end_b_direction")},
+                "position": self._pos_out[:, row:row + npts],
+                **{ch: self._sde_out[ch][:, li.sde_start:li.sde_stop] for ch in SDE_CHANNELS},
+                **{ch: self._end_out[ch][:, j] for ch in END_CHANNELS},
                 "seabed_force": np.zeros((nt, li.nrfe)),
                 "seabed_friction": np.zeros((nt, li.nrfe, 3)),
                 "touchdown_position": np.full((nt, 3), np.nan),
@@ -127,6 +140,7 @@ class Recorder:
                 "utilisation": np.full((nt, li.elements), np.nan),
                 "residual_curvature": np.zeros((nt, li.elements)),
             }
+            row += npts
         for ji in getattr(model, "joins", []):     # drives of a joined line end (rfesim.model.joins)
             if ji.drive_names:
                 for ch in ("drive_angle", "drive_torque"):
@@ -134,7 +148,6 @@ class Recorder:
         self.vessel_names = list(model.scenario.vessels)
         self.vessel_pos = np.zeros((nt, len(self.vessel_names), 3))
         self.vessel_rot = np.zeros((nt, len(self.vessel_names), 3))
-        nsde = model.nsde
         self._ch = {ch: np.zeros(nsde) for ch in ("tension", "shear_force", "bend_moment", "torque", "curvature")}
         self._react = np.zeros((model.n, 6))
         # the points of every line in one buffer (rows li.elements + 2 per line)
@@ -202,34 +215,19 @@ class Recorder:
             from ..materials.residual_curvature import residual_curvature_into
             residual_curvature_into(km.plastic_params, ws.plastic_hist_trial, km.sde_plastic, self._residual_work,
                                     ws.out5, self._residual)
-        for li in sysm.model.lines:
-            d = self.line_data[li.name]
-            d["position"][k] = self._pts[li.name]
-            for name in ("tension", "shear_force", "bend_moment", "torque", "curvature"):
-                d[name][k] = ch[name][li.sde_start:li.sde_stop]
-            # force of the line on its attachment = - constraint force on the end RFE
-            ia, ib = li.rfe_start, li.rfe_stop - 1
-            d["end_a_force"][k] = -self._react[ia, :3]
-            d["end_b_force"][k] = -self._react[ib, :3]
-            d["end_a_moment"][k] = -self._react[ia, 3:]
-            d["end_b_moment"][k] = -self._react[ib, 3:]
-            if km.has_seabed:           # zero (as allocated) without a seabed
-                d["seabed_force"][k] = ws.contact_force[li.rfe_start:li.rfe_stop]
-                d["seabed_friction"][k] = ws.friction_force[li.rfe_start:li.rfe_stop]
-            if li.name in self._stress_geometry:
-                from ..materials.sde_plastic import pipe_stress_into
-                out = np.zeros((li.elements, 7))
-                pipe_stress_into(ws.sigma[li.sde_start:li.sde_stop], self._stress_geometry[li.name], out)
-                d["von_mises_stress"][k] = out[:, 5]
-                d["utilisation"][k] = out[:, 6]
-            if km.has_plastic:
-                d["residual_curvature"][k] = self._residual[li.sde_start:li.sde_stop]
-            if km.has_seabed:
-                td = touchdown(km, ws, li)
-                if td is not None:
-                    d["touchdown_arc_length"][k], d["touchdown_position"][k] = td
-            d["end_a_direction"][k] = ws.R[ia, :, 0]
-            d["end_b_direction"][k] = ws.R[ib, :, 0]
+        self._pos_out[k] = self._pts_all
+        for name, out in self._sde_out.items():
+            out[k] = ch[name]
+        # force and moment of a line on its attachment = - constraint force on the end RFE
+        E, react, ia, ib = self._end_out, self._react, self._ia, self._ib
+        np.negative(react[ia, :3], out=E["end_a_force"][k])
+        np.negative(react[ib, :3], out=E["end_b_force"][k])
+        np.negative(react[ia, 3:], out=E["end_a_moment"][k])
+        np.negative(react[ib, 3:], out=E["end_b_moment"][k])
+        E["end_a_direction"][k] = ws.R[ia, :, 0]
+        E["end_b_direction"][k] = ws.R[ib, :, 0]
+        if km.has_seabed or km.has_plastic or self._stress_geometry:
+            self._record_line_extras(k, km, ws)
         for j, name in enumerate(self.vessel_names):
             a = 1 + j
             self.vessel_pos[k, j] = sysm.att.p[a]
@@ -263,6 +261,26 @@ class Recorder:
             self.roller_force[k] = ws.roller_force
         self.k += 1
 
+    def _record_line_extras(self, k: int, km, ws) -> None:
+        """The line channels of a seabed and of elasto-plastic pipe, line by line."""
+        for li in self.system.model.lines:
+            d = self.line_data[li.name]
+            if km.has_seabed:           # zero (as allocated) without a seabed
+                d["seabed_force"][k] = ws.contact_force[li.rfe_start:li.rfe_stop]
+                d["seabed_friction"][k] = ws.friction_force[li.rfe_start:li.rfe_stop]
+            if li.name in self._stress_geometry:
+                from ..materials.sde_plastic import pipe_stress_into
+                out = np.zeros((li.elements, 7))
+                pipe_stress_into(ws.sigma[li.sde_start:li.sde_stop], self._stress_geometry[li.name], out)
+                d["von_mises_stress"][k] = out[:, 5]
+                d["utilisation"][k] = out[:, 6]
+            if km.has_plastic:
+                d["residual_curvature"][k] = self._residual[li.sde_start:li.sde_stop]
+            if km.has_seabed:
+                td = touchdown(km, ws, li)
+                if td is not None:
+                    d["touchdown_arc_length"][k], d["touchdown_position"][k] = td
+
     def _record_tuggers(self, k: int, ws) -> None:
         """Tension, length and force on the body of each tugger line (rfesim.loads.tugger)."""
         km = self.system.km
@@ -292,7 +310,7 @@ class Recorder:
             d["angular_velocity"][k] = ws.w[i]
             force, moment = connection_force(km, ws, b, self._end[nj + jb])
             d["connection_force"][k] = force
-            d["connection_tension"][k] = np.linalg.norm(force)
+            d["connection_tension"][k] = math.sqrt(force[0] * force[0] + force[1] * force[1] + force[2] * force[2])
             frac = float(ws.sub_frac[i]) if km.has_bodies else 0.0
             d["submerged_fraction"][k] = frac
             d["buoyancy"][k] = km.water_density * km.gravity * b.volume * frac
