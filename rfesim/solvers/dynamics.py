@@ -148,17 +148,15 @@ class Recorder:
         self.vessel_names = list(model.scenario.vessels)
         self.vessel_pos = np.zeros((nt, len(self.vessel_names), 3))
         self.vessel_rot = np.zeros((nt, len(self.vessel_names), 3))
-        self._ch = {ch: np.zeros(nsde) for ch in ("tension", "shear_force", "bend_moment", "torque", "curvature")}
+        self._ch = {ch: np.zeros(nsde) for ch in SDE_CHANNELS}
         self._react = np.zeros((model.n, 6))
         # the points of every line in one buffer (rows li.elements + 2 per line)
         self._pts_all = np.zeros((sum(li.elements + 2 for li in model.lines), 3))
         self._line_ranges = np.zeros((len(model.lines), 5), np.int64)
-        self._pts = {}
         row = 0
         for j, li in enumerate(model.lines):
             assert li.sde_stop - li.sde_start == li.elements
             self._line_ranges[j] = (li.rfe_start, li.rfe_stop, li.sde_start, li.sde_stop, row)
-            self._pts[li.name] = self._pts_all[row:row + li.elements + 2]
             row += li.elements + 2
         nr = model.km.roller_attach.shape[0]
         self.roller_reaction = np.zeros((nt, nr))
