@@ -93,6 +93,7 @@ def drive_rows(joins_drives: list[tuple[int, np.ndarray, list]]) -> list[dict]:
 
 
 _DRIVE_TABLE = []
+_DRIVE_ROWS: dict = {}      # drive row -> (drive_t, drive_angle, drive_slope, their row slices)
 
 
 def drive_angle(km, j: int, t: float) -> float:
@@ -101,8 +102,16 @@ def drive_angle(km, j: int, t: float) -> float:
         from ..loads.drives import drive_table
         from ..solvers.fastcall import FastCall
         _DRIVE_TABLE.append(FastCall(drive_table))      # called at every recorded time
-    c = int(km.drive_count[j])
-    return float(_DRIVE_TABLE[0](km.drive_t[j, :c], km.drive_angle[j, :c], km.drive_slope[j, :c], float(t))[0])
+    # the row's table slices, kept while the model's arrays are the same objects: the compiled
+    # call then sees the same arguments as last time and skips their checks
+    held = _DRIVE_ROWS.get(j)
+    if held is None or held[0] is not km.drive_t or held[1] is not km.drive_angle or held[2] is not km.drive_slope:
+        c = int(km.drive_count[j])
+        held = (km.drive_t, km.drive_angle, km.drive_slope,
+                (km.drive_t[j, :c], km.drive_angle[j, :c], km.drive_slope[j, :c]))
+        _DRIVE_ROWS[j] = held
+    tab = held[3]
+    return float(_DRIVE_TABLE[0](tab[0], tab[1], tab[2], float(t))[0])
 
 
 def drive_angles(km, info: JoinInfo, t: float) -> list[float]:

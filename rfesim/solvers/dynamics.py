@@ -16,7 +16,9 @@ import numpy as np
 from ..errors import CancelledError, ScenarioError, SolverError
 from ..model.assemble import solve_accelerations
 from ..model.compile import State
-from ..model.joins import rebase_motors
+from ..kinematics import rotation_to_zyx
+from ..model.bodies import connection_force
+from ..model.joins import drive_angles, drive_outputs, joint_loads, rebase_motors
 from ..model.reeving import check_dynamics
 from .banded import bt_matvec
 from .kernels import Q_JACOBIAN, Q_NEWTON, Q_POSITION, Q_VELOCITY, dp_advance, ga_advance, genalpha_parameters, \
@@ -192,7 +194,6 @@ class Recorder:
                 self._stress_geometry[li.name] = np.tile(row, (li.elements, 1))
 
     def record(self, state: State, qdd: np.ndarray) -> None:
-        from ..kinematics import rotation_to_zyx
         if self.k >= self.nt:
             return
         sysm = self.system
@@ -231,7 +232,7 @@ class Recorder:
             self.vessel_pos[k, j] = sysm.att.p[a]
             R_rel = sysm.vs.R_heading[a].T @ sysm.att.R[a]
             psi, theta, phi = rotation_to_zyx(R_rel)
-            self.vessel_rot[k, j] = np.degrees([phi, theta, psi])
+            self.vessel_rot[k, j] = (math.degrees(phi), math.degrees(theta), math.degrees(psi))
         if km.has_tensioners:
             from ..loads.tensioner import tensioner_payout
             for ti in sysm.model.tensioners:
@@ -293,8 +294,6 @@ class Recorder:
             self.tug_force[k, j] = ws.tug_tension[j] * (D - P) / L if L > 1e-9 else 0.0
 
     def _record_bodies(self, k: int, ws, qdd: np.ndarray) -> None:
-        from ..kinematics import rotation_to_zyx
-        from ..model.bodies import connection_force
         km = self.system.km
         nj = len(getattr(self.system.model, "joins", []))
         for jb, b in enumerate(self.system.model.bodies):
@@ -304,7 +303,7 @@ class Recorder:
             d["velocity"][k] = ws.v[i]
             d["acceleration"][k] = qdd[i, :3]
             psi, theta, phi = rotation_to_zyx(ws.R[i])
-            d["rotation"][k] = np.degrees([phi, theta, psi])
+            d["rotation"][k] = (math.degrees(phi), math.degrees(theta), math.degrees(psi))
             d["angular_velocity"][k] = ws.w[i]
             force, moment = connection_force(km, ws, b, self._end[nj + jb])
             d["connection_force"][k] = force
@@ -319,7 +318,6 @@ class Recorder:
 
     def _record_joins(self, k: int, ws, t: float) -> None:
         """The joint loads as the end loads of the two joined lines, and the drive channels."""
-        from ..model.joins import drive_angles, drive_outputs, joint_loads
         km = self.system.km
         for j, ji in enumerate(self.system.model.joins):
             angles = drive_angles(km, ji, t) if ji.drive_stop > ji.drive_start else None
