@@ -68,6 +68,10 @@ class SeaSpec(NamedTuple):
     elevation_bound: float      # m, sum |a_w|: no surface elevation exceeds it
     deep_z: float               # m, stretched height (from still water) below which every component together
                                 #   is below the kinematics cut-off (-inf: no cut-off)
+    profile_den: np.ndarray     # (nc,) 1 - exp(-2 k h) (1 in deep water): the finite-depth profiles' denominator
+    profile_e2: np.ndarray      # (nc,) exp(-2 k h) (0 in deep water)
+    skip_below: np.ndarray      # (nc,) m, stretched height below which the component is below SKIP_DEPTH of the
+                                #   sea's velocity bound (not evaluated; inf: never evaluated)
 
 
 def deep_cutoff_height(waves, cutoff: float) -> float:
@@ -133,7 +137,20 @@ def pack_sea(waves, current, surface_level: float, kinematics_cutoff: float = 0.
         current_factor=np.ascontiguousarray(current.factor, dtype=np.float64),
         elevation_bound=float(np.abs(waves.amplitude).sum()) if nc > 0 else 0.0,
         deep_z=float(deep_cutoff_height(waves, kinematics_cutoff)),
+        **_component_constants(waves),
     )
+
+
+def _component_constants(waves) -> dict:
+    """The per-component constants of the kinematics (``sea_component_constants``), once per sea."""
+    nc = waves.amplitude.size
+    den, e2, lim = np.empty(nc), np.empty(nc), np.empty(nc)
+    if nc > 0:
+        sea_component_constants(np.ascontiguousarray(waves.velocity_coefficients(), dtype=np.float64),
+                                np.ascontiguousarray(waves.omega, dtype=np.float64),
+                                np.ascontiguousarray(waves.wavenumber, dtype=np.float64), float(waves.depth),
+                                den, e2, lim)
+    return dict(profile_den=den, profile_e2=e2, skip_below=lim)
 
 
 def sea_spec(environment) -> SeaSpec:
@@ -165,6 +182,34 @@ def interp_clamped(xs, ys, x):
 
 
 SKIP_DEPTH = 1e-17      # a component below this fraction of the sea's velocity bound is skipped
+
+
+@njit(cache=True)
+def sea_component_constants(velocity, omega, wavenumber, h, den, e2, lim):
+    """Per wave component (docs/theory.md 'Sea kinematics at depth'): the denominator of the
+    finite-depth profiles 1 - exp(-2 k h), exp(-2 k h), and the stretched height ``lim``
+    below which the component's velocity and acceleration are below SKIP_DEPTH of the whole
+    sea's bound sum |a_w| (1 + omega) (negligible at round-off: it is not evaluated).
+    Independent of time and place: packed once with the sea (pack_sea)."""
+    nc = velocity.shape[0]
+    deep = math.isinf(h)
+    vref = 0.0
+    for j in range(nc):
+        vref += abs(velocity[j]) * (1.0 + omega[j])
+    for j in range(nc):
+        k = wavenumber[j]
+        if deep:
+            den[j] = 1.0
+            e2[j] = 0.0
+        else:
+            den[j] = -math.expm1(-2.0 * k * h)
+            e2[j] = math.exp(-2.0 * k * h)
+        # |C|, |S| <= 2 exp(k z_s) / den for z_s >= -h
+        bound = 2.0 * abs(velocity[j]) * (1.0 + omega[j]) / den[j]
+        if bound <= 0.0 or k <= 0.0:
+            lim[j] = np.inf
+        else:
+            lim[j] = math.log(SKIP_DEPTH * vref / bound) / k
 
 
 @njit(cache=True)
@@ -215,31 +260,10 @@ def sea_kinematics_reach(ss, t, points, reach, use_reach, eta, vel, acc):
         factor = interp_clamped(ss.current_time, ss.current_factor, t)
     cth = np.empty(nc)
     sth = np.empty(nc)
-    # per component, once per call (docs/theory.md 'Sea kinematics at depth'): denominators
-    # of the finite-depth profiles, exp(-2 k h), and the stretched height ``lim`` below which
-    # the component's velocity and acceleration are below SKIP_DEPTH of the whole sea's
-    # bound sum |a_w| (1 + omega) (negligible at round-off: it is not evaluated)
-    den = np.empty(nc)
-    e2 = np.empty(nc)
-    lim = np.empty(nc)
-    if waves:
-        vref = 0.0
-        for j in range(nc):
-            vref += abs(ss.velocity[j]) * (1.0 + ss.omega[j])
-        for j in range(nc):
-            k = ss.wavenumber[j]
-            if deep:
-                den[j] = 1.0
-                e2[j] = 0.0
-            else:
-                den[j] = -math.expm1(-2.0 * k * h)
-                e2[j] = math.exp(-2.0 * k * h)
-            # |C|, |S| <= 2 exp(k z_s) / den for z_s >= -h
-            bound = 2.0 * abs(ss.velocity[j]) * (1.0 + ss.omega[j]) / den[j]
-            if bound <= 0.0 or k <= 0.0:
-                lim[j] = np.inf
-            else:
-                lim[j] = math.log(SKIP_DEPTH * vref / bound) / k
+    # per component, packed once with the sea (sea_component_constants)
+    den = ss.profile_den
+    e2 = ss.profile_e2
+    lim = ss.skip_below
     # kinematics cut-off at depth (docs/theory.md 'Wave kinematics cut-off at depth'): below
     # the surface whatever its elevation (|eta| <= r sum |a_w|), a point whose highest possible
     # stretched height is below ss.deep_z gets no wave kinematics and no elevation sum

@@ -158,3 +158,22 @@ def test_kinematics_cutoff_at_depth(depth, stretching):
         for g, w in zip(got, want):
             scale = max(1.0, float(np.max(np.abs(w))))
             assert np.max(np.abs(g[~skipped] - w[~skipped])) <= ROUNDOFF * scale
+
+
+def test_component_constants_packed_once_match_their_formulas():
+    """pack_sea packs each component's profile denominator, exp(-2 k h) and skip height
+    (sea_component_constants) once; they are the closed forms, in finite and deep water."""
+    rng = np.random.default_rng(5)
+    for depth in (60.0, None):
+        waves = broad_sea(rng, depth, "wheeler")
+        spec = pack_sea(waves, no_current(), 0.0)
+        k = waves.wavenumber
+        V = np.abs(waves.velocity_coefficients()) * (1.0 + waves.omega)
+        if depth is None:
+            den, e2 = np.ones_like(k), np.zeros_like(k)
+        else:
+            den, e2 = 1.0 - np.exp(-2.0 * k * depth), np.exp(-2.0 * k * depth)
+        lim = np.log(SKIP_DEPTH * V.sum() / (2.0 * V / den)) / k
+        np.testing.assert_allclose(spec.profile_den, den, rtol=1e-13)
+        np.testing.assert_allclose(spec.profile_e2, e2, rtol=1e-13, atol=0.0)
+        np.testing.assert_allclose(spec.skip_below, lim, rtol=1e-12)
