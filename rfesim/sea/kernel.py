@@ -115,12 +115,15 @@ def pack_sea(waves, current, surface_level: float, kinematics_cutoff: float = 0.
     ``kinematics_cutoff`` as in :func:`deep_cutoff_height` (0: none)."""
     nc = waves.amplitude.size
     has_current = current.z.size > 0
+    velocity = np.ascontiguousarray(waves.velocity_coefficients(), dtype=np.float64)
+    omega = np.ascontiguousarray(waves.omega, dtype=np.float64)
+    wavenumber = np.ascontiguousarray(waves.wavenumber, dtype=np.float64)
     return SeaSpec(
         has_waves=bool(nc > 0),
         amplitude=np.ascontiguousarray(waves.amplitude, dtype=np.float64),
-        velocity=np.ascontiguousarray(waves.velocity_coefficients(), dtype=np.float64),
-        omega=np.ascontiguousarray(waves.omega, dtype=np.float64),
-        wavenumber=np.ascontiguousarray(waves.wavenumber, dtype=np.float64),
+        velocity=velocity,
+        omega=omega,
+        wavenumber=wavenumber,
         phase=np.ascontiguousarray(waves.phase, dtype=np.float64),
         cos_direction=np.ascontiguousarray(np.cos(waves.direction), dtype=np.float64),
         sin_direction=np.ascontiguousarray(np.sin(waves.direction), dtype=np.float64),
@@ -137,19 +140,16 @@ def pack_sea(waves, current, surface_level: float, kinematics_cutoff: float = 0.
         current_factor=np.ascontiguousarray(current.factor, dtype=np.float64),
         elevation_bound=float(np.abs(waves.amplitude).sum()) if nc > 0 else 0.0,
         deep_z=float(deep_cutoff_height(waves, kinematics_cutoff)),
-        **_component_constants(waves),
+        **_component_constants(velocity, omega, wavenumber, float(waves.depth)),
     )
 
 
-def _component_constants(waves) -> dict:
+def _component_constants(velocity, omega, wavenumber, depth: float) -> dict:
     """The per-component constants of the kinematics (``sea_component_constants``), once per sea."""
-    nc = waves.amplitude.size
+    nc = velocity.shape[0]
     den, e2, lim = np.empty(nc), np.empty(nc), np.empty(nc)
     if nc > 0:
-        sea_component_constants(np.ascontiguousarray(waves.velocity_coefficients(), dtype=np.float64),
-                                np.ascontiguousarray(waves.omega, dtype=np.float64),
-                                np.ascontiguousarray(waves.wavenumber, dtype=np.float64), float(waves.depth),
-                                den, e2, lim)
+        sea_component_constants(velocity, omega, wavenumber, depth, den, e2, lim)
     return dict(profile_den=den, profile_e2=e2, skip_below=lim)
 
 
