@@ -117,8 +117,11 @@ def sde_channels(ws, sde_length, tension, shear, bend, torque, curvature):
 @njit(cache=True)
 def sde_end_loads_many(km, ws, sdes, F, M, out):
     """sde_end_loads of each SDE in ``sdes`` into out (m, 4, 3)."""
+    # one set of scratch arrays for all of them (allocating and zeroing it per SDE cost more
+    # than the SDE's loads)
+    sc = _end_scratch()
     for j in range(sdes.shape[0]):
-        sde_end_loads(km, ws, sdes[j], F, M, out[j])
+        sde_end_loads_scratch(km, ws, sdes[j], F, M, out[j], sc[0], sc[1], sc[2], sc[3], sc[4], sc[5], sc[6])
 
 
 @njit(cache=True)
@@ -127,6 +130,23 @@ def sde_end_loads(km, ws, s, F, M, out):
     point at the SDE (eq. 8.90, as rfesim.loads.sde.sde_forces_rest_into applies them, rest
     rotations and drives included): out (4, 3) = [force on the left RFE, its moment, force
     on the right RFE, its moment]. F, M (n, 3) are scratch."""
+    sc = _end_scratch()
+    sde_end_loads_scratch(km, ws, s, F, M, out, sc[0], sc[1], sc[2], sc[3], sc[4], sc[5], sc[6])
+
+
+@njit(cache=True)
+def _end_scratch():
+    """Scratch of sde_end_loads_scratch: sig (1, 6), eps (1, 6), point (1, 3), v3 (32, 3),
+    m33 (16, 3, 3), arm (3,), tmp (3,). Not zeroed: the SDE kernel writes every entry of
+    it before reading it (tests/unit/test_kernel_recording.py fills it with NaN)."""
+    return (np.empty((1, 6)), np.empty((1, 6)), np.empty((1, 3)), np.empty((32, 3)), np.empty((16, 3, 3)),
+            np.empty(3), np.empty(3))
+
+
+@njit(cache=True)
+def sde_end_loads_scratch(km, ws, s, F, M, out, sig, eps, point, v3, m33, arm, tmp):
+    """sde_end_loads with its scratch arrays given (_end_scratch; the SDE kernel writes each
+    entry before it reads it, so they need no zeroing)."""
     a = km.sde_left[s]
     b = km.sde_right[s]
     for k in range(3):
@@ -134,16 +154,12 @@ def sde_end_loads(km, ws, s, F, M, out):
         F[b, k] = 0.0
         M[a, k] = 0.0
         M[b, k] = 0.0
-    sig = np.zeros((1, 6))
-    v3 = np.zeros((32, 3))
-    m33 = np.zeros((16, 3, 3))
     lo = s if km.sde_has_rest.shape[0] > s else 0
     hi = s + 1 if km.sde_has_rest.shape[0] > s else 0
     sde_forces_rest_into(km.sde_left[s:s + 1], km.sde_right[s:s + 1], km.sde_arm_left[s:s + 1],
                          km.sde_arm_right[s:s + 1], km.sde_stiffness[s:s + 1], km.sde_damping[s:s + 1],
                          km.sde_has_rest[lo:hi], km.sde_rest[lo:hi], ws.sde_rest_eff[lo:hi], ws.sde_rest_rate[lo:hi],
-                         ws.R, ws.rbase, ws.roff, ws.v, ws.w, F, M, np.zeros((1, 6)), sig,
-                         np.zeros((1, 3)), v3, m33)
+                         ws.R, ws.rbase, ws.roff, ws.v, ws.w, F, M, eps, sig, point, v3, m33)
     if km.has_motors:
         for j in range(km.motor_sde.shape[0]):
             if km.motor_sde[j] == s:
@@ -151,8 +167,6 @@ def sde_end_loads(km, ws, s, F, M, out):
                 torsion_moment_into(s, ws.sigma[s, 3] - sig[0, 3], km.sde_left, km.sde_right, km.sde_arm_left,
                                     km.sde_arm_right, km.sde_has_rest, km.sde_rest, ws.sde_rest_eff, ws.R, ws.rbase,
                                     ws.roff, M, v3, m33)
-    arm = np.empty(3)
-    tmp = np.empty(3)
     for side in range(2):
         i = a if side == 0 else b
         matvec_into(ws.R[i], km.sde_arm_left[s] if side == 0 else km.sde_arm_right[s], arm)

@@ -23,6 +23,7 @@ from ..model.reeving import check_dynamics
 from .banded import bt_matvec
 from .kernels import Q_JACOBIAN, Q_NEWTON, Q_POSITION, Q_VELOCITY, dp_advance, ga_advance, genalpha_parameters, \
     rk4_advance, _DP_A, _DP_B, _DP_C, _DP_E
+from .recording import END_ORDER, SDE_ORDER
 from .system import System
 from ..results import WINCH_CHANNELS
 
@@ -122,9 +123,17 @@ class Recorder:
         # copies each channel once instead of once per line
         nsde = model.nsde
         nl = len(model.lines)
-        self._sde_out = {ch: np.zeros((nt, nsde)) for ch in SDE_CHANNELS}
+        # (stacked in the order the compiled recording writes them, rfesim.solvers.recording)
+        self._sde_hist = np.zeros((len(SDE_ORDER), nt, nsde))
+        self._sde_out = {ch: self._sde_hist[SDE_ORDER.index(ch)] for ch in SDE_CHANNELS}
         self._pos_out = np.zeros((nt, sum(li.elements + 2 for li in model.lines), 3))
-        self._end_out = {ch: np.zeros((nt, nl, 3)) for ch in END_CHANNELS}
+        self._ends_hist = np.zeros((len(END_ORDER), nt, nl, 3))
+        self._end_out = {ch: self._ends_hist[END_ORDER.index(ch)] for ch in END_CHANNELS}
+        # seabed channels over all RFEs and the touchdown point per line (views per line below)
+        self._seabed_out = np.zeros((nt, model.n))
+        self._friction_out = np.zeros((nt, model.n, 3))
+        self._td_pos = np.full((nt, nl, 3), np.nan)
+        self._td_arc = np.full((nt, nl), np.nan)
         self._ia = np.array([li.rfe_start for li in model.lines], np.int64)
         self._ib = np.array([li.rfe_stop - 1 for li in model.lines], np.int64)
         row = 0
@@ -134,10 +143,10 @@ class Recorder:
                 "position": self._pos_out[:, row:row + npts],
                 **{ch: self._sde_out[ch][:, li.sde_start:li.sde_stop] for ch in SDE_CHANNELS},
                 **{ch: self._end_out[ch][:, j] for ch in END_CHANNELS},
-                "seabed_force": np.zeros((nt, li.nrfe)),
-                "seabed_friction": np.zeros((nt, li.nrfe, 3)),
-                "touchdown_position": np.full((nt, 3), np.nan),
-                "touchdown_arc_length": np.full(nt, np.nan),
+                "seabed_force": self._seabed_out[:, li.rfe_start:li.rfe_stop],
+                "seabed_friction": self._friction_out[:, li.rfe_start:li.rfe_stop],
+                "touchdown_position": self._td_pos[:, j],
+                "touchdown_arc_length": self._td_arc[:, j],
                 "von_mises_stress": np.full((nt, li.elements), np.nan),
                 "utilisation": np.full((nt, li.elements), np.nan),
                 "residual_curvature": np.zeros((nt, li.elements)),
@@ -330,6 +339,114 @@ class Recorder:
             if ji.drive_names:
                 child["drive_angle"][k], child["drive_torque"][k] = drive_outputs(km, ji, loads, t, angles)
 
+    # ------------------------------------------------------------ recording inside the step loop
+    def kernel_records(self) -> bool:
+        """True when the compiled run (rfesim.solvers.recording.ga_run) records every channel
+        of this scene: lines (with the seabed and touchdown channels), bodies, joints with
+        prescribed drives, vessels. Scenes with controllers, motors, elasto-plastic pipe,
+        tensioners, reels, tuggers or rollers are recorded in Python (Recorder.record)."""
+        if not self.IN_KERNEL:
+            return False
+        sysm = self.system
+        km = sysm.km
+        if getattr(sysm, "controllers", None) or km.has_motors or km.has_plastic \
+                or self._stress_geometry or km.has_tensioners or km.has_reels or km.has_tuggers or km.has_rollers:
+            return False
+        return all(ji.motor < 0 for ji in getattr(sysm.model, "joins", []))
+
+    IN_KERNEL = True        # tests switch it off to compare with the Python recording
+
+    def kernel_arrays(self):
+        """The RecordArrays the compiled run writes (views of this recorder's arrays)."""
+        if getattr(self, "_rec", None) is not None:
+            return self._rec
+        from .recording import SEL_WIDTH, VESSEL_WIDTH, RecordArrays
+        model = self.system.model
+        km = self.system.km
+        joins = getattr(model, "joins", [])
+        sel = []
+        for b in model.bodies:
+            if b.rfe not in sel:
+                sel.append(b.rfe)
+        for ji in joins:
+            if ji.drive_names and ji.parent_rfe not in sel:
+                sel.append(ji.parent_rfe)
+        self._sel = {i: j for j, i in enumerate(sel)}
+        nt = self.nt
+        self._rec = RecordArrays(
+            time=self.time, sde=self._sde_hist, pos=self._pos_out, ends=self._ends_hist, ia=self._ia, ib=self._ib,
+            line_ranges=self._line_ranges, react=self._react, end_sdes=self._end_sdes, end_F=self._end_F,
+            end_M=self._end_M, end_hist=np.zeros((nt,) + self._end.shape),
+            sel=np.array(sel, np.int64), sel_hist=np.zeros((nt, len(sel), SEL_WIDTH)),
+            body_rfe=np.array([b.rfe for b in model.bodies], np.int64),
+            body_hist=np.zeros((nt, len(model.bodies), 2)),
+            vessel_hist=np.zeros((nt, len(self.vessel_names), VESSEL_WIDTH)),
+            drive_hist=np.zeros((nt, km.drive_count.shape[0])),
+            seabed=self._seabed_out, friction=self._friction_out, td_pos=self._td_pos, td_arc=self._td_arc)
+        return self._rec
+
+    def finish_rows(self, k0: int, k1: int) -> None:
+        """The body, joint and vessel channels of rows k0..k1-1 that the compiled run wrote
+        raw (kernel_arrays), as Recorder.record would have written them."""
+        if k1 <= k0:
+            return
+        rec = self._rec
+        sysm = self.system
+        km = sysm.km
+        rows = slice(k0, k1)
+        for j, name in enumerate(self.vessel_names):
+            raw = rec.vessel_hist[rows, j]
+            self.vessel_pos[rows, j] = raw[:, :3]
+            R_rel = sysm.vs.R_heading[1 + j].T @ raw[:, 3:].reshape(-1, 3, 3)
+            self.vessel_rot[rows, j] = _zyx_degrees(R_rel)
+        model = sysm.model
+        joins = getattr(model, "joins", [])
+        nj = len(joins)
+        for jb, b in enumerate(model.bodies):
+            d = self.body_data[b.name]
+            raw = rec.sel_hist[rows, self._sel[b.rfe]]
+            d["position"][rows] = raw[:, 0:3]
+            d["velocity"][rows] = raw[:, 3:6]
+            d["acceleration"][rows] = raw[:, 6:9]
+            d["angular_velocity"][rows] = raw[:, 9:12]
+            d["rotation"][rows] = _zyx_degrees(raw[:, 12:21].reshape(-1, 3, 3))
+            force = rec.end_hist[rows, nj + jb, 2]
+            moment = rec.end_hist[rows, nj + jb, 3]
+            d["connection_force"][rows] = force
+            d["connection_tension"][rows] = np.sqrt(force[:, 0] * force[:, 0] + force[:, 1] * force[:, 1]
+                                                    + force[:, 2] * force[:, 2])
+            frac = rec.body_hist[rows, jb, 0]
+            d["submerged_fraction"][rows] = frac
+            d["buoyancy"][rows] = km.water_density * km.gravity * b.volume * frac
+            d["deck_force"][rows] = rec.body_hist[rows, jb, 1]
+            line = self.line_data[b.line]           # the line's end B force is the force on the body
+            line["end_b_force"][rows] = force
+            line["end_b_moment"][rows] = moment
+        for j, ji in enumerate(joins):
+            end = rec.end_hist[rows, j]
+            child, parent = self.line_data[ji.child], self.line_data[ji.parent]
+            child["end_a_force"][rows] = -end[:, 2]
+            child["end_a_moment"][rows] = -end[:, 3]
+            parent["end_b_force"][rows] = -end[:, 0]
+            parent["end_b_moment"][rows] = -end[:, 1]
+            if ji.drive_names:
+                angles = rec.drive_hist[rows, ji.drive_start:ji.drive_stop]
+                child["drive_angle"][rows] = np.degrees(angles)
+                on_child = end[:, 3]              # - child moment: the joint moment on the child
+                R_parent = rec.sel_hist[rows, self._sel[ji.parent_rfe], 12:21].reshape(-1, 3, 3)
+                # the drives' axes (rfesim.model.joins.drive_axes), turned by the drives before each
+                D = None
+                last = ji.drive_stop - 1
+                for m, jd in enumerate(range(ji.drive_start, ji.drive_stop)):
+                    a = km.drive_axis[jd]
+                    ax = np.broadcast_to(a, (k1 - k0, 3)) if D is None else D @ a
+                    g = (R_parent @ ax[:, :, None])[:, :, 0]
+                    child["drive_torque"][rows, m] = (on_child[:, 0] * g[:, 0] + on_child[:, 1] * g[:, 1]
+                                                      + on_child[:, 2] * g[:, 2])
+                    if jd < last:
+                        Rj = _axis_rotations(a, angles[:, m] - float(km.drive_phi0[jd]))
+                        D = Rj if D is None else D @ Rj
+
     def results(self, **kw):
         from ..results import LineResults, Results, VesselResults
         nt = self.k
@@ -372,6 +489,33 @@ class Recorder:
         return Results(time=self.time[:nt].copy(), lines=lines, vessels=vessels, supports=supports, bodies=bodies,
                        tensioners=tensioners, reels=reels, winches=winches, tuggers=tuggers,
                        **kw)
+
+
+def _zyx_degrees(R: np.ndarray) -> np.ndarray:
+    """(phi, theta, psi) in degrees of each R (m, 3, 3) = Rz(psi) Ry(theta) Rx(phi):
+    rotation_to_zyx over many rotations, in the order the results store them."""
+    out = np.empty((R.shape[0], 3))
+    out[:, 0] = np.degrees(np.arctan2(R[:, 2, 1], R[:, 2, 2]))
+    out[:, 1] = np.degrees(-np.arcsin(np.clip(R[:, 2, 0], -1.0, 1.0)))
+    out[:, 2] = np.degrees(np.arctan2(R[:, 1, 0], R[:, 0, 0]))
+    return out
+
+
+def _axis_rotations(axis: np.ndarray, angles: np.ndarray) -> np.ndarray:
+    """rfesim.model.joins.axis_rotation(axis, angle) for each angle: (m, 3, 3)."""
+    x, y, z = float(axis[0]), float(axis[1]), float(axis[2])
+    s, c1 = np.sin(angles), 1.0 - np.cos(angles)
+    out = np.empty((angles.shape[0], 3, 3))
+    out[:, 0, 0] = 1.0 - c1 * (y * y + z * z)
+    out[:, 0, 1] = c1 * x * y - s * z
+    out[:, 0, 2] = c1 * x * z + s * y
+    out[:, 1, 0] = c1 * x * y + s * z
+    out[:, 1, 1] = 1.0 - c1 * (x * x + z * z)
+    out[:, 1, 2] = c1 * y * z - s * x
+    out[:, 2, 0] = c1 * x * z - s * y
+    out[:, 2, 1] = c1 * y * z + s * x
+    out[:, 2, 2] = 1.0 - c1 * (x * x + y * y)
+    return out
 
 
 def touchdown(km, ws, li):
@@ -516,7 +660,99 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
                            system.qd_buf, system.A_buf, system.qp, system.rp, system.hs, flags, stats, fail,
                            analytic, system.Ks, system.Kds, system.T, system.Fsde, system.Msde, qdd_prev)
 
-        for k_out in range(1, n_out + 1):
+        def redo(saved, saved_history, nsteps, status):
+            """The output interval from ``saved`` again, step by step, halving a failing step
+            down to h/64; the step that failed (Newton) starts at h/2: at h it was just given
+            two attempts with fresh Jacobians, and a third one at h fails the same way."""
+            j_failed = int(round((float(fail[0]) - saved.t) / h)) - 1 if status == 1 else -1
+            st = saved
+            system.set_history(saved_history)
+            stats[:] = 0
+            flags[0] = 0
+            flags[2] = 0
+            status = 0
+            for j in range(nsteps):
+                t_step0 = saved.t + j * h
+                ok = False
+                step_history = system.history()
+                for level in range(1 if j == j_failed else 0, 7):
+                    sub = 2 ** level
+                    trial = st.copy()
+                    system.set_history(step_history)
+                    trial.t = t_step0
+                    flags[0] = 0
+                    s2 = 0
+                    for m in range(sub):
+                        s2 = ga_call(km, vs, att, ws, trial.q, trial.qd, trial.qdd, trial.aux, trial.ref,
+                                     t_step0 + m * h / sub, h / sub, 1, am, af, beta, gamma, tol,
+                                     integ.max_iterations, integ.jacobian_reuse, mask, system.length_scale,
+                                     force_ref, system.J, system.Fac, system.Q0, system.V0, system.r,
+                                     system.dq, system.qd_buf, system.A_buf, system.qp, system.rp, system.hs,
+                                     flags, stats, fail, analytic, system.Ks, system.Kds, system.T,
+                                     system.Fsde, system.Msde, qdd_prev)
+                        if s2 != 0:
+                            break
+                    if s2 == 0:
+                        st = trial
+                        ok = True
+                        if level > 0:
+                            counters["step_halvings"] = counters.get("step_halvings", 0) + 1
+                        break
+                    status = s2
+                flags[0] = 0
+                if not ok:
+                    st.t = t_step0
+                    counters.add(stats)
+                    _raise(system, fail, status, make_results)
+                st.t = t_step0 + h
+            return st
+
+        if recorder.kernel_records():
+            from .recording import ga_run
+            run_call = FastCall(ga_run)
+            rec = recorder.kernel_arrays()
+            save = (st.q.copy(), st.qd.copy(), st.qdd.copy(), st.aux.copy(), st.ref.R.copy(), st.ref.X.copy(),
+                    stats.copy())
+            hist = system.history()
+            done = np.zeros(1, np.int64)
+            per_out = int(round(out_dt / h))
+
+        fast = recorder.kernel_records()
+        k_out = 1
+        chunk = 4
+        while k_out <= n_out:
+            if fast:
+                # the compiled run records a chunk of output intervals (rfesim.solvers.recording);
+                # an interval that fails comes back rolled back, for the redo below
+                row0 = recorder.k
+                m = min(chunk, n_out - k_out + 1, recorder.nt - row0)
+                if m <= 0:
+                    fast = False        # the recorder is full (a recorder handed in): Python from here
+                else:
+                    tw = _time.perf_counter()
+                    status = run_call(km, vs, att, ws, st.q, st.qd, st.qdd, st.aux, st.ref, t_start, out_dt, k_out, m,
+                                      h, per_out, am, af, beta, gamma, tol, integ.max_iterations,
+                                      integ.jacobian_reuse, mask, system.length_scale, force_ref, system.J,
+                                      system.Fac, system.Q0, system.V0, system.r, system.dq, system.qd_buf,
+                                      system.A_buf, system.qp, system.rp, system.hs, flags, stats, fail, analytic,
+                                      system.Ks, system.Kds, system.T, system.Fsde, system.Msde, qdd_prev, save,
+                                      hist, rec, row0, done)
+                    nd = int(done[0])
+                    recorder.finish_rows(row0, row0 + nd)
+                    recorder.k = row0 + nd
+                    k_out += nd
+                    st.t = t_start + (k_out - 1) * out_dt
+                    counters.add(stats)
+                    stats[:] = 0
+                    if status == 0:
+                        # chunks of about a tenth of a second of wall time between progress reports
+                        if _time.perf_counter() - tw < 0.1 and chunk < 4096:
+                            chunk *= 2
+                        report(st.t)
+                        continue
+                    # the failed interval (state, history and counters rolled back) is redone below
+                    saved = st.copy()
+                    saved_history = system.history()
             t_target = t_start + k_out * out_dt
             if controllers:
                 # winches: one step at a time with the controllers' hooks (rfesim.solvers.controlled)
@@ -536,60 +772,20 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
                 if km.has_motors and rebase_motors(km, ws):
                     flags[0] = 0           # the factorised Jacobian belongs to the old rest rotation
                 report(st.t)
+                k_out += 1
                 continue
             nsteps = int(round((t_target - st.t) / h))
-            saved = st.copy()
-            saved_history = system.history()
-            status = ga_call(km, vs, att, ws, st.q, st.qd, st.qdd, st.aux, st.ref, st.t, h, nsteps, am, af, beta,
-                             gamma, tol, integ.max_iterations, integ.jacobian_reuse, mask, system.length_scale,
-                             force_ref, system.J, system.Fac, system.Q0, system.V0, system.r, system.dq,
-                             system.qd_buf, system.A_buf, system.qp, system.rp, system.hs, flags, stats, fail,
-                             analytic, system.Ks, system.Kds, system.T, system.Fsde, system.Msde, qdd_prev)
+            if not fast:
+                saved = st.copy()
+                saved_history = system.history()
+                status = ga_call(km, vs, att, ws, st.q, st.qd, st.qdd, st.aux, st.ref, st.t, h, nsteps, am, af,
+                                 beta, gamma, tol, integ.max_iterations, integ.jacobian_reuse, mask,
+                                 system.length_scale, force_ref, system.J, system.Fac, system.Q0, system.V0, system.r,
+                                 system.dq, system.qd_buf, system.A_buf, system.qp, system.rp, system.hs, flags,
+                                 stats, fail, analytic, system.Ks, system.Kds, system.T, system.Fsde, system.Msde,
+                                 qdd_prev)
             if status != 0:
-                # redo this output interval step by step, halving a failing step down to h/64;
-                # the step that failed (Newton) starts at h/2: at h it was just given two
-                # attempts with fresh Jacobians, and a third one at h fails the same way
-                j_failed = int(round((float(fail[0]) - saved.t) / h)) - 1 if status == 1 else -1
-                st = saved
-                system.set_history(saved_history)
-                stats[:] = 0
-                flags[0] = 0
-                flags[2] = 0
-                status = 0
-                for j in range(nsteps):
-                    t_step0 = saved.t + j * h
-                    ok = False
-                    step_history = system.history()
-                    for level in range(1 if j == j_failed else 0, 7):
-                        sub = 2 ** level
-                        trial = st.copy()
-                        system.set_history(step_history)
-                        trial.t = t_step0
-                        flags[0] = 0
-                        s2 = 0
-                        for m in range(sub):
-                            s2 = ga_call(km, vs, att, ws, trial.q, trial.qd, trial.qdd, trial.aux, trial.ref,
-                                         t_step0 + m * h / sub, h / sub, 1, am, af, beta, gamma, tol,
-                                         integ.max_iterations, integ.jacobian_reuse, mask, system.length_scale,
-                                         force_ref, system.J, system.Fac, system.Q0, system.V0, system.r,
-                                         system.dq, system.qd_buf, system.A_buf, system.qp, system.rp, system.hs,
-                                         flags, stats, fail, analytic, system.Ks, system.Kds, system.T,
-                                         system.Fsde, system.Msde, qdd_prev)
-                            if s2 != 0:
-                                break
-                        if s2 == 0:
-                            st = trial
-                            ok = True
-                            if level > 0:
-                                counters["step_halvings"] = counters.get("step_halvings", 0) + 1
-                            break
-                        status = s2
-                    flags[0] = 0
-                    if not ok:
-                        st.t = t_step0
-                        counters.add(stats)
-                        _raise(system, fail, status, make_results)
-                    st.t = t_step0 + h
+                st = redo(saved, saved_history, nsteps, status)
             st.t = t_target
             counters.add(stats)
             stats[:] = 0
@@ -597,6 +793,7 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
             if km.has_motors and rebase_motors(km, ws):
                 flags[0] = 0           # the factorised Jacobian belongs to the old rest rotation
             report(st.t)
+            k_out += 1
     elif integ.kind == "rk4":
         k_q, k_v = z(4, n, 6), z(4, n, 6)
         qs, vbuf, acc = z(n, 6), z(n, 6), z(n, 6)

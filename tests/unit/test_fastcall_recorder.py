@@ -59,6 +59,8 @@ def _joined_scene():
 
 def test_recording_from_the_step_equals_recording_after_a_new_evaluation(monkeypatch):
     from rfesim.solvers import dynamics
+    # the Python recorder (the compiled run's recording is compared with it in test_kernel_recording.py)
+    monkeypatch.setattr(dynamics.Recorder, "IN_KERNEL", False)
     fast = rfesim.simulate(_joined_scene())
     original = dynamics.Recorder.record
 

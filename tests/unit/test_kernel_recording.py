@@ -1,0 +1,180 @@
+"""Recording inside the compiled run (rfesim.solvers.recording.ga_run) against the Python
+recorder it replaces (rfesim.solvers.dynamics.Recorder.record, kept as the readable
+reference and switched on here with Recorder.IN_KERNEL = False): the same steps, the same
+counters and the same outputs, for lines with joints, drives and a payload, on a vessel
+in waves, on a seabed with friction, and through intervals that fail and are redone in
+shorter steps."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import rfesim
+from rfesim.solvers import dynamics
+
+LINE_CHANNELS = ("position", "tension", "shear_force", "bend_moment", "torque", "curvature", "end_a_force",
+                 "end_b_force", "end_a_moment", "end_b_moment", "end_a_direction", "end_b_direction",
+                 "seabed_force", "seabed_friction", "touchdown_position", "touchdown_arc_length")
+BODY_CHANNELS = ("position", "velocity", "acceleration", "rotation", "angular_velocity", "connection_force",
+                 "connection_tension", "submerged_fraction", "buoyancy", "deck_force")
+
+
+def _both(data, monkeypatch):
+    """(kernel-recorded results, Python-recorded results, whether the kernel recorded)."""
+    used = []
+    original = dynamics.Recorder.kernel_records
+
+    def spy(self):
+        out = original(self)
+        used.append(out)
+        return out
+    monkeypatch.setattr(dynamics.Recorder, "kernel_records", spy)
+    fast = rfesim.simulate(data)
+    monkeypatch.setattr(dynamics.Recorder, "IN_KERNEL", False)
+    slow = rfesim.simulate(data)
+    return fast, slow, any(used)
+
+
+def _assert_same(fast, slow, rtol=1e-13):
+    np.testing.assert_array_equal(fast.time, slow.time)
+    for key in ("steps", "newton_iterations", "jacobians", "rebases", "step_halvings"):
+        assert fast.counters.get(key) == slow.counters.get(key), key
+    for name in slow.lines:
+        a, b = fast.line(name), slow.line(name)
+        for ch in LINE_CHANNELS:
+            x, y = np.asarray(getattr(a, ch)), np.asarray(getattr(b, ch))
+            scale = max(1e-300, float(np.nanmax(np.abs(y)))) if np.isfinite(y).any() else 1.0
+            np.testing.assert_allclose(x, y, rtol=0, atol=rtol * scale, err_msg=f"{name}.{ch}")
+            np.testing.assert_array_equal(np.isnan(x), np.isnan(y))
+        if b.drive_names:
+            for ch in ("drive_angle", "drive_torque"):
+                y = np.asarray(getattr(b, ch))
+                np.testing.assert_allclose(getattr(a, ch), y, rtol=0, atol=rtol * float(np.abs(y).max()))
+    for name in slow.bodies:
+        for ch in BODY_CHANNELS:
+            y = np.asarray(getattr(slow.body(name), ch))
+            np.testing.assert_allclose(getattr(fast.body(name), ch), y, rtol=0,
+                                       atol=rtol * max(1e-300, float(np.abs(y).max())), err_msg=f"{name}.{ch}")
+    for name in slow.vessels:
+        for ch in ("position", "rotation"):
+            y = np.asarray(getattr(slow.vessels[name], ch))
+            np.testing.assert_allclose(getattr(fast.vessels[name], ch), y, rtol=0,
+                                       atol=rtol * max(1.0, float(np.abs(y).max())))
+
+
+def _joined(max_iterations=20, duration=3.0):
+    tube = {"EA": 2e10, "EIy": 5e9, "GJ": 4e9, "mass_per_length": 400.0}
+    return {"environment": {"gravity": 9.81},
+            "line_types": {"tube": tube, "rope": {"EA": 5e7, "EIy": 300.0, "mass_per_length": 5.0,
+                                                  "tension_only": True}},
+            "bodies": {"load": {"mass": 2000.0, "radius_of_gyration": 0.8}},
+            "lines": {
+                "ped": {"type": "tube", "length": 10.0, "elements": 5,
+                        "end_a": {"attach": "fixed", "position": [0, 0, 0], "direction": [0, 0, 1],
+                                  "connection": "clamped"}},
+                "boom": {"type": "tube", "length": 15.0, "elements": 8,
+                         "end_a": {"attach": "ped:end_b", "connection": "clamped", "direction": [1, 0, 1],
+                                   "drives": [{"name": "slewing", "axis": [0, 0, 1], "angle": [[0, 0], [2, 40]]},
+                                              {"name": "luffing", "axis": [0, 1, 0],
+                                               "angle": [[0, 0], [1, 0], [3, -15]]}]}},
+                "rope": {"type": "rope", "length": 8.0, "elements": 8,
+                         "end_a": {"attach": "boom:end_b", "connection": "pinned", "direction": [0, 0, -1]},
+                         "end_b": {"attach": "load", "position": [0, 0, 0.5]}}},
+            "analysis": {"statics": {"enabled": True},
+                         "dynamics": {"duration": duration, "output_interval": 0.1,
+                                      "integrator": {"kind": "generalized-alpha", "time_step": 0.02,
+                                                     "max_iterations": max_iterations}}}}
+
+
+def _motor():
+    """_joined with a slewing motor on a turret between pedestal and boom."""
+    data = _joined(duration=0.2)
+    data["lines"]["boom"]["end_a"].pop("drives")
+    data["lines"]["turret"] = {"type": "tube", "length": 0.5, "elements": 1,
+                               "end_a": {"attach": "ped:end_b", "connection": "clamped", "direction": [0, 0, 1],
+                                         "motor": {"angle": [[0, 0], [1, 10]], "max_torque": 1e7,
+                                                   "stiffness": 2e8, "damping": 4e7}}}
+    data["lines"]["boom"]["end_a"]["attach"] = "turret:end_b"
+    return data
+
+
+def test_joints_drives_and_a_payload_are_recorded_as_by_the_python_recorder(monkeypatch):
+    fast, slow, used = _both(_joined(), monkeypatch)
+    assert used
+    _assert_same(fast, slow)
+    # the channels are not trivial: both drives turn and carry moments
+    torque = np.abs(np.asarray(fast.line("boom").drive_torque))
+    assert torque[:, 0].max() > 1e3 and torque[:, 1].max() > 1e4
+    assert np.ptp(np.asarray(fast.line("boom").drive_angle)[:, 1]) == pytest.approx(15.0, abs=1e-9)
+
+
+def test_failed_intervals_are_rolled_back_and_redone_as_by_the_python_driver(monkeypatch):
+    # two Newton iterations a step: some steps fail and their intervals are redone in halves
+    fast, slow, used = _both(_joined(max_iterations=2, duration=1.5), monkeypatch)
+    assert used
+    assert slow.counters.get("step_halvings", 0) > 0
+    _assert_same(fast, slow)
+
+
+def test_crane_on_a_vessel_in_waves_is_recorded_as_by_the_python_recorder(monkeypatch):
+    from rfesim.bench.crane import crane_data
+    fast, slow, used = _both(crane_data(0.1, 6.0, 0.2), monkeypatch)
+    assert used
+    _assert_same(fast, slow)
+    assert np.ptp(np.asarray(fast.vessels["barge"].rotation)[:, 1]) > 0.1      # the vessel pitches
+
+
+def test_seabed_and_touchdown_channels_are_recorded_as_by_the_python_recorder(monkeypatch):
+    from rfesim.bench.h1 import h1_scenario
+    sc = h1_scenario(20, {"kind": "generalized-alpha", "time_step": 0.05}, output_interval=0.1)
+    data = sc.model_dump(mode="json", exclude_none=True)
+    data["analysis"]["dynamics"]["duration"] = 4.0
+    fast, slow, used = _both(data, monkeypatch)
+    assert used
+    _assert_same(fast, slow, rtol=1e-12)
+    riser = fast.line("riser")
+    assert np.isfinite(riser.touchdown_arc_length).all()
+    assert np.asarray(riser.seabed_force).max() > 0.0
+
+
+def test_scenes_the_kernel_does_not_record_go_through_the_python_recorder(monkeypatch):
+    data = _motor()
+    calls = []
+    original = dynamics.Recorder.record
+
+    def spy(self, state, qdd):
+        calls.append(state.t)
+        return original(self, state, qdd)
+    monkeypatch.setattr(dynamics.Recorder, "record", spy)
+    res = rfesim.simulate(data)
+    assert len(calls) == len(res.time) == 3                     # every output time, in Python
+
+
+def test_end_load_scratch_is_written_before_it_is_read():
+    """sde_end_loads_scratch takes scratch that is not zeroed: filled with NaN or huge values
+    it gives the loads of zeroed scratch to the bit (joint rest rotations, drives, a motor)."""
+    from rfesim.model.compile import compile_scenario
+    from rfesim.model.outputs import _end_scratch, sde_end_loads_scratch
+    from rfesim.scenario import Scenario
+    from rfesim.solvers.system import System
+    checked = 0
+    for data in (_joined(), _motor()):
+        system = System(compile_scenario(Scenario.model_validate(data)))
+        state = system.model.initial.copy()
+        rng = np.random.default_rng(3)
+        state.q[:] += 1e-3 * rng.standard_normal(state.q.shape) * system.mask
+        state.qd[:] += 1e-2 * rng.standard_normal(state.qd.shape) * system.mask
+        system.evaluate(state)
+        n = system.n
+        for s in range(system.model.nsde):
+            outs = []
+            for fill in (0.0, np.nan, 1e300):
+                out = np.zeros((4, 3))
+                sde_end_loads_scratch(system.km, system.ws, s, np.full((n, 3), fill), np.full((n, 3), fill), out,
+                                      *[np.full(a.shape, fill) for a in _end_scratch()])
+                outs.append(out)
+            assert np.isfinite(outs[0]).all()
+            np.testing.assert_array_equal(outs[1], outs[0])
+            np.testing.assert_array_equal(outs[2], outs[0])
+            checked += np.abs(outs[0]).max() > 0.0
+    assert checked > 20
