@@ -43,7 +43,7 @@ def rot_zyx_into(psi, theta, phi, out):
     out[2, 2] = cy * cx
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=True)
 def rot_zyx(psi, theta, phi):
     out = np.empty((3, 3))
     rot_zyx_into(psi, theta, phi, out)

@@ -154,7 +154,7 @@ def _dofs(vs, j, t, d, dd, ddd):
             ddd[k] = rdd * x + 2.0 * rd * xd + r * xdd
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=True)
 def attachment_kinematics(vs, t, att):
     """Fill the AttachmentState ``att`` with every attachment's pose at time t."""
     att.time[0] = t

@@ -131,7 +131,7 @@ def apply_section_force(a, b, Fp, mg, g, pa, pb, Rb, Rp, Jri, Jrh, Fg, h, tmp, t
         M[a, k] += tmp2[k] + mg[k] - h[k] + 0.5 * wth[k]
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=True)
 def sde_forces(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiffness, sde_damping,
                R, rbase, roff, v, w, F, M, eps_out, sigma_out, point_out):
     """Convenience form of ``sde_forces_into`` that allocates its own scratch."""
@@ -140,7 +140,7 @@ def sde_forces(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiffness, 
                     np.zeros((16, 3, 3)))
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=True)
 def sde_forces_rest(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiffness, sde_damping, rest_flag,
                     rest_static, rest_eff, rest_rate, R, rbase, roff, v, w, F, M, eps_out, sigma_out, point_out):
     """Convenience form of ``sde_forces_rest_into`` that allocates its own scratch."""
@@ -149,7 +149,7 @@ def sde_forces_rest(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiffn
                          np.zeros((32, 3)), np.zeros((16, 3, 3)))
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=True)
 def sde_forces_into(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiffness, sde_damping,
                     R, rbase, roff, v, w, F, M, eps_out, sigma_out, point_out, v3, m33):
     """``sde_forces_rest_into`` for SDEs straight at rest (no rest rotations)."""

@@ -31,7 +31,7 @@ from ..kinematics import matmul_into, matvec_into, skew_into
 from .sde import sde_geometry_rest
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=True)
 def sde_tangent(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiffness, sde_damping, R, rbase, roff,
                 sigma, K, Kd):
     """``sde_tangent_rest`` for SDEs straight at rest."""
@@ -39,7 +39,7 @@ def sde_tangent(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiffness,
                      np.zeros(0, np.int64), np.zeros((0, 3, 3)), np.zeros((0, 3, 3)), R, rbase, roff, sigma, K, Kd)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=True)
 def sde_tangent_rest(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiffness, sde_damping, rest_flag,
                      rest_static, rest_eff, R, rbase, roff, sigma, K, Kd):
     """K (nsde, 12, 12): tangent stiffness -df/dx; Kd (nsde, 12, 12): B^T D B.

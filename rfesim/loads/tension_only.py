@@ -20,7 +20,7 @@ from numba import njit
 from .sde import apply_section_force, sde_geometry_rest_scratch
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=True)
 def tension_only_correction(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiffness, sde_tension_only,
                             R, rbase, roff, sigma, F, M, k_tangent, fill, v3, m33):
     """``tension_only_correction_rest`` for SDEs straight at rest."""

@@ -100,7 +100,7 @@ def plastic_bending_into(params, hist_committed, i, kappa_y, kappa_z, out, hist_
     out[4] = kzz
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=True)
 def plastic_bending_all_into(params, hist_committed, kappa, out, hist_trial):
     """``plastic_bending_into`` for every SDE: kappa (nsde, 2), out (nsde, 5)."""
     tmp = np.empty(N_OUT)
@@ -151,7 +151,7 @@ def pipe_stress(fx, fy, fz, mx, my, mz, area, enclosed_area, outer_radius, inert
     out[5] = math.sqrt(sn * sn + 3.0 * (txy * txy + txz * txz))
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=True)
 def pipe_stress_into(sigma, geometry, out):
     """Stresses of every SDE. sigma (nsde, 6): [F_x, F_y, F_z, M_x, M_y, M_z] in {i'}
     (N, N*m); geometry (nsde, 6): [A (m^2), A_m (m^2), r_o (m), I (m^4), t_min (m),

@@ -42,7 +42,7 @@ from ..loads.tension_only import tension_only_correction_rest
 from ..sea.kernel import sea_kinematics_into, sea_kinematics_reach
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def poses(km, att, q, qd, ref, ws):
     """Orientation, position, velocities of every RFE from the coordinates (eqs. 8.73-8.74):
     ``poses_fused``, the scalar form of ``poses_reference``."""
@@ -270,7 +270,7 @@ def poses_reference(km, att, q, qd, ref, ws):
                 ws.v[i, k] += tmp[k]
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def accumulate_forces(km, att, ws, scale):
     """Zero the accumulators and add every load module the scene contains."""
     zero_forces(ws)
@@ -278,7 +278,7 @@ def accumulate_forces(km, att, ws, scale):
     local_loads(km, att, ws, scale)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def zero_forces(ws):
     """ws.F = ws.M = 0."""
     for i in range(ws.F.shape[0]):
@@ -287,7 +287,7 @@ def zero_forces(ws):
             ws.M[i, k] = 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def sde_part(km, att, ws, F, M):
     """Every SDE force and moment added to F, M: elastic and damping (with rest rotations and
     drives), the elasto-plastic correction, slack ropes, servo motors, and the sheaves' pull
@@ -306,7 +306,7 @@ def sde_part(km, att, ws, F, M):
                        ws.rv_fdir, ws.v3, ws.m33)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def drive_rests(km, att, ws):
     """Rest rotations R0(t) and their rates of the driven SDEs at the attachments' time
     (rfesim.loads.drives), into ws.sde_rest_eff and ws.sde_rest_rate."""
@@ -316,7 +316,7 @@ def drive_rests(km, att, ws):
                         ws.m33[9], ws.m33[10])
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def sde_forces_all(km, att, ws, F, M):
     """The elastic and damping SDE forces (with rest rotations and drives) added to F, M;
     ws.eps, ws.sigma, ws.sde_point are written."""
@@ -327,7 +327,7 @@ def sde_forces_all(km, att, ws, F, M):
                           ws.rbase, ws.roff, ws.v, ws.w, F, M, ws.eps, ws.sigma, ws.sde_point)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def plastic_forces(km, ws, M):
     """The elasto-plastic bending correction of the SDEs (after the elastic SDE forces)."""
     plastic_sde_correction(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, km.sde_stiffness,
@@ -336,7 +336,7 @@ def plastic_forces(km, ws, M):
                            km.sde_has_rest, km.sde_rest, ws.sde_rest_eff)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def motor_moments(km, att, ws, only, M):
     """Servo motors of coaxial joins: the torque-limited torsional moment (after the elastic
     SDE forces; ``only`` >= 0: that SDE alone), rfesim.loads.drives.motor_forces."""
@@ -346,7 +346,7 @@ def motor_moments(km, att, ws, only, M):
                  M, ws.v3, ws.m33)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def tension_only_forces(km, ws, F, M):
     """Ropes: no compressive axial SDE force (after the elastic and plastic SDE forces)."""
     tension_only_correction_rest(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, km.sde_stiffness,
@@ -354,7 +354,7 @@ def tension_only_forces(km, ws, F, M):
                                  ws.roff, ws.sigma, F, M, ws.k_tangent, not km.has_plastic, ws.v3, ws.m33)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def local_loads(km, att, ws, scale):
     """Every load that acts on one RFE alone (all but the SDEs), added to ws.F, ws.M."""
     if km.gravity != 0.0:
@@ -430,7 +430,7 @@ def local_loads(km, att, ws, scale):
                     ws.reel_grip_on_trial, ws.reel_D, ws.reel_force)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def water_kinematics(km, att, ws):
     """Free surface, water velocity and acceleration at every RFE centre (waves and
     current, rfesim.sea); with ``ws.waves_off`` (statics) still water plus current."""
@@ -445,7 +445,7 @@ def water_kinematics(km, att, ws):
 SEA_MARGIN = 1.0        # m added to every reach: the kinematics stay frozen over a step's Newton iterations
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def sea_reach(km, ws):
     """ws.sea_reach: how far below its centre each RFE can be wet -- half its length times
     the vertical component of its axis plus its radius, a body's centre of buoyancy offset
@@ -464,7 +464,7 @@ def sea_reach(km, ws):
                                   + 0.5 * km.body_height[j] + SEA_MARGIN)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def evaluate_keep_sde(km, att, q, qd, ref, ws, scale, Fsde, Msde):
     """``evaluate``, also copying the SDE forces and moments alone (``sde_part``, before the
     local loads are added) into Fsde, Msde: the frozen SDE part
@@ -482,7 +482,7 @@ def evaluate_keep_sde(km, att, q, qd, ref, ws, scale, Fsde, Msde):
     project(km, att, ws)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def evaluate_frozen_sde(km, att, q, qd, ref, ws, scale, Fsde, Msde):
     """Like evaluate, but with the SDE forces and moments given (held fixed): the local part
     of the equations, whose Jacobian is block diagonal (rfesim.solvers.jacobian)."""
@@ -548,7 +548,7 @@ def _project_free(i, m, inertia, Ja, Ma, R, E, wb, Edot, F, M, Mgen, fgen):
         fgen[i, 3 + b] = e0 * rh0 + e1 * rh1 + e2 * rh2
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def project(km, att, ws):
     """Generalised mass blocks and forces of every RFE (eqs. 8.92, 8.94); free RFEs through
     the scalar ``_project_free``, the others as written in ``project_reference``."""
@@ -568,7 +568,7 @@ def project_reference(km, att, ws):
         _project_one(km, att, ws, i)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _project_one(km, att, ws, i):
     """Generalised mass block and force of RFE i (eqs. 8.92, 8.94)."""
     Jb = ws.m33[0]
@@ -679,7 +679,7 @@ def _project_one(km, att, ws, i):
             f[3 + a] = B[0, a] * rhs[0] + B[1, a] * rhs[1] + B[2, a] * rhs[2]
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def evaluate(km, att, q, qd, ref, ws, scale):
     """One evaluation of the equations of motion: fills ws (poses, forces, Mgen, fgen)."""
     poses(km, att, q, qd, ref, ws)
@@ -687,7 +687,7 @@ def evaluate(km, att, q, qd, ref, ws, scale):
     project(km, att, ws)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def commit_history(km, ws):
     """Accept the trial history of the last evaluation (seabed friction anchors) as the
     state after an accepted step: called by every integrator once per step."""
@@ -713,7 +713,7 @@ def commit_history(km, ws):
         ws.reel_time[0] = ws.reel_time[1]
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def solve_accelerations(ws, qdd):
     """qdd = Mgen^-1 fgen, RFE by RFE (3x3 translational and rotational blocks)."""
     A = ws.m33[0]
@@ -742,7 +742,7 @@ def residual_into(ws, qdd, out):
             out[i, a] = s
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=True)
 def rebase(q, qd, ref, kind, threshold, qdd, aux, map_aux):
     """Move every free RFE's reference position to its current position (exact: rates and
     accelerations of the displacement do not change), and each RFE's reference rotation to

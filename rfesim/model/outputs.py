@@ -13,7 +13,7 @@ from ..loads.drives import torsion_moment_into
 from ..loads.sde import sde_forces_rest_into
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=True)
 def reactions(km, att, ws, qdd, out):
     """Constraint force and moment (global, on the RFE) at every pinned or clamped end RFE:
     out (n, 6) = [F, M about the attached point]; zero for free RFEs."""
@@ -134,7 +134,7 @@ def sde_end_loads(km, ws, s, F, M, out):
     sde_end_loads_scratch(km, ws, s, F, M, out, sc[0], sc[1], sc[2], sc[3], sc[4], sc[5], sc[6])
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=True)
 def _end_scratch():
     """Scratch of sde_end_loads_scratch: sig (1, 6), eps (1, 6), point (1, 3), v3 (32, 3),
     m33 (16, 3, 3), arm (3,), tmp (3,). Not zeroed: the SDE kernel writes every entry of

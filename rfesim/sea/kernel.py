@@ -232,7 +232,7 @@ def crest_bound(ss, t):
     return s
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=True)
 def sea_kinematics_reach(ss, t, points, reach, use_reach, eta, vel, acc):
     """sea_kinematics_into; with ``use_reach`` a point whose lowest wettable level,
     z - reach[i], is above the surface is dry: its velocity and acceleration are not

@@ -61,7 +61,7 @@ def invert6_into(A, out, work):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=True)
 def bt_factor(J, F):
     """Factor the block-tridiagonal J (n, 3, 6, 6) into F (n, 3, 6, 6):
     F[i, 0] = L_i D'_{i-1}^-1, F[i, 1] = D'_i^-1, F[i, 2] = U_i. Returns the first block
@@ -97,7 +97,7 @@ def bt_factor(J, F):
     return -1
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=True)
 def bt_solve(F, rhs, out):
     """Solve J x = rhs with the factors of bt_factor; rhs, out (n, 6) (may alias)."""
     n = F.shape[0]

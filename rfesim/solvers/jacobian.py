@@ -29,7 +29,7 @@ from ..model.assemble import sde_part
 from .residual import residual_general, residual_q
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=True)
 def _maps(km, att, ws, T):
     """T (n, 6, 6): coordinates -> spatial virtual displacement (dr, da) of each RFE centre."""
     RE = np.empty((3, 3))
@@ -73,7 +73,7 @@ def jacobian_analytic(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd
                          length_scale, J, Ks, Kds, T, Fsde, Msde, False)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=True)
 def jacobian_analytic_at(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, r0, qp, rp, hs,
                          length_scale, J, Ks, Kds, T, Fsde, Msde, evaluated):
     """``jacobian_analytic``; with ``evaluated`` the caller has just evaluated the residual

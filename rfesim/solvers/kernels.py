@@ -74,7 +74,7 @@ def jacobian_fd_general(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, 
             J[n - 1, 2, a, b] = 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def check_state(q, qd, mask, fail, t):
     """Non-finite or runaway coordinates: fill fail and return 2, else 0."""
     for i in range(q.shape[0]):
@@ -103,7 +103,7 @@ def explicit_acceleration(km, vs, att, ws, t, q, qd, ref, qdd):
 
 # ----------------------------------------------------------------------------- generalised-alpha
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, alpha_f, beta, gamma, tol,
                maxit, reuse, mask, length_scale, force_ref, J, Fac, Q0, V0, r, dq, qd_buf, A_buf, qp, rp, hs,
                flags, stats, fail, analytic, Ks, Kds, T, Fsde, Msde, qdd_prev):

@@ -7,7 +7,7 @@ from numba import njit
 from ..model.assemble import evaluate, evaluate_frozen_sde, evaluate_keep_sde
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def residual_q(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, out):
     """Residual as a function of the coordinates q.
 
@@ -19,7 +19,7 @@ def residual_q(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A
                      ws.F, ws.M)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def residual_general(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, out, frozen, Fsde,
                      Msde):
     """residual_q; with ``frozen`` (1 or True) the SDE forces and moments are the given Fsde,
@@ -57,7 +57,7 @@ def residual_general(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_
                 out[i, a] = cq * s
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def residual_norm(r, cq, mask, length_scale, force_ref):
     """Largest residual force over the moving coordinates, relative to force_ref
     (moments are divided by the RFE length)."""
