@@ -33,6 +33,12 @@ CONVERGED = 0.002
 OUTPUT_INTERVAL = 0.4            # s, a multiple of both time steps (the driver shortens a step that does not divide it)
 TARGET_WALL = 180.0
 LIMITS = (
+    "Since the last table (270.2 s, an earlier session): the evaluation chain is compiled without reference "
+    "counting (docs/theory.md, 'Reference counting off in the evaluation chain'). Timed against the code before "
+    "it, the two run alternately in one session (300 s at 0.1 s, three runs each after a warm-up): 5.92-6.08 s "
+    "against 4.11-4.25 s (1.43x), with the same steps, Newton iterations, Jacobians and largest sagbend moment to "
+    "every digit; the rest of the step from 270 s is the machine, quieter today. The per-call costs below were "
+    "measured before that change. "
     "What limits it (docs/slay_speed_notes.md, measured on the shared machine). Per call: the residual with the "
     "water kinematics frozen 0.35-0.41 ms, the analytic Jacobian as the Newton iteration forms it 1.35 ms (6 local "
     "evaluations of 0.18 ms and the SDE tangent 0.34 ms), its banded factorisation 0.1 ms, the water kinematics of "
