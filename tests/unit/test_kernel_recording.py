@@ -11,6 +11,7 @@ import pytest
 
 import rfesim
 from rfesim.solvers import dynamics
+from test_fastcall_recorder import _joined_scene
 
 LINE_CHANNELS = ("position", "tension", "shear_force", "bend_moment", "torque", "curvature", "end_a_force",
                  "end_b_force", "end_a_moment", "end_b_moment", "end_a_direction", "end_b_direction",
@@ -63,27 +64,16 @@ def _assert_same(fast, slow, rtol=1e-13):
 
 
 def _joined(max_iterations=20, duration=3.0):
-    tube = {"EA": 2e10, "EIy": 5e9, "GJ": 4e9, "mass_per_length": 400.0}
-    return {"environment": {"gravity": 9.81},
-            "line_types": {"tube": tube, "rope": {"EA": 5e7, "EIy": 300.0, "mass_per_length": 5.0,
-                                                  "tension_only": True}},
-            "bodies": {"load": {"mass": 2000.0, "radius_of_gyration": 0.8}},
-            "lines": {
-                "ped": {"type": "tube", "length": 10.0, "elements": 5,
-                        "end_a": {"attach": "fixed", "position": [0, 0, 0], "direction": [0, 0, 1],
-                                  "connection": "clamped"}},
-                "boom": {"type": "tube", "length": 15.0, "elements": 8,
-                         "end_a": {"attach": "ped:end_b", "connection": "clamped", "direction": [1, 0, 1],
-                                   "drives": [{"name": "slewing", "axis": [0, 0, 1], "angle": [[0, 0], [2, 40]]},
-                                              {"name": "luffing", "axis": [0, 1, 0],
-                                               "angle": [[0, 0], [1, 0], [3, -15]]}]}},
-                "rope": {"type": "rope", "length": 8.0, "elements": 8,
-                         "end_a": {"attach": "boom:end_b", "connection": "pinned", "direction": [0, 0, -1]},
-                         "end_b": {"attach": "load", "position": [0, 0, 0.5]}}},
-            "analysis": {"statics": {"enabled": True},
-                         "dynamics": {"duration": duration, "output_interval": 0.1,
-                                      "integrator": {"kind": "generalized-alpha", "time_step": 0.02,
-                                                     "max_iterations": max_iterations}}}}
+    """The joined scene of test_fastcall_recorder (pedestal, driven boom, rope, payload) with a
+    second drive (luffing) on the boom."""
+    data = _joined_scene()
+    data["lines"]["boom"]["end_a"]["drives"] = [
+        {"name": "slewing", "axis": [0, 0, 1], "angle": [[0, 0], [2, 40]]},
+        {"name": "luffing", "axis": [0, 1, 0], "angle": [[0, 0], [1, 0], [3, -15]]}]
+    dynamics_settings = data["analysis"]["dynamics"]
+    dynamics_settings["duration"] = duration
+    dynamics_settings["integrator"]["max_iterations"] = max_iterations
+    return data
 
 
 def _motor():
