@@ -168,3 +168,35 @@ def test_end_load_scratch_is_written_before_it_is_read():
             np.testing.assert_array_equal(outs[2], outs[0])
             checked += np.abs(outs[0]).max() > 0.0
     assert checked > 20
+
+
+def test_runs_free_every_array_they_allocate():
+    """The evaluation chain runs without reference counting (docs/theory.md, 'Reference
+    counting off in the evaluation chain'): the kernels that allocate still free all they
+    allocate. numba's allocation counters (NUMBA_NRT_STATS, read in a fresh process) over a
+    run with joints, drives, a payload and a slewing motor: as many frees as allocations,
+    and allocations there are."""
+    import json
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+    code = (
+        "import json, sys\n"
+        "sys.path.insert(0, %r)\n"
+        "from numba.core.runtime import rtsys\n"
+        "import rfesim\n"
+        "from test_kernel_recording import _joined, _motor\n"
+        "rfesim.simulate(_joined(duration=0.3))\n"
+        "s0 = rtsys.get_allocation_stats()\n"
+        "rfesim.simulate(_joined(duration=1.0)); rfesim.simulate(_motor())\n"
+        "s1 = rtsys.get_allocation_stats()\n"
+        "print(json.dumps([s1.alloc - s0.alloc, s1.free - s0.free,\n"
+        "                  s1.mi_alloc - s0.mi_alloc, s1.mi_free - s0.mi_free]))\n"
+    ) % str(Path(__file__).parent)
+    env = dict(os.environ, NUMBA_NRT_STATS="1")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=600)
+    assert out.returncode == 0, out.stderr[-2000:]
+    alloc, free, mi_alloc, mi_free = json.loads(out.stdout.strip().splitlines()[-1])
+    assert alloc > 100
+    assert free == alloc and mi_free == mi_alloc
