@@ -707,7 +707,8 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
                 st.t = t_step0 + h
             return st
 
-        if recorder.kernel_records():
+        fast = recorder.kernel_records()
+        if fast:
             from .recording import ga_run
             run_call = FastCall(ga_run)
             rec = recorder.kernel_arrays()
@@ -716,8 +717,6 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
             hist = system.history()
             done = np.zeros(1, np.int64)
             per_out = int(round(out_dt / h))
-
-        fast = recorder.kernel_records()
         k_out = 1
         chunk = 4
         while k_out <= n_out:
