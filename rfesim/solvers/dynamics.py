@@ -745,8 +745,10 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
                     stats[:] = 0
                     if status == 0:
                         # chunks of about a tenth of a second of wall time between progress reports
-                        if _time.perf_counter() - tw < 0.1 and chunk < 4096:
-                            chunk *= 2
+                        # (and cancellations): grown at most twofold a call, cut at once when the
+                        # intervals get dearer
+                        per = (_time.perf_counter() - tw) / max(nd, 1)
+                        chunk = max(1, min(2 * chunk, 4096, int(0.1 / per) if per > 0.0 else 4096))
                         report(st.t)
                         continue
                     # the failed interval (state, history and counters rolled back) is redone below

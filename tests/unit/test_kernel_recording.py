@@ -200,3 +200,24 @@ def test_runs_free_every_array_they_allocate():
     alloc, free, mi_alloc, mi_free = json.loads(out.stdout.strip().splitlines()[-1])
     assert alloc > 100
     assert free == alloc and mi_free == mi_alloc
+
+
+def test_the_compiled_run_reports_progress_and_stops_when_the_callback_raises():
+    """Progress comes between chunks of output intervals: increasing fractions ending at 1,
+    and a callback that raises stops the run (rfesim.CancelledError) at the next chunk."""
+    data = _joined(duration=2.0)
+    seen = []
+    rfesim.simulate(data, progress=lambda f, t: seen.append((f, t)))
+    fractions = [f for f, _ in seen]
+    assert len(fractions) >= 3 and fractions == sorted(fractions) and fractions[-1] == pytest.approx(1.0)
+    assert all(t == pytest.approx(f * 2.0) for f, t in seen)
+
+    calls = []
+
+    def stop(f, t):
+        calls.append(f)
+        if f > 0.0:
+            raise RuntimeError("stop")
+    with pytest.raises(rfesim.CancelledError):
+        rfesim.simulate(data, progress=stop)
+    assert len(calls) == 1 and 0.0 < calls[0] < 1.0           # stopped at the first report
