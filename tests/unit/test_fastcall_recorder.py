@@ -81,3 +81,36 @@ def test_recording_from_the_step_equals_recording_after_a_new_evaluation(monkeyp
                  (fast.body("load").connection_force, slow.body("load").connection_force)):
         np.testing.assert_allclose(x, y, rtol=0, atol=1e-6 * float(np.abs(y).max()))
     assert np.abs(np.asarray(fast.line("boom").drive_torque)).max() > 1e4      # the channels are not trivial
+
+
+def test_fastcall_keeps_its_entry_for_a_new_tuple_of_the_same_types():
+    """A state copied at every step brings a new Reference tuple each time: the same entry
+    point serves it (no typing again); a tuple whose member types differ is typed anew."""
+    from rfesim.model.arrays import Reference
+
+    class Counting:                 # the dispatcher, counting the calls that go through it
+        def __init__(self, kernel):
+            self.kernel, self.calls = kernel, 0
+
+        def __call__(self, *args):
+            self.calls += 1
+            return self.kernel(*args)
+
+        def __getattr__(self, name):
+            return getattr(self.kernel, name)
+
+    f = FastCall(Counting(_sum_ref))
+    ref = Reference(np.ones((2, 3, 3)), np.ones((2, 3)))
+    assert f(ref) == 24.0
+    for k in range(3):
+        copy = Reference(ref.R.copy() * k, ref.X.copy())
+        assert f(copy) == pytest.approx(18.0 * k + 6.0)
+    assert f.kernel.calls == 1                    # typed once: the copies took the entry point
+    other = Reference(np.ones((2, 3, 3), np.float32), np.ones((2, 3)))
+    assert f(other) == pytest.approx(24.0)
+    assert f.kernel.calls == 2
+
+
+@njit(cache=True)
+def _sum_ref(ref):
+    return ref.R.sum() + ref.X.sum()
