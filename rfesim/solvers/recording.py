@@ -60,37 +60,40 @@ class RecordArrays(NamedTuple):
 
 
 @njit(cache=True)
+def _history_arrays(ws):
+    """The committed history of ws, in the order of rfesim.solvers.system.System.history."""
+    return (ws.fric_anchor, ws.fric_anchored, ws.plastic_hist, ws.roller_anchor, ws.roller_anchored, ws.grip_a,
+            ws.grip_on, ws.tens_D, ws.tens_time, ws.reel_grip_a, ws.reel_grip_on, ws.reel_D, ws.reel_time)
+
+
+@njit(cache=True)
+def _copy_all(dst, src):
+    """dst[k][:] = src[k] for two tuples shaped as _history_arrays (constant indices: the
+    members differ in type)."""
+    dst[0][:] = src[0]
+    dst[1][:] = src[1]
+    dst[2][:] = src[2]
+    dst[3][:] = src[3]
+    dst[4][:] = src[4]
+    dst[5][:] = src[5]
+    dst[6][:] = src[6]
+    dst[7][:] = src[7]
+    dst[8][:] = src[8]
+    dst[9][:] = src[9]
+    dst[10][:] = src[10]
+    dst[11][:] = src[11]
+    dst[12][:] = src[12]
+
+
+@njit(cache=True)
 def copy_history(ws, hist, save):
     """The committed history of ws (rfesim.solvers.system.System.history) into hist (save
     True) or back from it."""
+    live = _history_arrays(ws)
     if save:
-        hist[0][:] = ws.fric_anchor
-        hist[1][:] = ws.fric_anchored
-        hist[2][:] = ws.plastic_hist
-        hist[3][:] = ws.roller_anchor
-        hist[4][:] = ws.roller_anchored
-        hist[5][:] = ws.grip_a
-        hist[6][:] = ws.grip_on
-        hist[7][:] = ws.tens_D
-        hist[8][:] = ws.tens_time
-        hist[9][:] = ws.reel_grip_a
-        hist[10][:] = ws.reel_grip_on
-        hist[11][:] = ws.reel_D
-        hist[12][:] = ws.reel_time
+        _copy_all(hist, live)
     else:
-        ws.fric_anchor[:] = hist[0]
-        ws.fric_anchored[:] = hist[1]
-        ws.plastic_hist[:] = hist[2]
-        ws.roller_anchor[:] = hist[3]
-        ws.roller_anchored[:] = hist[4]
-        ws.grip_a[:] = hist[5]
-        ws.grip_on[:] = hist[6]
-        ws.tens_D[:] = hist[7]
-        ws.tens_time[:] = hist[8]
-        ws.reel_grip_a[:] = hist[9]
-        ws.reel_grip_on[:] = hist[10]
-        ws.reel_D[:] = hist[11]
-        ws.reel_time[:] = hist[12]
+        _copy_all(live, hist)
 
 
 @njit(cache=True)
