@@ -6,7 +6,6 @@ import time as _time
 
 from . import __version__
 from .errors import CancelledError, SolverError
-from .model.reeving import check_dynamics
 from .model.compile import compile_scenario
 from .scenario import Scenario, load_scenario
 from .solvers.dynamics import Counters, Recorder, run_dynamics
@@ -74,8 +73,6 @@ def simulate(scenario, *, progress=None):
     meta = dict(scenario_json=sc.model_dump_json(), version=__version__)
     counters = Counters()
     state = model.initial
-    if an.dynamics.enabled and an.dynamics.duration > 0:
-        check_dynamics(model)           # before the statics: refuse what the run cannot do
     if an.statics.enabled:
         state, info = _static_state(system, sc)
         counters["statics_iterations"] = info.iterations

@@ -116,7 +116,8 @@ def crane_summary(res, crane: str, *, static_tension: float | None = None, slack
     luffing); ``bend_moment_range`` {line: {arc_length, min, max, mean}} along the boom /
     legs and the pedestal; ``tip_position``, ``tip_acceleration`` (nt, 3): the sheave;
     ``cylinder_force`` (nt,) N per cylinder, pushing positive (with ``cylinder``, the
-    template's cylinder dict); ``luffing_rope_tension`` (nt,) N per part of line (with
+    template's cylinder dict; force-driven A-frame cylinders: their set force, with
+    ``cylinder_length`` (nt,) m and the tilt ``drive_angle["luffing"]`` from that length); ``luffing_rope_tension`` (nt,) N per part of line (with
     ``luffing_rope``, the template's luffing_rope dict, and ``boom_length`` when its eye is
     not given)."""
     base_line, boom_line = _member(res, crane)
@@ -159,7 +160,24 @@ def crane_summary(res, crane: str, *, static_tension: float | None = None, slack
         for j, dname in enumerate(line.drive_names):
             out["drive_angle"][dname] = np.asarray(angle, float)[:, j]
             out["drive_torque"][dname] = np.asarray(torque, float)[:, j]
-    if cylinder is not None and "luffing" in out["drive_torque"]:
+    cyl_tugger = res.tuggers.get(f"{crane}_cylinder") if getattr(res, "tuggers", None) else None
+    if cylinder is not None and cylinder.get("force") is not None and cyl_tugger is not None:
+        # force-driven A-frame cylinders (rfesim.scenario.cranes): their set force, their length,
+        # and the tilt that length gives through the triangle hinge - base - eye
+        from .scenario.cranes import CylinderSpec, cylinder_angle
+        cyl = CylinderSpec.model_validate({k: v for k, v in cylinder.items() if k != "force"})
+        length = np.asarray(cyl_tugger.length, float)
+        out["cylinder_force"] = -np.asarray(cyl_tugger.tension, float) / cyl.count
+        out["cylinder_length"] = length
+        tilt = np.full(len(length), math.nan)
+        for k, L in enumerate(length):
+            try:
+                tilt[k] = 90.0 - math.degrees(cylinder_angle(cyl, float(L), (math.radians(10.0),
+                                                                            math.radians(170.0))))
+            except ValueError:
+                pass                    # beyond the triangle: left NaN
+        out["drive_angle"]["luffing"] = tilt
+    elif cylinder is not None and "luffing" in out["drive_torque"]:
         a_frame = boom_line.endswith("_legs")
         ang = out["drive_angle"]["luffing"]
         out["cylinder_force"] = cylinder_forces(out["drive_torque"]["luffing"], ang, cylinder, a_frame)

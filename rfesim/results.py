@@ -39,6 +39,10 @@ CHANNELS: dict[str, tuple[str, str]] = {
     "drive_angle": ("deg", "Prescribed angle of each drive of the line's end-A join (its table, monotone cubic)"),
     "drive_torque": ("N*m", "Moment of the join on the line about each drive's current axis (global): the drive "
                             "torque"),
+    "hinge_angle": ("deg", "Rotation of a hinged join (the line's end A) about its hinge axis from the start, "
+                           "positive by the right-hand rule about the axis"),
+    "reeving_slip": ("m", "Rope drawn over the sheave into the run toward a vessel lead since the start (the "
+                          "run's growth; the hanging rope is that much shorter)"),
     "sde_arc_length": ("m", "Arc length from end A of the SDEs"),
     "vessel_position": ("m", "Position of the vessel origin (global)"),
     "vessel_rotation": ("deg", "Vessel roll, pitch, yaw (ZYX angles)"),
@@ -58,13 +62,15 @@ CHANNELS: dict[str, tuple[str, str]] = {
     "submerged_fraction": ("1", "Submerged fraction of the body's vertical extent"),
     "buoyancy": ("N", "Buoyancy force on the body (rho g V times the submerged fraction)"),
     "deck_force": ("N", "Normal force of the deck the body rests on (0: lifted off or no deck)"),
-    "tugger_tension": ("N", "Tension of the tugger line (its pull on the body, along the line)"),
+    "tugger_tension": ("N", "Tension of the tugger line (its pull on the body, along the line; negative: a "
+                            "force element pushing)"),
     "tugger_length": ("m", "Length of the tugger line from its deck point to its body point"),
     "tugger_force": ("N", "Force of the tugger line on the body (global)"),
     "winch_payout": ("m", "Rope paid out by the winch since the start (negative: hauled in)"),
     "winch_speed": ("m/s", "Payout speed of the winch (negative: hauling in)"),
     "winch_tension": ("N", "Rope tension at the winch (axial force of the line's first SDE)"),
-    "winch_suspended_length": ("m", "Unstretched length of the rope out of the winch (the line's length)"),
+    "winch_suspended_length": ("m", "Unstretched length of the hanging rope (the line's length; a rope slipping "
+                                    "over its sheave toward a vessel lead: less the slip handed over)"),
     "winch_rope_mass_suspended": ("kg", "Mass of the rope out of the winch"),
     "winch_rope_mass_drum": ("kg", "Mass of the rope left on the drum"),
 }
@@ -80,7 +86,7 @@ LINE_CHANNELS = ("position", "tension", "shear_force", "bend_moment", "torque", 
                  "end_b_direction", "seabed_friction", "touchdown_position", "touchdown_arc_length",
                  "von_mises_stress", "utilisation", "residual_curvature")
 # channels of a line whose end A is a join with drives only (rfesim.model.joins)
-DRIVE_CHANNELS = ("drive_angle", "drive_torque")
+DRIVE_CHANNELS = ("drive_angle", "drive_torque", "hinge_angle", "reeving_slip")
 
 
 @dataclass
@@ -110,6 +116,8 @@ class LineResults:
     drive_angle: np.ndarray = None          # (nt, ndrive) deg, drives of a joined end A (rfesim.model.joins)
     drive_torque: np.ndarray = None         # (nt, ndrive) N*m, joint moment on the line about each drive axis
     drive_names: tuple = ()                 # names of those drives, in the scenario's order
+    hinge_angle: np.ndarray = None          # (nt,) deg, a hinged end-A join's turn about its axis
+    reeving_slip: np.ndarray = None         # (nt,) m, a rope's slip over its sheave toward a vessel lead
 
     @property
     def top_tension(self) -> np.ndarray:
@@ -254,11 +262,13 @@ class TuggerResults:
     """Pull of one tugger line (rfesim.loads.tugger)."""
 
     name: str
-    body: str                          # the body it pulls on
+    body: str                          # the body it pulls on ("" for a line point)
     vessel: str                        # the vessel its deck end is on
-    tension: np.ndarray                # (nt,) N
+    tension: np.ndarray                # (nt,) N, negative: pushing (a "force" element, a cylinder)
     length: np.ndarray                 # (nt,) m, deck point to body point
     force: np.ndarray                  # (nt, 3) N, force of the line on the body (global)
+    line: str = ""                     # the line it acts on at arc length ``at`` (instead of a body)
+    at: float = float("nan")           # m from the line's end A
 
 
 @dataclass
@@ -419,6 +429,9 @@ def _write_netcdf(res: Results, path: str) -> None:
                 g.attrs["drive_names"] = json.dumps(list(lr.drive_names))
                 _var(g, "drive_angle", ("time", "drive"), lr.drive_angle)
                 _var(g, "drive_torque", ("time", "drive"), lr.drive_torque)
+            for ch in ("hinge_angle", "reeving_slip"):
+                if getattr(lr, ch) is not None:
+                    _var(g, ch, ("time",), getattr(lr, ch))
         for group, items in (("tensioners", res.tensioners), ("reels", res.reels)):
             if not items:
                 continue
@@ -474,6 +487,9 @@ def _write_netcdf(res: Results, path: str) -> None:
                 g = tg.create_group(name)
                 g.attrs["body"] = tr.body
                 g.attrs["vessel"] = tr.vessel
+                if tr.line:
+                    g.attrs["line"] = tr.line
+                    g.attrs["at"] = float(tr.at)
                 g.dimensions = {"time": nt, "xyz": 3}
                 _var(g, "time", ("time",), res.time)
                 _var(g, "xyz", ("xyz",), [0, 1, 2], dtype=np.int32)
@@ -537,6 +553,7 @@ def open_results(path: str | os.PathLike) -> Results:
                                       **{ch: g[ch][()] for ch in WINCH_CHANNELS})
                    for name, g in f.get("winches", {}).items()}
         tuggers = {name: TuggerResults(name=name, body=_s(g.attrs.get("body", "")), vessel=_s(g.attrs.get("vessel", "")),
+                                       line=_s(g.attrs.get("line", "")), at=float(np.ravel(g.attrs.get("at", float("nan")))[0]),
                                        **{ch: g[ch][()] for ch in TUGGER_CHANNELS})
                    for name, g in f.get("tuggers", {}).items()}
         return Results(time=time, lines=lines, vessels=vessels, supports=supports, bodies=bodies,

@@ -41,6 +41,122 @@ KIND_POINT = 0      # a point of a vessel (or fixed): the reaction goes to the a
 KIND_LINE_END = 1   # an end of a line: the equal and opposite pull acts there
 
 
+# ----------------------------------------------------------------------------- rope slip
+#
+# A rope led to a point of a vessel (a deck winch) runs over its sheave: when the sheave
+# moves, the run to the lead changes length and the rope slips over the sheave by as much,
+# so the hanging part changes length the other way (the winch holding the total). With the
+# hanging rope's length fixed the pull T e is circulatory and a moving frame flutters
+# (docs/theory.md, 'Reeving'). The SLIP of reeving j is the run's growth since the start,
+#
+#     delta = |L - P| - rv_len[j],     d(delta)/dt = e . (v_L - v_P),
+#
+# with P = r_a + R_a p_a the sheave (the parent's end of the join SDE s), L the lead, e the
+# unit vector from P to L, rv_len the run's length at the initial positions. The rope is
+# drawn through the sheave as through a ring: its end A sits delta up past the sheave, so
+# the hanging length is the rope's less delta. In the model the join SDE's arm on the rope
+# (its end A, (-l/2, 0, 0) in the rope's first RFE) becomes (-l/2 + delta + (c/k) d(delta)/dt,
+# 0, 0): the join's spring and damper then act between the sheave and the point of the rope
+# at the sheave, the damper on the joint's own rate and not on the slip (the rest-gap offset
+# c/k d(delta)/dt, as a winch's growing arms, rfesim.model.winches). The arm is set before
+# the SDE kernels at every evaluation, so the stiff coupling of the rope's length with the
+# sheave's position is implicit in Newton; the SDE tangent sees the arm, ``slip_tangent``
+# adds its dependence on the sheave's motion. The base arm (a winch rewrites it between
+# steps) is kept by recording what was written: km.rv_arm_written, km.rv_arm_offset.
+
+
+@njit(cache=True)
+def slip_arms(rv_sde, rv_slip, rv_att, rv_point, rv_len, rv_arm_written, rv_arm_offset, sde_left, sde_arm_left,
+              sde_arm_right, sde_stiffness, sde_damping, R, rbase, roff, v, w, att_p, att_R, att_v, att_w, slip_out):
+    """Set the join SDE's arm on the rope of every slipping reeving for the slip of the
+    current state (module text above); slip_out[j]: delta (m), 0 for reevings that do not
+    slip."""
+    for j in range(rv_sde.shape[0]):
+        slip_out[j] = 0.0
+        if rv_slip[j] == 0:
+            continue
+        s = rv_sde[j]
+        a = sde_left[s]
+        cur = sde_arm_right[s, 0]
+        base = cur - rv_arm_offset[j] if cur == rv_arm_written[j] else cur     # else rewritten by a winch
+        # the sheave P = r_a + R_a p_a and the lead L (arms about the centres in c, l)
+        cx = R[a, 0, 0] * sde_arm_left[s, 0] + R[a, 0, 1] * sde_arm_left[s, 1] + R[a, 0, 2] * sde_arm_left[s, 2]
+        cy = R[a, 1, 0] * sde_arm_left[s, 0] + R[a, 1, 1] * sde_arm_left[s, 1] + R[a, 1, 2] * sde_arm_left[s, 2]
+        cz = R[a, 2, 0] * sde_arm_left[s, 0] + R[a, 2, 1] * sde_arm_left[s, 1] + R[a, 2, 2] * sde_arm_left[s, 2]
+        at = rv_att[j]
+        lx = att_R[at, 0, 0] * rv_point[j, 0] + att_R[at, 0, 1] * rv_point[j, 1] + att_R[at, 0, 2] * rv_point[j, 2]
+        ly = att_R[at, 1, 0] * rv_point[j, 0] + att_R[at, 1, 1] * rv_point[j, 1] + att_R[at, 1, 2] * rv_point[j, 2]
+        lz = att_R[at, 2, 0] * rv_point[j, 0] + att_R[at, 2, 1] * rv_point[j, 1] + att_R[at, 2, 2] * rv_point[j, 2]
+        ex = att_p[at, 0] + lx - (rbase[a, 0] + roff[a, 0] + cx)
+        ey = att_p[at, 1] + ly - (rbase[a, 1] + roff[a, 1] + cy)
+        ez = att_p[at, 2] + lz - (rbase[a, 2] + roff[a, 2] + cz)
+        d = math.sqrt(ex * ex + ey * ey + ez * ez)
+        offset = 0.0
+        if d >= 1e-9:
+            ex /= d
+            ey /= d
+            ez /= d
+            vLx = att_v[at, 0] + att_w[at, 1] * lz - att_w[at, 2] * ly
+            vLy = att_v[at, 1] + att_w[at, 2] * lx - att_w[at, 0] * lz
+            vLz = att_v[at, 2] + att_w[at, 0] * ly - att_w[at, 1] * lx
+            vPx = v[a, 0] + w[a, 1] * cz - w[a, 2] * cy
+            vPy = v[a, 1] + w[a, 2] * cx - w[a, 0] * cz
+            vPz = v[a, 2] + w[a, 0] * cy - w[a, 1] * cx
+            delta = d - rv_len[j]
+            rate = ex * (vLx - vPx) + ey * (vLy - vPy) + ez * (vLz - vPz)
+            slip_out[j] = delta
+            offset = delta
+            if sde_stiffness[s, 0] > 0.0:
+                offset += sde_damping[s, 0] / sde_stiffness[s, 0] * rate
+        new = base + offset
+        sde_arm_right[s, 0] = new
+        rv_arm_written[j] = new
+        rv_arm_offset[j] = offset
+
+
+@njit(cache=True)
+def slip_tangent(rv_sde, rv_slip, sde_left, sde_right, sde_arm_left, R, e, K, Kd):
+    """Add the slip's dependence on the sheave's motion to the join tangents K, Kd (nsde,
+    12, 12; K = -df/dx, columns dr_a, da_a, dr_b, da_b): a longer arm moves the rope's
+    end point like a translation of RFE b along X_b (its moment arm changes along the force,
+    which gives no moment to first order), and d(delta) = -e . dr_a - (c_a x e) . da_a with
+    c_a = R_a p_a, so K[:, a] += (K[:, r_b] X_b) (-e, -(c_a x e))^T, and Kd alike through
+    d(delta)/dt. e: the reevings' unit directions to the lead (reeving_forces)."""
+    for j in range(rv_sde.shape[0]):
+        if rv_slip[j] == 0:
+            continue
+        s = rv_sde[j]
+        a = sde_left[s]
+        b = sde_right[s]
+        ex = e[j, 0]
+        ey = e[j, 1]
+        ez = e[j, 2]
+        if ex == 0.0 and ey == 0.0 and ez == 0.0:
+            continue
+        cx = R[a, 0, 0] * sde_arm_left[s, 0] + R[a, 0, 1] * sde_arm_left[s, 1] + R[a, 0, 2] * sde_arm_left[s, 2]
+        cy = R[a, 1, 0] * sde_arm_left[s, 0] + R[a, 1, 1] * sde_arm_left[s, 1] + R[a, 1, 2] * sde_arm_left[s, 2]
+        cz = R[a, 2, 0] * sde_arm_left[s, 0] + R[a, 2, 1] * sde_arm_left[s, 1] + R[a, 2, 2] * sde_arm_left[s, 2]
+        d0 = -ex
+        d1 = -ey
+        d2 = -ez
+        d3 = -(cy * ez - cz * ey)
+        d4 = -(cz * ex - cx * ez)
+        d5 = -(cx * ey - cy * ex)
+        X0 = R[b, 0, 0]
+        X1 = R[b, 1, 0]
+        X2 = R[b, 2, 0]
+        for which in range(2):
+            A = K if which == 0 else Kd
+            for row in range(12):
+                u = A[s, row, 6] * X0 + A[s, row, 7] * X1 + A[s, row, 8] * X2
+                A[s, row, 0] += u * d0
+                A[s, row, 1] += u * d1
+                A[s, row, 2] += u * d2
+                A[s, row, 3] += u * d3
+                A[s, row, 4] += u * d4
+                A[s, row, 5] += u * d5
+
+
 @njit(cache=True)
 def reeving_forces(rv_sde, rv_kind, rv_att, rv_rfe, rv_point, sde_left, sde_right, sde_arm_left, sde_arm_right,
                    rest_flag, rest_static, rest_eff, R, rbase, roff, sigma, sde_point, att_p, att_R, F, M,

@@ -9,6 +9,9 @@ its unit direction from the body u = (D - P) / L. Its tension is
 * ``tension`` (kind 0): the set tension T(t) of a constant-tension tugger winch (linear
   in a table of [t, T] rows, held beyond it): the winch pays out and hauls in so the line
   keeps T at any length;
+* ``force`` (kind 2): a push-pull element, a hydraulic cylinder at a set force: the force
+  P(t) pushes the point away from the deck point (P > 0) or pulls it toward it (P < 0), at
+  any length (the tension is -P);
 * ``elastic`` (kind 1): a braked winch, T = max(0, k (L - L0) + c dL/dt) while L > L0 and
   0 when the line is slack (L <= L0), with dL/dt = u . (v_D - v_P).
 
@@ -26,6 +29,7 @@ from ._common import add_force_moment
 
 KIND_TENSION = 0
 KIND_ELASTIC = 1
+KIND_FORCE = 2
 
 
 @njit(cache=True)
@@ -76,6 +80,12 @@ def tugger_forces(tug_rfe, tug_att, tug_deck, tug_point, tug_kind, tug_t, tug_v,
         uz = ez / L
         if tug_kind[j] == KIND_TENSION:
             T = table_value(tug_t[j], tug_v[j], tug_count[j], time)
+        elif tug_kind[j] == KIND_FORCE:
+            # a push P > 0 (a cylinder) is a negative pull, of either sign
+            T = -table_value(tug_t[j], tug_v[j], tug_count[j], time)
+            tension_out[j] = T
+            add_force_moment(F, M, i, ox, oy, oz, T * ux, T * uy, T * uz)
+            continue
         else:
             s = L - tug_L0[j]
             if s <= 0.0:

@@ -192,6 +192,10 @@ class KernelModel(NamedTuple):
     rv_att: np.ndarray = np.zeros(0, np.int64)       # (nv,) int64, kind 0: the attachment (vessel or fixed)
     rv_rfe: np.ndarray = np.zeros(0, np.int64)       # (nv,) int64, kind 1: the line end's RFE
     rv_point: np.ndarray = np.zeros((0, 3))          # (nv, 3) m, lead point: attachment frame (0), arm in the RFE frame (1)
+    rv_slip: np.ndarray = np.zeros(0, np.int64)      # (nv,) int64, 1: the rope slips over the sheave (a vessel lead)
+    rv_len: np.ndarray = np.zeros(0)                 # (nv,) m, run length at the initial positions (slip 0 there)
+    rv_arm_written: np.ndarray = np.zeros(0)         # (nv,) m, the join's arm on the rope as slip_arms last wrote it
+    rv_arm_offset: np.ndarray = np.zeros(0)          # (nv,) m, the offset it added to the base arm
     has_reeving: bool = False
 
 
@@ -272,6 +276,7 @@ class Workspace(NamedTuple):
     rv_tension: np.ndarray = np.zeros(0)             # (nv,) N, tension at each reeving's sheave (rfesim.loads.reeving)
     rv_dir: np.ndarray = np.zeros((0, 3))            # (nv, 3) unit direction from the sheave to the lead
     rv_fdir: np.ndarray = np.zeros((0, 3))           # (nv, 3) unit direction of the join's force on the parent
+    rv_slip_out: np.ndarray = np.zeros(0)            # (nv,) m, the rope's slip over each sheave (rfesim.loads.reeving)
     sea_reach: np.ndarray = np.zeros(0)              # (n,) m, how far below its centre each RFE (or body) can be wet
     step_state: np.ndarray = np.zeros(1, np.int64)   # (1,) int64, 1: the workspace holds the evaluation of the state
                                                      #   a generalised-alpha step just converged to (outputs reuse it)
@@ -324,7 +329,8 @@ def new_workspace(n: int, nsde: int, nh: int = 1, nroller: int = 0, ntens: int =
         reel_time=np.zeros(2), sde_rest_eff=_identities(nsde), sde_rest_rate=np.zeros((nsde, 3)),
         sea_reach=np.zeros(n), step_state=np.zeros(1, np.int64), motor_sat=np.zeros(nmotor, np.int64),
         c_tangent=np.zeros((nsde, 6)), deck_normal=np.zeros(nbody), tug_tension=np.zeros(ntug), tug_length=np.zeros(ntug),
-        rv_tension=np.zeros(nreeve), rv_dir=np.zeros((nreeve, 3)), rv_fdir=np.zeros((nreeve, 3)))
+        rv_tension=np.zeros(nreeve), rv_dir=np.zeros((nreeve, 3)), rv_fdir=np.zeros((nreeve, 3)),
+        rv_slip_out=np.zeros(nreeve))
 
 
 def _identities(m: int) -> np.ndarray:

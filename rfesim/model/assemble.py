@@ -27,7 +27,7 @@ from ..kinematics import (cross_into, euler_rate_derivative_into, euler_rate_mat
 from ..loads.bodies import body_hydro_forces
 from ..loads.deck import deck_forces
 from ..loads.tugger import tugger_forces
-from ..loads.reeving import reeving_forces
+from ..loads.reeving import reeving_forces, slip_arms
 from ..loads.gravity import gravity_forces
 from ..loads.hydro import buoyancy_forces, morison_forces, submergence
 from ..loads.point import point_loads
@@ -292,6 +292,11 @@ def sde_part(km, att, ws, F, M):
     """Every SDE force and moment added to F, M: elastic and damping (with rest rotations and
     drives), the elasto-plastic correction, slack ropes, servo motors, and the sheaves' pull
     toward the rope's lead (reeving: the tension of a join SDE, so it goes with them)."""
+    if km.has_reeving:
+        # a rope slipping over its sheave toward a vessel lead: the join's arm on the rope
+        slip_arms(km.rv_sde, km.rv_slip, km.rv_att, km.rv_point, km.rv_len, km.rv_arm_written, km.rv_arm_offset,
+                  km.sde_left, km.sde_arm_left, km.sde_arm_right, km.sde_stiffness, km.sde_damping, ws.R, ws.rbase,
+                  ws.roff, ws.v, ws.w, att.p, att.R, att.v, att.w, ws.rv_slip_out)
     sde_forces_all(km, att, ws, F, M)
     if km.has_plastic:
         plastic_forces(km, ws, M)

@@ -24,7 +24,7 @@ from .sections import Section, section_from_type
 from .supports import compile_supports, compile_tensioners, resting_points, supported_start
 from .reels import compile_reels, reel_tail, reel_wrap_start, reeled_history, track_points
 from .bodies import append_body, body_arrays, body_pose, deck_arrays
-from .joins import JoinInfo, drive_rows, joint_rows
+from .joins import JoinInfo, drive_rows, hinge_frame, joint_rows
 from .arrays import joint_arrays
 from ..scenario.joins import join_parent, join_strings
 
@@ -485,6 +485,14 @@ def compile_scenario(sc, start: str | None = None) -> Model:
             frames[0] = frame_from_tangent(dA)
         else:
             frames[0] = frame_from_tangent(tang[0])
+        hinge = -1
+        if getattr(line.end_a, "hinge_axis", None) is not None and parent is not None:
+            # a hinged join (rfesim.model.joins): its axis is the child's first torsion or bending axis
+            hinge, frame = hinge_frame(frames[0][:, 0], np.asarray(line.end_a.hinge_axis, float))
+            if hinge < 0:
+                problems.append((f"{base}.end_a.hinge_axis", frame))
+                continue
+            frames[0] = frame
         for i in range(1, nseg + 1):
             frames[i] = minimal_rotation(tang[i - 1], tang[i]) @ frames[i - 1]
         if line.end_b.connection == "clamped" and dB is not None:
@@ -548,6 +556,9 @@ def compile_scenario(sc, start: str | None = None) -> Model:
                 rows_c.append(_sde_damping(damping_j, sec_j, dxm, cj, np.array([pe["mass"], masses[0]]),
                                            np.vstack([pe["inertia"], inertia[0]]), free_ends)[0])
             stiffness_j, damping_j = joint_rows(line.end_a.connection, rows_k, rows_c)
+            if hinge >= 0:
+                stiffness_j[hinge] = 0.0
+                damping_j[hinge] = 0.0
             motor = getattr(line.end_a, "motor", None)
             if motor is not None:
                 # a servo motor about the joint's axis (rfesim.loads.drives): the join must be coaxial
@@ -575,7 +586,7 @@ def compile_scenario(sc, start: str | None = None) -> Model:
             tension_flags.append(0)
             rest = pe["frame"].T @ frames[0]
             join_infos.append(JoinInfo(parent=parent, child=lname, connection=line.end_a.connection, sde=nsde_total,
-                                       parent_rfe=pe["rfe"], child_rfe=n_total, rest=rest))
+                                       parent_rfe=pe["rfe"], child_rfe=n_total, rest=rest, hinge=hinge))
             if line.end_a.drives:
                 join_drives.append((nsde_total, pe["frame"], list(line.end_a.drives)))
             nsde_total += 1

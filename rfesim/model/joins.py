@@ -23,6 +23,15 @@ ordinary SDE with a rest rotation:
   rotation), bending and torsion 0
   (the rotation of each end RFE is held by its own line's next SDE, so the Jacobian stays
   regular without a rotational spring);
+* hinged (a clamped join with ``hinge_axis``, a luffing pin): the clamped rows with the
+  stiffness and damping about the hinge axis set to 0. The child's first frame is chosen
+  so that the axis is one of its own axes -- y for an axis normal to end A's direction
+  (component 4 of the SDE's eps = [R'^T g, theta], eq. 8.85), x for one along it
+  (component 3) -- so theta's component about the axis is the hinge angle, which the joint
+  neither resists nor damps; the other five components stay nearly rigid. In a pure turn
+  about the hinge, R_b = R_a* Rot(y, phi) and theta = (0, phi, 0) exactly, and the mean
+  frame {i'} keeps the axis: the joint's moment has no part about the axis for any angle
+  below pi (docs/theory.md, "Hinged joins and force-driven cylinders");
 * drives (clamped joins only): sde_rest_eff(t) = Rot(a_1, dphi_1(t)) ... Rot(a_m, dphi_m(t))
   sde_rest with a_k the drive axis in the parent end RFE's body frame at t = 0 and
   dphi_k(t) = phi_k(t) - phi_k(0), phi_k a monotone cubic (PCHIP) through the angle table.
@@ -59,6 +68,7 @@ class JoinInfo:
     drive_stop: int = 0
     drive_names: list[str] = field(default_factory=list)   # the drive rows', then the motor's
     motor: int = -1         # row of the km.motor_* arrays (a servo motor about the joint axis), -1: none
+    hinge: int = -1         # the eps component free about the hinge axis (3 torsion, 4 bending y), -1: none
 
 
 def joint_rows(connection: str, coefficients: list[np.ndarray], dampings: list[np.ndarray]) -> tuple[np.ndarray,
@@ -76,6 +86,34 @@ def joint_rows(connection: str, coefficients: list[np.ndarray], dampings: list[n
     stiffness = JOINT_STIFFNESS * coef[pick, np.arange(6)]
     damping = math.sqrt(JOINT_STIFFNESS) * damp[pick, np.arange(6)]
     return stiffness, damping
+
+
+HINGE_TOLERANCE = 1e-6      # |cos| of the hinge axis against end A's direction: along it / normal to it
+
+
+def hinge_frame(tangent: np.ndarray, axis: np.ndarray) -> tuple[int, np.ndarray | str]:
+    """(eps component, frame (3, 3) with x = tangent) of a hinged join's child end A: the
+    frame's y axis is the hinge axis when that is normal to the tangent (component 4), its x
+    axis when along it (component 3, the frame from rfesim.kinematics.frame_from_tangent);
+    (-1, reason) for an axis at another angle."""
+    from ..kinematics import frame_from_tangent
+    t = tangent / np.linalg.norm(tangent)
+    a = axis / np.linalg.norm(axis)
+    c = float(t @ a)
+    if abs(c) >= 1.0 - HINGE_TOLERANCE:
+        return 3, frame_from_tangent(t)
+    if abs(c) <= HINGE_TOLERANCE:
+        z = np.cross(t, a)
+        return 4, np.column_stack([t, a, z / np.linalg.norm(z)])
+    ang = math.degrees(math.acos(max(-1.0, min(1.0, c))))
+    return -1, (f"the hinge axis must be normal to end A's direction (a pin) or along it (a bearing); it is "
+                f"{ang:.4g} deg from {np.round(t, 6).tolist()}")
+
+
+def hinge_angle(ws, info: JoinInfo) -> float:
+    """Turn (rad) of a hinged join about its axis from the start: the component of the
+    joint SDE's rotation vector theta about the axis (the eps of the last evaluation)."""
+    return float(ws.eps[info.sde, info.hinge])
 
 
 def drive_rows(joins_drives: list[tuple[int, np.ndarray, list]]) -> list[dict]:

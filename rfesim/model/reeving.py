@@ -13,7 +13,9 @@ def reeving_arrays(sc, model) -> dict:
              if getattr(ln.end_a, "reeving", None) is not None]
     nv = len(ropes)
     out = dict(rv_sde=np.zeros(nv, np.int64), rv_kind=np.zeros(nv, np.int64), rv_att=np.zeros(nv, np.int64),
-               rv_rfe=np.zeros(nv, np.int64), rv_point=np.zeros((nv, 3)), has_reeving=nv > 0)
+               rv_rfe=np.zeros(nv, np.int64), rv_point=np.zeros((nv, 3)), rv_slip=np.zeros(nv, np.int64),
+               rv_len=np.zeros(nv), rv_arm_written=np.full(nv, np.nan), rv_arm_offset=np.zeros(nv),
+               has_reeving=nv > 0)
     join_of = {ji.child: ji for ji in model.joins}
     lines = {li.name: li for li in model.lines}
     problems = []
@@ -51,25 +53,26 @@ def reeving_arrays(sc, model) -> dict:
             out["rv_kind"][j] = KIND_POINT
             out["rv_att"][j] = model.attachment_names.index(rv.lead)
             out["rv_point"][j] = rv.point
+            # the rope slips over the sheave as the run changes length (rfesim.loads.reeving):
+            # measured from the run at the initial positions (vessels at t = 0)
+            out["rv_slip"][j] = 1
+            out["rv_len"][j] = _run_length(model, ji, out["rv_att"][j], out["rv_point"][j])
     if problems:
         raise ScenarioError(problems)
     return out
 
 
-def check_dynamics(model) -> None:
-    """Refuse a dynamic run with a reeving led to a point of a vessel (or fixed): the run's
-    length change as the sheave moves is not given to the hanging rope, so that pull is not
-    conservative and a moving frame can flutter (docs/theory.md, 'Reeving'). Statics and a
-    lead at a line end (along the boom) are fine."""
-    km = model.km
-    if not getattr(km, "has_reeving", False) or not np.any(km.rv_kind == KIND_POINT):
-        return
-    sc = model.scenario
-    names = [name for name, ln in (sc.lines or {}).items() if getattr(ln.end_a, "reeving", None) is not None]
-    problems = [(f"lines.{name}.end_a.reeving.lead",
-                 f"a lead at a point of '{ln.end_a.reeving.lead}' is for statics only: in dynamics the rope's run "
-                 f"to it changes length as the sheave moves and that length is not yet given to the hanging "
-                 f"rope; lead it along the boom ('<line>:end_a', a crane template's \"reeving\": \"boom\") or "
-                 f"run statics alone")
-                for name in names for ln in [sc.lines[name]] if ":" not in ln.end_a.reeving.lead]
-    raise ScenarioError(problems)
+def _run_length(model, ji, att_index: int, point: np.ndarray) -> float:
+    """Length (m) of the run from the sheave (the parent's end of the join SDE) to a lead
+    on an attachment, at the model's initial state with the attachments at t = 0."""
+    from ..kinematics import rot_zyx
+    from ..vessel_kernel import attachment_kinematics, vessel_spec
+    from .arrays import new_attachment_state
+    att = new_attachment_state(len(model.attachment_names))
+    attachment_kinematics(vessel_spec(model.motions), 0.0, att)
+    q0, ref = model.initial.q, model.initial.ref
+    a = ji.parent_rfe
+    R = ref.R[a] @ rot_zyx(q0[a, 3], q0[a, 4], q0[a, 5])
+    P = ref.X[a] + q0[a, :3] + R @ model.km.sde_arm_left[ji.sde]
+    L = att.p[att_index] + att.R[att_index] @ np.asarray(point, float)
+    return float(np.linalg.norm(L - P))

@@ -253,10 +253,16 @@ class WinchController:
         self.z0 = None
         self.tension = 0.0
         self.accel = 0.0        # m/s^2, drum payout acceleration (drum mode)
+        # a rope led over its sheave to a vessel point slips over the sheave as the run changes
+        # (rfesim.loads.reeving.slip_arms); the slip is handed to the hanging rope's length
+        # whenever it passes half the rope's first RFE (``_hand_over``)
+        self.lead = _slipping_reeving(system, info.line)
+        self.slipped = 0.0      # m, slip handed over (the hanging rope is that much shorter)
+        self.rv_len = float(system.km.rv_len[self.lead]) if self.lead is not None else 0.0
 
     # ------------------------------------------------------------------ state
     _FIELDS = ("t", "D", "v", "D_mode", "v_mode", "D_c", "v_c", "e_int", "e_prev", "e_cur", "zeta", "zeta_dot",
-               "zeta_dot_prev", "tension", "accel")
+               "zeta_dot_prev", "tension", "accel", "slipped", "rv_len")
 
     def save(self) -> tuple:
         return tuple(getattr(self, f) for f in self._FIELDS)
@@ -264,7 +270,9 @@ class WinchController:
     def restore(self, saved: tuple) -> None:
         for f, v in zip(self._FIELDS, saved):
             setattr(self, f, v)
-        set_payout(self.system.km, self.info, self.D, self.v, self.system.length_scale)
+        if self.lead is not None:
+            self.system.km.rv_len[self.lead] = self.rv_len
+        set_payout(self.system.km, self.info, self.D - self.slipped, self.v, self.system.length_scale)
 
     # ------------------------------------------------------------------ measurements
     def _end_a(self):
@@ -351,12 +359,14 @@ class WinchController:
             raise SolverError(f"winch '{self.name}' ran out of rope: payout {D:.6g} m is more than the "
                               f"{info.stored:.6g} m stored on the drum (winches.{self.name}.stored)",
                               time=t_next, quantity="winch payout")
-        if info.length0 + D < MIN_FRACTION * info.length0:
-            raise SolverError(f"winch '{self.name}' hauled in {-D:.6g} m of the {info.length0:.6g} m line: less "
-                              f"than {100 * MIN_FRACTION:g} % of it is left out",
+        if info.length0 + D - self.slipped < MIN_FRACTION * info.length0:
+            what = f"hauled in {-D:.6g} m" if self.slipped == 0.0 else \
+                f"paid out {D:.6g} m while the run to the lead drew {self.slipped:.6g} m over the sheave"
+            raise SolverError(f"winch '{self.name}' {what} of the {info.length0:.6g} m line: less than "
+                              f"{100 * MIN_FRACTION:g} % of it is left hanging",
                               time=t_next, quantity="winch payout")
         self._next = (t_next, D, v, D_mode, v_mode, D_c, v_c)
-        set_payout(km, info, D, v, self.system.length_scale)
+        set_payout(km, info, D - self.slipped, v, self.system.length_scale)
 
     def after_step(self, km, state, t: float, h: float) -> None:
         t_next, D, v, D_mode, v_mode, D_c, v_c = self._next
@@ -378,16 +388,55 @@ class WinchController:
             D_c, v_c
         self.v = v_mode + v_c
         self.info.speed = self.v
+        if self.lead is not None:
+            self._hand_over(km, state)
+
+    def _hand_over(self, km, state) -> None:
+        """Hand the rope's slip over the sheave to the hanging rope's length once it passes
+        half the rope's first RFE: the rope shortens by the slip, the slip's reference run
+        grows by it, and the rope's RFE centres move down the rope by slip (1 - f_k), f_k
+        the fraction of the hanging length at centre k (its nodes stay at fixed fractions,
+        as in a payout). For a straight rope this keeps every SDE's gap and the join's point
+        on the rope exactly (docs/theory.md, 'Reeving')."""
+        info = self.info
+        ws = self.system.ws
+        delta = float(ws.rv_slip_out[self.lead])
+        lo, hi = info.rfe_lo, info.rfe_hi
+        if abs(delta) <= 0.5 * float(km.rfe_length[lo]):
+            return
+        hang = info.length0 + info.payout
+        n = info.elements
+        dx = hang / n
+        centre = np.concatenate([[0.25 * dx], dx * np.arange(1, n), [hang - 0.25 * dx]])
+        down = ws.R[lo:hi, :, 0]                       # each RFE's axis, down the rope
+        state.q[lo:hi, :3] += (delta * (1.0 - centre / hang))[:, None] * down
+        self.slipped += delta
+        self.rv_len += delta
+        km.rv_len[self.lead] = self.rv_len
+        set_payout(km, info, self.D - self.slipped, self.v, self.system.length_scale)
+        ws.step_state[0] = 0            # the workspace no longer holds this state's evaluation
 
     # ------------------------------------------------------------------ outputs
     def channels(self) -> dict:
         info = self.info
         km = self.system.km
-        return {"payout": info.payout, "speed": info.speed,
+        return {"payout": self.D, "speed": info.speed,
                 "tension": float(self.system.ws.sigma[info.first_sde, 0]),
                 "suspended_length": info.length0 + info.payout,
                 "rope_mass_suspended": float(km.rfe_mass[info.rfe_lo:info.rfe_hi].sum()),
-                "rope_mass_drum": info.mass_per_length * (info.stored - info.payout)}
+                "rope_mass_drum": info.mass_per_length * (info.stored - self.D)}
+
+
+def _slipping_reeving(system, line: str) -> int | None:
+    """The reeving row of a rope that slips over its sheave toward a vessel lead
+    (rfesim.loads.reeving), or None."""
+    km = system.km
+    if not getattr(km, "has_reeving", False):
+        return None
+    for j in range(km.rv_sde.shape[0]):
+        if km.rv_slip[j] == 1 and int(km.sde_right[km.rv_sde[j]]) == system.model.line(line).rfe_start:
+            return j
+    return None
 
 
 def speed_at(rows, t: float) -> float:

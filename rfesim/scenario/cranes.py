@@ -197,6 +197,10 @@ class CylinderSpec(_Strict):
     stroke: list[Annotated[list[float], Field(min_length=2, max_length=2)]] | None = _units(
         "m", "Cylinder length table [[t s, length m], ...]: drives the luffing instead of an angle table",
         default=None)
+    force: AngleProfile | None = _units(
+        "N", "A-frame: force per cylinder (positive pushing), or a table [[t s, N], ...]: the legs turn "
+        "freely on their hinge under it and their weights (tilt_deg is then the starting tilt, a constant; "
+        "statics finds the tilt the force at t = 0 holds)", default=None)
 
 
 class CraneTugger(_Strict):
@@ -283,6 +287,9 @@ class ColumnCrane(_Crane):
     @model_validator(mode="after")
     def _drives(self):
         _check_profile(self.slewing_deg, "slewing_deg", -3600.0, 3600.0)
+        if self.cylinder is not None and self.cylinder.force is not None:
+            raise FieldError("cylinder.force", "a force-driven cylinder luffs the A-frame only; for the column "
+                                               "crane give luffing_deg or cylinder.stroke")
         _luffing(self, "luffing_deg", -10.0, 85.0)
         return self
 
@@ -304,6 +311,15 @@ class AFrame(_Crane):
 
     @model_validator(mode="after")
     def _drives(self):
+        if self.cylinder is not None and self.cylinder.force is not None:
+            force = self.cylinder.force
+            if self.cylinder.stroke is not None:
+                raise FieldError("cylinder.stroke", "give cylinder.stroke or cylinder.force, not both")
+            if self.tilt_deg is None or not isinstance(self.tilt_deg, (int, float)):
+                raise FieldError("tilt_deg", "with cylinder.force give the starting tilt as a constant (deg)")
+            _check_profile(self.tilt_deg, "tilt_deg", -80.0, 80.0)
+            _check_profile(force, "cylinder.force", -1e9, 1e9, "N")
+            return self
         _luffing(self, "tilt_deg", -80.0, 80.0)
         return self
 
@@ -334,11 +350,13 @@ _TEMPLATES = TypeAdapter(dict[str, CraneTemplate])
 
 
 # ============================================================================ geometry
-def cylinder_angle(cyl: CylinderSpec, length: float) -> float:
+def cylinder_angle(cyl: CylinderSpec, length: float, span: tuple[float, float] | None = None) -> float:
     """Boom angle (rad, from the luffing plane's x axis toward z) at which the cylinder
     between ``cyl.base`` and the eye at ``cyl.eye`` along the boom has ``length``: the
-    branch on which the cylinder lengthens as the angle grows. Raises FieldError when the
-    triangle cannot close."""
+    branch on which the cylinder lengthens as the angle grows; with ``span`` (lo, hi rad),
+    the branch whose angle lies in it (an A-frame's cylinder from an inboard base lengthens
+    as the legs tilt outboard, toward smaller plane angles). Raises FieldError when the
+    triangle cannot close, or neither branch lies in span."""
     bx, bz = cyl.base
     rho = math.hypot(bx, bz)
     b = cyl.eye
@@ -347,7 +365,16 @@ def cylinder_angle(cyl: CylinderSpec, length: float) -> float:
         lo, hi = abs(b - rho), b + rho
         raise FieldError("cylinder.stroke", f"a cylinder of {length:.4g} m cannot reach: with this base and eye "
                                             f"its length lies in [{lo:.4g}, {hi:.4g}] m")
-    return math.atan2(bz, bx) + math.acos(c)
+    first = math.atan2(bz, bx) + math.acos(c)
+    if span is None:
+        return first
+    for a in (first, math.atan2(bz, bx) - math.acos(c)):
+        a = math.atan2(math.sin(a), math.cos(a))
+        if span[0] <= a <= span[1]:
+            return a
+    raise FieldError("cylinder.stroke", f"a cylinder of {length:.4g} m puts the boom / legs outside their range "
+                                        f"({math.degrees(span[0]):.4g} to {math.degrees(span[1]):.4g} deg in the "
+                                        f"luffing plane)")
 
 
 def cylinder_lever(cyl: CylinderSpec, angle: float) -> tuple[float, float]:
@@ -410,9 +437,12 @@ def _angle_profile(tpl, field: str, to_plane) -> tuple[float, list | None]:
             rows.append([float(t), math.degrees(to_plane(a, inverse=True))])
         return _initial(rows), _table(rows)
     rows = []
+    # the luffing plane angles the template allows (column: the boom angle; A-frame: 90 - tilt)
+    span = (math.radians(10.0), math.radians(170.0)) if tpl.type == "a-frame" else \
+        (math.radians(-10.0), math.radians(85.0))
     for i, (t, length) in enumerate(tpl.cylinder.stroke):
         try:
-            a = cylinder_angle(tpl.cylinder, length)
+            a = cylinder_angle(tpl.cylinder, length, span)
         except FieldError as exc:
             raise FieldError(f"cylinder.stroke.{i}.1", exc.reason) from None
         rows.append([float(t), math.degrees(to_plane(a, inverse=True))])
@@ -591,7 +621,21 @@ def _a_frame(out: dict, name: str, tpl: AFrame, raw: dict, vname: str, vpos, hea
     # luffing axis: turning the legs outboard (tilt up) is a rotation about z x outboard
     axis = _rot(vpos, heading, [-xo[1], xo[0], 0.0])
     end_a = {"attach": f"{stub}:end_b", "connection": "clamped", "direction": _rot(vpos, heading, d_local)}
-    end_a["drives"] = [_drive("luffing", axis, tilt_table)]
+    cyl = tpl.cylinder
+    if cyl is not None and cyl.force is not None:
+        # force-driven: the legs turn freely about the luffing axis (a hinged join) and the
+        # cylinders push between their base on the deck and their eye on the legs
+        end_a["hinge_axis"] = axis
+        bx, bz = cyl.base
+        deck = [hinge[0] + bx * xo[0], hinge[1] + bx * xo[1], hinge[2] + bz]
+        rows = [[0.0, float(cyl.force)]] if isinstance(cyl.force, (int, float)) else cyl.force
+        if cyl.eye > tpl.legs.length:
+            raise FieldError("cylinder.eye", f"{cyl.eye} m is beyond the legs' {tpl.legs.length} m")
+        _add(out, "tuggers", f"{name}_cylinder", {
+            "line": legs, "at": cyl.eye, "vessel": vname, "deck_point": deck,
+            "mode": {"kind": "force", "force": [[float(t), cyl.count * float(f)] for t, f in rows]}}, "cylinder")
+    else:
+        end_a["drives"] = [_drive("luffing", axis, tilt_table)]
     _add(out, "lines", legs, {"type": f"{legs}_section", "length": tpl.legs.length, "elements": tpl.legs.count(),
                               "end_a": end_a, "end_b": {"attach": "free"}}, "legs")
     _add(out, "lines", beam, {"type": f"{beam}_section", "length": beam_len, "elements": 1,

@@ -955,6 +955,10 @@ class LineEnd(_Strict):
     reeving: Reeving | None = Field(None, description='The rope of a pinned join ("<line>:end_b", the sheave) '
                                     'runs on to a lead (its winch): the parent is pulled toward the lead by '
                                     'the tension at the sheave (rfesim.loads.reeving)')
+    hinge_axis: Vector3 | None = Field(None, description='A clamped join ("<line>:end_b") that turns freely '
+                                       'about this axis (global at t = 0), normal to end A\'s direction (a '
+                                       'luffing pin) or along it (a free slewing bearing): the joint\'s stiffness '
+                                       'and damping about it are 0 (rfesim.model.joins)')
 
     @model_validator(mode="after")
     def _direction(self):
@@ -973,6 +977,14 @@ class LineEnd(_Strict):
         if self.motor is not None and (":" not in self.attach or self.connection != "clamped"):
             raise FieldError("motor", 'a motor acts only on a clamped join ("attach": "<line>:end_b", '
                                       '"connection": "clamped")')
+        if self.hinge_axis is not None:
+            if ":" not in self.attach or self.connection != "clamped":
+                raise FieldError("hinge_axis", 'a hinge releases one rotation of a clamped join ("attach": '
+                                               '"<line>:end_b", "connection": "clamped")')
+            if math.sqrt(sum(c * c for c in self.hinge_axis)) < 1e-12:
+                raise FieldError("hinge_axis", "must not be the zero vector")
+            if self.drives or self.motor is not None:
+                raise FieldError("hinge_axis", "a hinged join turns freely: no drives or motor on it")
         if self.drives:
             if ":" not in self.attach or self.connection != "clamped":
                 raise FieldError("drives", 'drives act only on a clamped join ("attach": "<line>:end_b", '

@@ -16,12 +16,20 @@ Modes:
   ``pretension`` (N) at the scenario's initial positions (its unstretched length is the
   initial distance less pretension / stiffness), or with the given ``length``.
 
+* ``force``: a push-pull element at a set force, a hydraulic cylinder at a set pressure:
+  ``force`` (N, positive pushing the point away from the deck point), or a table of [t (s),
+  P (N)] rows; its tension channel is -P (the crane templates' force-driven cylinders).
+
+Instead of a body, a tugger may act on a point of a line: ``line`` and ``at`` (m from its
+end A, on its axis).
+
 Geometry: ``deck_point`` in the vessel frame, ``body_point`` in the body frame (default: the
 body's centre). The line is straight and massless (a tugger weighs little against its
 pull). Units SI.
 """
 from __future__ import annotations
 
+import math
 from typing import Annotated, Literal, Union
 
 from pydantic import Field, model_validator
@@ -29,6 +37,29 @@ from pydantic import Field, model_validator
 from .schema import FieldError, Vector3, _fixed_length_numbers, _Strict, _units
 
 TensionRow = Annotated[list[float], _fixed_length_numbers(2, "[t, tension]"), Field(min_length=2, max_length=2)]
+
+
+def _check_table(value, field: str, symbol: str, ok, why: str) -> None:
+    """A set value (N) or a table of [t (s), value (N)] rows with increasing times, every
+    value passing ``ok`` (else FieldError ``why``)."""
+    if isinstance(value, (int, float)):
+        if not ok(value):
+            raise FieldError(field, f"{value} N: {why}")
+        return
+    if not value:
+        raise FieldError(field, f"a table needs at least one row [t, {symbol}]")
+    for i, (t, v) in enumerate(value):
+        if i and not t > value[i - 1][0]:
+            raise FieldError(f"{field}.{i}.0", f"time {t} s does not increase")
+        if not (math.isfinite(t) and ok(v)):
+            raise FieldError(f"{field}.{i}.1", f"{v} N: {why}")
+
+
+def _rows(value) -> list[list[float]]:
+    """[[t, value], ...] of a set value (one row at t = 0) or a table."""
+    if isinstance(value, (int, float)):
+        return [[0.0, float(value)]]
+    return [[float(t), float(v)] for t, v in value]
 
 
 class TuggerTension(_Strict):
@@ -41,23 +72,29 @@ class TuggerTension(_Strict):
 
     @model_validator(mode="after")
     def _table(self):
-        if isinstance(self.tension, (int, float)):
-            if not self.tension >= 0.0:
-                raise FieldError("tension", f"{self.tension} N: a tugger pulls (tension >= 0)")
-            return self
-        if not self.tension:
-            raise FieldError("tension", "a table needs at least one row [t, T]")
-        for i, (t, T) in enumerate(self.tension):
-            if i and not t > self.tension[i - 1][0]:
-                raise FieldError(f"tension.{i}.0", f"time {t} s does not increase")
-            if not T >= 0.0:
-                raise FieldError(f"tension.{i}.1", f"{T} N: a tugger pulls (tension >= 0)")
+        _check_table(self.tension, "tension", "T", lambda T: T >= 0.0, "a tugger pulls (tension >= 0)")
         return self
 
     def rows(self) -> list[list[float]]:
-        if isinstance(self.tension, (int, float)):
-            return [[0.0, float(self.tension)]]
-        return [[float(t), float(T)] for t, T in self.tension]
+        return _rows(self.tension)
+
+
+class TuggerForce(_Strict):
+    """A push-pull element at a set force (a hydraulic cylinder at a set pressure): P(t)
+    pushes the point away from the deck point when positive, pulls it when negative."""
+
+    kind: Literal["force"]
+    force: Union[float, list[TensionRow]] = Field(..., description="Set force (N, positive pushing), or rows "
+                                                  "[t (s), P (N)], linear between rows, held beyond them",
+                                                  json_schema_extra={"units": "N (s, N)"})
+
+    @model_validator(mode="after")
+    def _table(self):
+        _check_table(self.force, "force", "P", math.isfinite, "must be a finite force")
+        return self
+
+    def rows(self) -> list[list[float]]:
+        return _rows(self.force)
 
 
 class TuggerElastic(_Strict):
@@ -78,16 +115,35 @@ class TuggerElastic(_Strict):
 
 
 class Tugger(_Strict):
-    """A tugger line from a vessel's deck to a body (see the module text)."""
+    """A tugger line from a vessel's deck to a body, or to a point of a line (see the module
+    text)."""
 
-    body: str = Field(..., min_length=1, description="The body (a name of `bodies`) the line pulls on")
+    body: str | None = Field(None, min_length=1, description="The body (a name of `bodies`) the line pulls on")
+    line: str | None = Field(None, min_length=1, description="Or the line (a name of `lines`) it acts on, at "
+                             "arc length `at` on the line's axis")
+    at: float | None = _units("m", "Arc length from the line's end A of the point the tugger acts on (with "
+                              "`line`)", default=None, ge=0.0)
     vessel: str = Field(..., min_length=1, description="The vessel (a name of `vessels`) whose deck carries the "
                         "tugger winch or fairlead")
     deck_point: Vector3 = _units("m", "The line's deck end (winch or fairlead) in the vessel frame")
     body_point: Vector3 = _units("m", "The line's end on the body, in the body frame (default: the centre)",
                                  default=[0.0, 0.0, 0.0])
-    mode: Annotated[Union[TuggerTension, TuggerElastic], Field(discriminator="kind")] = Field(
-        ..., description="constant tension (a table in time) or an elastic, braked line")
+    mode: Annotated[Union[TuggerTension, TuggerElastic, TuggerForce], Field(discriminator="kind")] = Field(
+        ..., description="constant tension (a table in time), an elastic, braked line, or a set push-pull force "
+        "(a cylinder)")
+
+    @model_validator(mode="after")
+    def _target(self):
+        if (self.body is None) == (self.line is None):
+            raise FieldError("body", "give the body the tugger acts on, or a line and the arc length at")
+        if self.line is not None:
+            if self.at is None:
+                raise FieldError("at", f"give the arc length on line '{self.line}' (m from end A)")
+            if "body_point" in self.model_fields_set:
+                raise FieldError("body_point", "a line point is on the line's axis at `at`: leave out body_point")
+        elif self.at is not None:
+            raise FieldError("at", "at goes with line, not with body")
+        return self
 
 
 def check_tugger_references(sc) -> list[tuple[str, str]]:
@@ -95,8 +151,17 @@ def check_tugger_references(sc) -> list[tuple[str, str]]:
     with the other groups' in rfesim.scenario.load)."""
     errors: list[tuple[str, str]] = []
     for name, tg in getattr(sc, "tuggers", {}).items():
-        for field, value, group in (("body", tg.body, "bodies"), ("vessel", tg.vessel, "vessels")):
+        for field, value, group in (("body", tg.body, "bodies"), ("line", tg.line, "lines"),
+                                    ("vessel", tg.vessel, "vessels")):
+            if value is None:
+                continue
             if value not in getattr(sc, group):
                 known = ", ".join(sorted(getattr(sc, group))) or "none defined"
                 errors.append((f"tuggers.{name}.{field}", f"unknown {field} '{value}' ({group}: {known})"))
+        if tg.line is not None and tg.line in sc.lines and sc.lines[tg.line].formulation != "absolute":
+            errors.append((f"tuggers.{name}.line", f"line '{tg.line}' has the {sc.lines[tg.line].formulation} "
+                                                   "formulation: a tugger acts on an absolute-coordinate line"))
+        elif tg.line is not None and tg.line in sc.lines and tg.at > sc.lines[tg.line].length:
+            errors.append((f"tuggers.{name}.at", f"{tg.at} m is beyond the {sc.lines[tg.line].length} m of line "
+                                                 f"'{tg.line}'"))
     return errors

@@ -18,8 +18,7 @@ from ..model.assemble import solve_accelerations
 from ..model.compile import State
 from ..kinematics import rotation_to_zyx
 from ..model.bodies import connection_force
-from ..model.joins import drive_angles, drive_outputs, joint_loads, rebase_motors
-from ..model.reeving import check_dynamics
+from ..model.joins import drive_angles, drive_outputs, hinge_angle, joint_loads, rebase_motors
 from .banded import bt_matvec
 from .kernels import Q_JACOBIAN, Q_NEWTON, Q_POSITION, Q_VELOCITY, dp_advance, ga_advance, genalpha_parameters, \
     rk4_advance, _DP_A, _DP_B, _DP_C, _DP_E
@@ -156,6 +155,18 @@ class Recorder:
             if ji.drive_names:
                 for ch in ("drive_angle", "drive_torque"):
                     self.line_data[ji.child][ch] = np.zeros((nt, len(ji.drive_names)))
+            if ji.hinge >= 0:
+                self.line_data[ji.child]["hinge_angle"] = np.zeros(nt)
+        # ropes that slip over a sheave led to a vessel point (rfesim.loads.reeving)
+        km0 = system.km
+        self._slipping = []
+        if getattr(km0, "has_reeving", False):
+            child = {ji.sde: ji.child for ji in joins}
+            for j in range(km0.rv_sde.shape[0]):
+                if km0.rv_slip[j]:
+                    rope = child[int(km0.rv_sde[j])]
+                    self._slipping.append((j, rope))
+                    self.line_data[rope]["reeving_slip"] = np.zeros(nt)
         self.vessel_names = list(model.scenario.vessels)
         self.vessel_pos = np.zeros((nt, len(self.vessel_names), 3))
         self.vessel_rot = np.zeros((nt, len(self.vessel_names), 3))
@@ -264,10 +275,32 @@ class Recorder:
                 self.winch_data[c.name][ch][k] = value
         if km.has_tuggers:
             self._record_tuggers(k, ws)
+        for j, rope in self._slipping:
+            # the slip still on the sheave's join, and what the rope's winch took over
+            handed = sum(c.slipped for c in getattr(sysm, "controllers", ()) if c.lead == j)
+            self.line_data[rope]["reeving_slip"][k] = ws.rv_slip_out[j] + handed
         if km.has_rollers:
             self.roller_reaction[k] = ws.roller_normal
             self.roller_force[k] = ws.roller_force
         self.k += 1
+
+    def slip_beyond(self) -> str:
+        """A message when a rope has slipped over its sheave by more than the length of its
+        first RFE (the sheave must stay on it, rfesim.loads.reeving), else ''."""
+        if not self._slipping:
+            return ""
+        km, ws = self.system.km, self.system.ws
+        for j, rope in self._slipping:
+            # (a winch hands the slip over to the rope's length before it gets there)
+            b = int(km.sde_right[km.rv_sde[j]])
+            first = float(km.rfe_length[b])
+            slip = float(ws.rv_slip_out[j])
+            if abs(slip) > first:
+                return (f"rope '{rope}' slipped {slip:.4g} m over its sheave toward the lead, more than its first "
+                        f"element ({first:.4g} m) can carry: the slip is modelled while the sheave stays on that "
+                        f"element (docs/theory.md, 'Reeving'); a frame luffing far with a deck-winch lead needs "
+                        f"the rope led along the boom (\"reeving\": \"boom\") or no reeving")
+        return ""
 
     def _record_line_extras(self, k: int, km, ws) -> None:
         """The line channels of a seabed and of elasto-plastic pipe, line by line."""
@@ -338,13 +371,16 @@ class Recorder:
             parent["end_b_moment"][k] = loads["parent_moment"]
             if ji.drive_names:
                 child["drive_angle"][k], child["drive_torque"][k] = drive_outputs(km, ji, loads, t, angles)
+            if ji.hinge >= 0:
+                child["hinge_angle"][k] = math.degrees(hinge_angle(ws, ji))
 
     # ------------------------------------------------------------ recording inside the step loop
     def kernel_records(self) -> bool:
         """True when the compiled run (rfesim.solvers.recording.ga_run) records every channel
         of this scene: lines (with the seabed and touchdown channels), bodies, joints with
         prescribed drives, vessels. Scenes with controllers, motors, elasto-plastic pipe,
-        tensioners, reels, tuggers or rollers are recorded in Python (Recorder.record)."""
+        tensioners, reels, tuggers, rollers, hinged joins or ropes slipping over a sheave are
+        recorded in Python (Recorder.record)."""
         if not self.IN_KERNEL:
             return False
         sysm = self.system
@@ -352,7 +388,9 @@ class Recorder:
         if getattr(sysm, "controllers", None) or km.has_motors or km.has_plastic \
                 or self._stress_geometry or km.has_tensioners or km.has_reels or km.has_tuggers or km.has_rollers:
             return False
-        return all(ji.motor < 0 for ji in getattr(sysm.model, "joins", []))
+        if self._slipping:
+            return False
+        return all(ji.motor < 0 and ji.hinge < 0 for ji in getattr(sysm.model, "joins", []))
 
     IN_KERNEL = True        # tests switch it off to compare with the Python recording
 
@@ -481,7 +519,7 @@ class Recorder:
                                         **{ch: arr[:nt].copy() for ch, arr in self.winch_data[c.name].items()})
                    for c in getattr(self.system, "controllers", ())}
         from ..results import TuggerResults
-        tuggers = {ti.name: TuggerResults(name=ti.name, body=ti.body, vessel=ti.vessel,
+        tuggers = {ti.name: TuggerResults(name=ti.name, body=ti.body, vessel=ti.vessel, line=ti.line, at=ti.at,
                                           tension=self.tug_tension[:nt, ti.index].copy(),
                                           length=self.tug_length[:nt, ti.index].copy(),
                                           force=self.tug_force[:nt, ti.index].copy())
@@ -581,7 +619,6 @@ def _check_motor_rates(km, out_dt: float) -> None:
 def run_dynamics(system: System, state: State, settings, progress=None, recorder: Recorder | None = None,
                  counters: Counters | None = None) -> tuple[State, Recorder, Counters]:
     """Integrate from state.t over settings.duration, recording at output times."""
-    check_dynamics(system.model)
     integ = settings.integrator
     T = float(settings.duration)
     t_start = state.t
@@ -631,6 +668,14 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
     def make_results(**kw):
         counters["wall_time"] = _time.perf_counter() - wall0
         return recorder.results(counters=dict(counters), **kw)
+
+    def check_slip():
+        """Stop with the results so far once a rope has slipped over its sheave past its first
+        element (rfesim.loads.reeving: the sheave must stay on that element)."""
+        msg = recorder.slip_beyond()
+        if msg:
+            raise SolverError(msg, time=st.t, quantity="rope slip over a sheave",
+                              results=make_results(status=1, message=msg))
 
     def report(t):
         if progress is not None:
@@ -770,6 +815,7 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
                 if status != 0:
                     _raise(system, fail, status, make_results)
                 recorder.record(st, st.qdd)
+                check_slip()
                 if km.has_motors and rebase_motors(km, ws):
                     flags[0] = 0           # the factorised Jacobian belongs to the old rest rotation
                 report(st.t)
@@ -791,6 +837,7 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
             counters.add(stats)
             stats[:] = 0
             recorder.record(st, st.qdd)
+            check_slip()
             if km.has_motors and rebase_motors(km, ws):
                 flags[0] = 0           # the factorised Jacobian belongs to the old rest rotation
             report(st.t)
@@ -810,6 +857,7 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
                 _raise(system, fail, status, make_results, "RK4: ")
             st.t = t_target
             recorder.record(st, st.qdd)
+            check_slip()
             if km.has_motors:
                 rebase_motors(km, ws)
             report(st.t)
@@ -830,6 +878,7 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
                 _raise(system, fail, status, make_results, "adaptive RK: ")
             st.t = t_target
             recorder.record(st, st.qdd)
+            check_slip()
             if km.has_motors:
                 rebase_motors(km, ws)
             report(st.t)

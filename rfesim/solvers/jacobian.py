@@ -23,7 +23,7 @@ import numpy as np
 from numba import njit
 
 from ..kinematics import cross_into, matmul_into, matvec_into
-from ..loads.reeving import reeving_tangent
+from ..loads.reeving import reeving_tangent, slip_tangent
 from ..loads.sde_tangent import sde_tangent_rest
 from ..model.assemble import sde_part
 from .residual import residual_general, residual_q
@@ -113,7 +113,9 @@ def jacobian_analytic_at(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask,
                          km.sde_damping, km.sde_has_rest, km.sde_rest, ws.sde_rest_eff, ws.R, ws.rbase, ws.roff,
                          ws.sigma, Ks, Kds)
     if km.has_reeving:
-        # the sheave's pull toward the lead has the join's tension (rfesim.loads.reeving)
+        # the rope's slip over the sheave, then the sheave's pull toward the lead with the join's
+        # tension (rfesim.loads.reeving)
+        slip_tangent(km.rv_sde, km.rv_slip, km.sde_left, km.sde_right, km.sde_arm_left, ws.R, ws.rv_dir, Ks, Kds)
         reeving_tangent(km.rv_sde, km.sde_left, ws.rbase, ws.roff, ws.sde_point, ws.rv_tension, ws.rv_dir,
                         ws.rv_fdir, Ks, Kds)
     _maps(km, att, ws, T)

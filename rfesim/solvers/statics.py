@@ -97,29 +97,44 @@ def _rechain(system: System, st: State, dq: np.ndarray, alpha: float, trial: np.
     r = ws.r.copy()
     rest = rest_of_workspace(km, ws)       # SDE rest rotations (joints, rfesim.loads.drives)
     eps_target = eps_old + alpha * eps_dir
+
+    def link(a, b, sidx):
+        """Centre of RFE b from RFE a's across SDE sidx at its target deformation: mean frame
+        R' = R_a* exp(theta/2) of the new rotations, R_a* = R_a R0."""
+        Ras = R[a] @ rest[sidx]
+        Rp = Ras @ _exp(0.5 * _log(Ras.T @ R[b]))
+        return r[a] + R[a] @ km.sde_arm_left[sidx] + Rp @ eps_target[sidx, :3] - R[b] @ km.sde_arm_right[sidx]
+
+    # a joined line starts from its parent's re-chained end across the joint SDE (parents come
+    # first): a hinged boom turned far in one step keeps its joint closed
+    joined = {ji.child: ji for ji in getattr(system.model, "joins", [])}
+    if getattr(km, "has_reeving", False):
+        # a rope slipping over its sheave: the join's arm moves with the sheave (slip_arms), so
+        # the rope keeps its own chain
+        for s_slip in km.rv_sde[km.rv_slip == 1]:
+            joined = {c: ji for c, ji in joined.items() if ji.sde != int(s_slip)}
     for li in system.model.lines:
         i0, i1 = li.rfe_start, li.rfe_stop - 1
         s0 = li.sde_start
         nsde = li.elements
+        ji = joined.get(li.name)
+        if ji is not None and km.rfe_kind[i0] == 0:
+            r[i0] = link(ji.parent_rfe, i0, ji.sde)
         chain = np.empty((li.nrfe, 3))
         chain[0] = r[i0]
+        placed_b = r[i1].copy()
         for j in range(nsde):
-            a, b, sidx = i0 + j, i0 + j + 1, s0 + j
-            # mean frame R' = R_a* exp(theta/2) of the new rotations, R_a* = R_a R0
-            Ras = R[a] @ rest[sidx]
-            Rrel = Ras.T @ R[b]
-            theta = _log(Rrel)
-            Rp = Ras @ _exp(0.5 * theta)
-            g = Rp @ eps_target[sidx, :3]
-            chain[j + 1] = chain[j] + R[a] @ km.sde_arm_left[sidx] + g - R[b] @ km.sde_arm_right[sidx]
+            chain[j + 1] = r[i0 + j + 1] = link(i0 + j, i0 + j + 1, s0 + j)
         if km.rfe_kind[i1] != 0 and nsde > 0:
             # end B placed by its attachment: spread the closure error along the line
-            miss = chain[-1] - r[i1]
+            miss = chain[-1] - placed_b
             chain -= miss[None, :] * (np.arange(li.nrfe) / nsde)[:, None]
+            r[i1] = placed_b
         for k in range(li.nrfe):
             i = i0 + k
             if km.rfe_kind[i] == 0:
                 trial[i, :3] = chain[k] - trial_ref.X[i]
+                r[i] = chain[k]
     rebase(trial, dummy, trial_ref, km.rfe_kind, 0.0, dummy, dummy, False)
 
 
@@ -224,6 +239,11 @@ def _solve(system: System, state: State | None, tolerance: float, max_iterations
     fac = np.zeros_like(system.Fac)
     dummy = np.zeros((n, 6))
 
+    # a rope slipping over its sheave (rfesim.loads.reeving.slip_arms) couples the sheave's
+    # position with the stiff join: the central-difference Jacobian of that coupling left
+    # Newton cycling (the A-frame with a deck winch lead: no convergence in 100 iterations),
+    # the analytic one converges in 5 (docs/theory.md, 'Reeving')
+    slipping = bool(getattr(system.km, "has_reeving", False) and np.any(system.km.rv_slip == 1))
     lam_done = 0.0
     dlam = 1.0 / max(1, load_steps)
     q_good = st.q.copy()
@@ -247,7 +267,8 @@ def _solve(system: System, state: State | None, tolerance: float, max_iterations
             if total_its >= max_iterations:
                 break
             total_its += 1
-            J = system.static_jacobian_accurate(st.q, st.ref, lam)
+            J = system.static_jacobian_analytic(st.q, st.ref, lam) if slipping else \
+                system.static_jacobian_accurate(st.q, st.ref, lam)
             # Solve; raise the Levenberg damping while the direction is not a descent
             # direction (a part in compression has negative geometric stiffness).
             bad = 0
@@ -288,6 +309,7 @@ def _solve(system: System, state: State | None, tolerance: float, max_iterations
             _linear_update(system, st, dq, limit, trial, trial_ref)
             system.static_residual(trial, trial_ref, lam, r)
             rn_lin = _norm(r, mask, ls, force_ref)
+
             if not (rn_lin < rn_chain):
                 use_rechain = True
             else:

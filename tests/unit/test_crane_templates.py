@@ -151,6 +151,21 @@ def test_stroke_table_becomes_the_luffing_table():
     assert np.allclose(np.array(drive["angle"]), [[0, 40.0], [20, 60.0]], atol=1e-9)
 
 
+def test_a_frame_stroke_table_takes_the_branch_of_the_legs():
+    """An A-frame's cylinder from an inboard deck base lengthens as the legs tilt outboard
+    (toward smaller plane angles): the stroke table gives the tilt on that branch, not the
+    mirror image below the deck (which the column crane's branch rule gave: -200 deg)."""
+    cyl = {"base": [-3.0, 0.0], "eye": 5.0}
+    L = [cylinder_lever(CylinderSpec(**cyl), math.radians(90.0 - tilt))[0] for tilt in (-20.0, 20.0, 35.0)]
+    assert L[0] < L[1] < L[2]
+    a = expand(a_frame(tilt_deg=None, cylinder=dict(cyl, stroke=[[0, L[0]], [10, L[1]], [20, L[2]]])))
+    (drive,) = a["lines"]["af_legs"]["end_a"]["drives"]
+    assert np.allclose(np.array(drive["angle"]), [[0, -20.0], [10, 20.0], [20, 35.0]], atol=1e-9)
+    # a stroke that would put the legs below the deck is refused, naming the row
+    errors = errors_of(a_frame(tilt_deg=None, cylinder=dict(cyl, stroke=[[0, L[1]], [10, 2.05]])))
+    assert "outside their range" in errors["cranes.af.cylinder.stroke.1.1"]
+
+
 @pytest.mark.parametrize("tpl, over, field, words", [
     ("column", {"vessel": "tug"}, "cranes.c.vessel", "unknown vessel 'tug'"),
     ("column", {"luffing_deg": None}, "cranes.c.luffing_deg", "or cylinder.stroke"),

@@ -9,7 +9,11 @@ winch) by the tension at the sheave.
 * a column crane whose rope runs along the boom to its foot: the pull is internal (the
   pedestal base loads are still exactly the weights' resultant and moment) and the boom is
   compressed by the rope tension;
-* an A-frame overboarding run with a deck winch lead converges;
+* an A-frame overboarding run with the rope along the legs completes; with a deck winch
+  lead the rope slips over the sheave (the slip kernel against numpy; the winch hands the
+  slip to the hanging rope; the payload rides up by the slip) until the rope two-blocks,
+  where the run stops saying so; without a winch it stops once the slip passes the rope's
+  first element;
 * errors name the field."""
 from __future__ import annotations
 
@@ -77,7 +81,7 @@ def reference_pull(system, j):
                          ws.sde_rest_eff[one], ws.sde_rest_rate[one], ws.R, ws.rbase, ws.roff, ws.v, ws.w, F, M,
                          np.zeros((1, 6)), np.zeros((1, 6)), np.zeros((1, 3)), np.zeros((40, 3)),
                          np.zeros((16, 3, 3)))
-    f = F[a]
+    f = F[a]                     # (the join's arm on the rope carries the slip: slip_arms)
     T = np.linalg.norm(f)
     b = int(km.sde_right[s])
     P = 0.5 * (ws.r[a] + ws.R[a] @ km.sde_arm_left[s] + ws.r[b] + ws.R[b] @ km.sde_arm_right[s])   # the sheave
@@ -88,6 +92,23 @@ def reference_pull(system, j):
         L = ws.r[k] + ws.R[k] @ km.rv_point[j]
     e = (L - P) / np.linalg.norm(L - P)
     return T, T * e, np.cross(P - ws.r[a], T * e), L
+
+
+def reference_slip(system, j):
+    """(slip delta m, its rate m/s) of reeving j, numpy (rfesim.loads.reeving): delta =
+    |L - P| - rv_len with P the sheave on the parent's side of the join, rate e . (v_L - v_P)."""
+    km, ws, att = system.km, system.ws, system.att
+    s = int(km.rv_sde[j])
+    a = int(km.sde_left[s])
+    arm = ws.R[a] @ km.sde_arm_left[s]
+    P = ws.r[a] + arm
+    at = int(km.rv_att[j])
+    lead_arm = att.R[at] @ km.rv_point[j]
+    L = att.p[at] + lead_arm
+    e = (L - P) / np.linalg.norm(L - P)
+    delta = float(np.linalg.norm(L - P) - km.rv_len[j])
+    rate = float(e @ ((att.v[at] + np.cross(att.w[at], lead_arm)) - (ws.v[a] + np.cross(ws.w[a], arm))))
+    return delta, rate
 
 
 @pytest.mark.parametrize("lead", [DECK_WINCH, "boom"])
@@ -114,6 +135,46 @@ def test_reeving_kernel_against_its_readable_reference(lead):
         assert np.allclose(F.sum(axis=0), 0.0, atol=1e-9 * T)
     else:
         assert np.count_nonzero(np.abs(F).sum(axis=1)) == 1  # the reaction goes to the vessel
+
+
+def test_slip_kernel_against_its_readable_reference():
+    """The rope's slip over a sheave led to a deck winch (rfesim.loads.reeving.slip_arms):
+    delta against numpy, the join's arm on the rope (-l/2 + delta + c/k rate), the same arm
+    when set again (its base kept), and a base rewritten in between (a winch's payout) taken
+    as the new base; with the frame moved 5 cm and everything moving."""
+    from rfesim.loads.reeving import slip_arms
+    sc, system, state = static_system(a_frame(reeving=DECK_WINCH))
+    km = system.km
+    rng = np.random.default_rng(11)
+    moved = state.copy()
+    step = rng.normal(size=moved.q.shape) * np.where(np.arange(6) < 3, 0.05, 5e-4)
+    moved.q[system.mask] += step[system.mask]
+    moved.qd[system.mask] = rng.normal(scale=0.3, size=moved.q.shape)[system.mask]
+    system.accelerations(moved)
+    ws, att = system.ws, system.att
+    s = int(km.rv_sde[0])
+    b = int(km.sde_right[s])
+    half = 0.5 * float(km.rfe_length[b])
+    delta, rate = reference_slip(system, 0)
+    k, c = float(km.sde_stiffness[s, 0]), float(km.sde_damping[s, 0])
+    assert abs(delta) > 1e-3 and abs(rate) > 1e-3                     # a real slip, moving
+    assert ws.rv_slip_out[0] == pytest.approx(delta, rel=1e-12)        # as the evaluation set it
+    want = -half + delta + c / k * rate
+    assert km.sde_arm_right[s, 0] == pytest.approx(want, rel=1e-12)
+    out = np.zeros(1)
+
+    def again():
+        slip_arms(km.rv_sde, km.rv_slip, km.rv_att, km.rv_point, km.rv_len, km.rv_arm_written, km.rv_arm_offset,
+                  km.sde_left, km.sde_arm_left, km.sde_arm_right, km.sde_stiffness, km.sde_damping, ws.R, ws.rbase,
+                  ws.roff, ws.v, ws.w, att.p, att.R, att.v, att.w, out)
+
+    again()
+    assert out[0] == pytest.approx(delta, rel=1e-12)
+    assert km.sde_arm_right[s, 0] == pytest.approx(want, rel=1e-12)   # not offset twice
+    km.sde_arm_right[s, 0] = -1.1 * half                                 # a winch paid out: a new base
+    again()
+    assert km.sde_arm_right[s, 0] == pytest.approx(-1.1 * half + delta + c / k * rate, rel=1e-12)
+    np.testing.assert_array_equal(km.sde_arm_right[s, 1:], 0.0)
 
 
 @pytest.mark.parametrize("mode", [0, 1])
@@ -235,19 +296,51 @@ def test_a_frame_overboarding_with_the_rope_along_the_legs_runs():
     assert 0.8 * 20000.0 * G < np.median(out["rope_tension"]) < 1.3 * 20000.0 * G
 
 
-def test_a_deck_lead_is_refused_in_dynamics_naming_the_field():
-    """A lead at a vessel point is for statics: in dynamics the rope's run changes length as
-    the sheave moves and that length is not given to the hanging rope (a non-conservative
-    pull: the overboarding run went unstable at 28 s). The refusal comes before the statics."""
-    data = _a_frame_scenario(45.0)
+def test_a_frame_swinging_out_with_a_deck_winch_lead_draws_rope_over_the_sheave(tmp_path):
+    """The a_frame scenario (rope of 5 elements, braked winch) with its rope led to a deck
+    winch 10 m forward of the hinge. Before the slip (rfesim.loads.reeving.slip_arms) the
+    hanging rope kept its length, the pull was circulatory, the swing-out fluttered until
+    Newton failed at 29 s, and a dynamic run was refused. Now, over 26 s (the legs from -25
+    to +17 deg): the run draws 4 m of rope over the sheave; the winch hands the slip to the
+    hanging rope's length (rfesim.model.winches) so the part left on the sheave's join stays
+    under half the rope's first element, and the rope's end A sits that part up past the
+    sheave; the payload rides higher than without the lead by the whole slip (to the offset
+    of their statics, within 2.5 cm over the 4 m). Run on, the rope two-blocks and the run
+    stops saying so, keeping its results. Without a winch the slip stays on the join and the
+    run stops once it passes the rope's first element."""
+    data = _a_frame_scenario(26.0)
+    data["cranes"]["aframe"]["rope"]["elements"] = 5
+    plain = rfesim.simulate(copy.deepcopy(data))
     data["cranes"]["aframe"]["reeving"] = [-38.0, 0.0, 4.0]
-    with pytest.raises(ScenarioError) as exc:
+    res = rfesim.simulate(copy.deepcopy(data))
+    assert res.time[-1] == pytest.approx(26.0)
+    rope, winch = res.line("aframe_rope"), res.winches["aframe_winch"]
+    slip = rope.reeving_slip
+    handed = 5.0 + winch.payout - winch.suspended_length            # the hanging rope is shorter by it
+    on_join = slip - handed
+    assert slip[-1] > 4.0 and handed[-1] > 3.5
+    assert np.abs(on_join).max() < 0.5 * 0.5                         # half the first RFE (dx / 2)
+    sheave = res.line("aframe_crossbeam").position[:, -1]
+    np.testing.assert_allclose(rope.position[:, 0], sheave - on_join[:, None] * rope.end_a_direction, atol=1e-4)
+    rise = res.body("aframe_payload").position[:, 2] - plain.body("aframe_payload").position[:, 2]
+    offset = rise - slip
+    assert np.abs(offset - offset[0]).max() < 0.025
+    tension = rope.tension[:, 0]
+    assert 0.7 * 20000.0 * G < tension.min() and tension.max() < 1.3 * 20000.0 * G
+    res.to_netcdf(tmp_path / "slip.nc")
+    np.testing.assert_array_equal(rfesim.open_results(tmp_path / "slip.nc").line("aframe_rope").reeving_slip, slip)
+    longer = copy.deepcopy(data)
+    longer["analysis"]["dynamics"]["duration"] = 45.0
+    with pytest.raises(rfesim.SolverError) as exc:
+        rfesim.simulate(longer)
+    assert "drew" in str(exc.value) and "left hanging" in str(exc.value)
+    assert 26.0 < exc.value.results.time[-1] < 45.0
+    del data["cranes"]["aframe"]["winch"]
+    with pytest.raises(rfesim.SolverError) as exc:
         rfesim.simulate(data)
-    text = str(exc.value)
-    assert "lines.aframe_rope.end_a.reeving.lead" in text and "statics only" in text
-    data["analysis"]["dynamics"]["enabled"] = False
-    res = rfesim.simulate(data)                             # statics alone: fine
-    assert res.time.shape[0] == 1
+    assert "slipped" in str(exc.value) and "first element" in str(exc.value)
+    kept = exc.value.results
+    assert 5.0 < kept.time[-1] < 26.0 and abs(kept.line("aframe_rope").reeving_slip[-1]) > 0.5
 
 
 @pytest.mark.parametrize("edit, field, words", [

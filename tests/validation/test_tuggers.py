@@ -1,7 +1,8 @@
 """Tugger lines (rfesim.loads.tugger, top-level ``tuggers`` and ``cranes.<c>.tuggers``) and
 the deck's static friction (rfesim.loads.deck in statics).
 
-* the kernel equals a readable numpy reference (both kinds, a tension table in time);
+* the kernel equals a readable numpy reference (all three kinds, a tension or force table
+  in time);
 * a payload on a light rope pulled sideways by a constant-tension tugger hangs at the angle
   tan(theta) = T / W, its centre on the rope's line (statics), and the forces on it balance;
 * an elastic tugger starts with its pretension and follows T = k (L - L0);
@@ -36,6 +37,10 @@ def tugger_reference(rfe_R, r, v, w, att_p, att_R, att_v, att_w, deck, point, ki
     u = e / L
     if kind == 0:
         T = float(np.interp(t, ts, vs))
+    elif kind == 2:                  # a set push (a cylinder): a negative pull of either sign
+        T = -float(np.interp(t, ts, vs))
+        F = T * u
+        return F, np.cross(o, F), T, L
     else:
         if L <= L0:
             return np.zeros(3), np.zeros(3), 0.0, L
@@ -64,10 +69,11 @@ def test_tugger_kernel_equals_the_reference():
     att = rng.integers(0, 2, ng)
     deck = rng.normal(0, 5, (ng, 3))
     point = rng.normal(0, 1, (ng, 3))
-    kind = rng.integers(0, 2, ng)
+    kind = rng.integers(0, 3, ng)
     K = 4
     ts = np.sort(rng.uniform(0, 10, (ng, K)), axis=1)
     vs = rng.uniform(0, 1e4, (ng, K))
+    vs[kind == 2] -= 5e3                     # set forces of both signs
     count = rng.integers(1, K + 1, ng)
     for j in range(ng):                    # rows beyond count repeat the last one (rfesim.model.tuggers)
         ts[j, count[j]:] = ts[j, count[j] - 1]
@@ -93,6 +99,7 @@ def test_tugger_kernel_equals_the_reference():
         np.testing.assert_allclose(F, Fr, rtol=1e-12, atol=1e-8)
         np.testing.assert_allclose(M, Mr, rtol=1e-12, atol=1e-8)
         assert 0 < slack < ng                # slack and taut elastic lines both exercised
+        assert (T < 0).any()                 # and pushing force elements
 
 
 def hanging(tugger_mode, deck_point=(1000.0, 0.0, -ROPE - HALF), body_point=(0.0, 0.0, 0.0), duration=0.0):
