@@ -316,6 +316,56 @@ class WinchController:
                 net -= math.copysign(m.brake_torque, v)
         return m.radius * net / m.inertia
 
+    def _rope_axial(self) -> tuple[float, float]:
+        """Axial stiffness (N/m) and damping (N*s/m) of the whole rope: its SDEs (and a shock
+        absorber) in series."""
+        km = self.system.km
+        k = km.sde_stiffness[self.info.sde_lo:self.info.sde_hi, 0]
+        c = km.sde_damping[self.info.sde_lo:self.info.sde_hi, 0]
+        stiff = 1.0 / float(np.sum(1.0 / k)) if np.all(k > 0.0) else 0.0
+        damp = 1.0 / float(np.sum(1.0 / c)) if np.all(c > 0.0) else 0.0
+        return stiff, damp
+
+    def _stretch_rate(self) -> float:
+        """Rate (m/s) at which the rope's chord lengthens beyond its payout: the relative
+        velocity of its end points along the chord, less the payout speed."""
+        ws, km, info = self.system.ws, self.system.km, self.info
+        ends = []
+        for i, sign in ((info.rfe_lo, -1.0), (info.rfe_hi - 1, 1.0)):
+            arm = ws.R[i][:, 0] * (0.5 * sign * float(km.rfe_length[i]))
+            ends.append((ws.r[i] + arm, ws.v[i] + np.cross(ws.w[i], arm)))
+        chord = ends[1][0] - ends[0][0]
+        size = float(np.linalg.norm(chord))
+        if size <= 0.0:
+            return 0.0
+        return float((ends[1][1] - ends[0][1]) @ chord) / size - self.v_mode
+
+    def _drum_implicit(self, t: float, h: float) -> float:
+        """Drum payout acceleration (m/s^2) at t = t_{n+1}, implicit in the rope's stretch.
+
+        With m = J / r^2 the drum's inertia at the rope, k the rope's axial stiffness and
+        the drum on the average-acceleration rule D_{n+1} = D_n + h v_n + h^2/4 (a_n + a),
+        v_{n+1} = v_n + h/2 (a_n + a), and c the rope's axial damping, the tension at t_{n+1}
+        is T_n + h dT/dt - (k h^2/4 + c h/2) (a_n + a) (dT/dt = k times the stretch rate at
+        t_n), so m a = T_{n+1} - tau / r gives a = (T_n + h dT/dt - b a_n - tau / r) / (m + b)
+        with b = k h^2/4 + c h/2: the drum-rope mode is integrated implicitly. A slack rope (T <= 0) has no stiffness: the drum runs free.
+        The brake acts as in _drum_accel on that net force."""
+        m = self.mode
+        r = m.radius
+        meq = m.inertia / (r * r)
+        k, c = self._rope_axial() if self.tension > 0.0 else (0.0, 0.0)
+        kh = 0.25 * k * h * h + 0.5 * c * h
+        net = self.tension + h * k * self._stretch_rate() - kh * self.accel - _table(m.torque, t) / r
+        if m.brake_torque > 0.0:
+            fb = m.brake_torque / r
+            if abs(self.v_mode) < 1e-12:
+                if abs(net) <= fb:
+                    return 0.0
+                net -= math.copysign(fb, net)
+            else:
+                net -= math.copysign(fb, self.v_mode)
+        return net / (meq + kh)
+
     def _tension_speed(self) -> float:
         m = self.mode
         T = self.tension
@@ -333,7 +383,9 @@ class WinchController:
             from ..scenario.winches import speed_payout
             D_mode, v_mode = speed_payout(m.rows, t_next)
         elif m.kind == "drum":
-            v_star = self.v_mode + h * self.accel
+            # the drum's acceleration at t_{n+1}, implicit in the rope's stretch (_drum_implicit):
+            # with it the payout follows the average-acceleration Newmark rule, stable at any step
+            v_star = self.v_mode + 0.5 * h * (self.accel + self._drum_implicit(t_next, h))
             if m.brake_torque > 0.0 and self.v_mode != 0.0 and v_star * self.v_mode < 0.0:
                 v_star = 0.0                                 # the brake stops the drum, not reverses it
             D_mode = self.D_mode + 0.5 * h * (self.v_mode + v_star)
@@ -367,6 +419,44 @@ class WinchController:
                               time=t_next, quantity="winch payout")
         self._next = (t_next, D, v, D_mode, v_mode, D_c, v_c)
         set_payout(km, info, D - self.slipped, v, self.system.length_scale)
+
+    COUPLING_TOLERANCE = 1e-5       # drum force balance, relative to the tension plus m g
+
+    def correct(self, km, h: float) -> bool:
+        """After a converged step of a drum winch: the drum's equation with the tension the
+        step reached, m a = T_{n+1} - tau / r (m = J / r^2), against the acceleration a the
+        payout was set with (D_{n+1} = D_n + h v_n + h^2/4 (a_n + a)). When they disagree,
+        one Newton update of a on the rope's axial stiffness k and damping c,
+        da = -(m a - T + tau / r) / (m + k h^2/4 + c h/2), resets the payout and returns True:
+        the step is redone from its start (rfesim.solvers.controlled). Strongly coupled: the
+        drum-rope mode is implicit at any step. False when balanced (and for braked drums,
+        whose brake logic keeps the staggered update)."""
+        m = self.mode
+        if m.kind != "drum" or m.brake_torque > 0.0:
+            return False
+        t_next, D, v, D_mode, v_mode, D_c, v_c = self._next
+        r = m.radius
+        meq = m.inertia / (r * r)
+        T = float(self.system.ws.sigma[self.info.first_sde, 0])
+        a = 2.0 * (v_mode - self.v_mode) / h - self.accel
+        res = meq * a - (T - _table(m.torque, t_next) / r)
+        if abs(res) <= self.COUPLING_TOLERANCE * (abs(T) + meq * 9.81):
+            return False
+        prev = getattr(self, "_secant", None)
+        if prev is not None and prev[0] == t_next and prev[1] != a and prev[2] != res:
+            slope = (res - prev[2]) / (a - prev[1])           # the secant of the last two tries
+        else:
+            k, c = self._rope_axial() if T > 0.0 else (0.0, 0.0)
+            slope = meq + 0.25 * k * h * h + 0.5 * c * h
+        self._secant = (t_next, a, res)
+        a -= res / slope
+        v_mode = self.v_mode + 0.5 * h * (self.accel + a)
+        D_mode = self.D_mode + 0.5 * h * (self.v_mode + v_mode)
+        D = D_mode + D_c
+        v = v_mode + v_c
+        self._next = (t_next, D, v, D_mode, v_mode, D_c, v_c)
+        set_payout(km, self.info, D - self.slipped, v, self.system.length_scale)
+        return True
 
     def after_step(self, km, state, t: float, h: float) -> None:
         t_next, D, v, D_mode, v_mode, D_c, v_c = self._next

@@ -11,6 +11,7 @@ compiled loop of ``solvers.dynamics.run_dynamics``.
 from __future__ import annotations
 
 MAX_HALVINGS = 6          # a failing step is retried down to h / 2^6
+COUPLING_ITERATIONS = 8   # steps redone while a drum winch moves its payout (WinchController.correct)
 
 
 def advance_controlled(system, st, t_target: float, h: float, step, flags, counters):
@@ -42,7 +43,21 @@ def advance_controlled(system, st, t_target: float, h: float, step, flags, count
                 ta = t0 + m * hh
                 for c in controllers:
                     c.before_step(km, ta + hh, hh)
-                status = step(st, ta, hh)
+                start = st.copy()
+                start_history = system.history()
+                for _it in range(COUPLING_ITERATIONS):
+                    status = step(st, ta, hh)
+                    if status != 0:
+                        break
+                    # a drum winch balances its drum with the tension the step reached; if it
+                    # moved its payout, the step is redone from its start (strong coupling)
+                    redo = [c.correct(km, hh) for c in controllers if hasattr(c, "correct")]
+                    if not any(redo):
+                        break
+                    counters["coupling_iterations"] = counters.get("coupling_iterations", 0) + 1
+                    st = start.copy()
+                    system.set_history(start_history)
+                    flags[2] = 0
                 if status != 0:
                     break
                 st.t = ta + hh
