@@ -366,9 +366,11 @@ class WinchController:
                 net -= math.copysign(fb, self.v_mode)
         return net / (meq + kh)
 
-    def _tension_speed(self) -> float:
+    def _tension_speed(self, T: float | None = None) -> float:
+        """Payout speed (m/s) of the constant-tension characteristic at the tension T (N;
+        default: the last measured)."""
         m = self.mode
-        T = self.tension
+        T = self.tension if T is None else T
         if T > m.tension + m.dead_band:
             v = (T - m.tension - m.dead_band) / m.gain
         elif T < m.tension - m.dead_band:
@@ -421,6 +423,7 @@ class WinchController:
         set_payout(km, info, D - self.slipped, v, self.system.length_scale)
 
     COUPLING_TOLERANCE = 1e-5       # drum force balance, relative to the tension plus m g
+    SPEED_TOLERANCE = 1e-3          # constant-tension speed against its characteristic, of max_speed
 
     def correct(self, km, h: float) -> bool:
         """After a converged step of a drum winch: the drum's equation with the tension the
@@ -432,6 +435,8 @@ class WinchController:
         drum-rope mode is implicit at any step. False when balanced (and for braked drums,
         whose brake logic keeps the staggered update)."""
         m = self.mode
+        if m.kind == "tension":
+            return self._correct_tension(km, h)
         if m.kind != "drum" or m.brake_torque > 0.0:
             return False
         t_next, D, v, D_mode, v_mode, D_c, v_c = self._next
@@ -452,6 +457,35 @@ class WinchController:
         a -= res / slope
         v_mode = self.v_mode + 0.5 * h * (self.accel + a)
         D_mode = self.D_mode + 0.5 * h * (self.v_mode + v_mode)
+        D = D_mode + D_c
+        v = v_mode + v_c
+        self._next = (t_next, D, v, D_mode, v_mode, D_c, v_c)
+        set_payout(km, self.info, D - self.slipped, v, self.system.length_scale)
+        return True
+
+    def _correct_tension(self, km, h: float) -> bool:
+        """The constant-tension winch's speed against its characteristic at the tension the
+        step reached (backward Euler on the payout): when v differs from v(T_{n+1}), one
+        Newton update on the rope's axial stiffness k (dT/dv = -k h, slope 1 + k h / gain
+        outside the dead band, then secants) resets the payout and returns True (the step
+        is redone). The staggered rule (the speed from T_n) was stable only while
+        k h / gain < 2."""
+        m = self.mode
+        t_next, D, v, D_mode, v_mode, D_c, v_c = self._next
+        T = float(self.system.ws.sigma[self.info.first_sde, 0])
+        res = v_mode - self._tension_speed(T)
+        if abs(res) <= self.SPEED_TOLERANCE * m.max_speed:
+            return False
+        prev = getattr(self, "_secant", None)
+        if prev is not None and prev[0] == t_next and prev[1] != v_mode and prev[2] != res:
+            slope = (res - prev[2]) / (v_mode - prev[1])
+        else:
+            k = self._rope_axial()[0] if T > 0.0 else 0.0
+            outside = abs(T - m.tension) > m.dead_band and abs(self._tension_speed(T)) < m.max_speed
+            slope = 1.0 + (k * h / m.gain if outside else 0.0)
+        self._secant = (t_next, v_mode, res)
+        v_mode -= res / slope
+        D_mode = self.D_mode + h * v_mode
         D = D_mode + D_c
         v = v_mode + v_c
         self._next = (t_next, D, v, D_mode, v_mode, D_c, v_c)

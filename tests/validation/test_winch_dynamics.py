@@ -135,16 +135,19 @@ def test_brake_holds_the_drum():
 
 # ----------------------------------------------------------------------------- constant tension
 
-def test_constant_tension_holds_the_set_tension_within_the_dead_band():
+@pytest.mark.parametrize("h", [0.01, 0.5])
+def test_constant_tension_holds_the_set_tension_within_the_dead_band(h):
     """A rope from a fixed sheave down to a point heaving 0.5 m (period 20 s): held at its
     ends it would see k * 0.5 m = 5 kN of tension variation; the winch keeps it within the
-    band plus gain times the largest speed it must follow (78.5 N)."""
+    band plus gain times the largest speed it must follow (78.5 N). At 0.5 s steps k h / gain
+    is 10: the staggered rule (speed from the tension at t_n) needed it below 2; the winch now
+    meets its characteristic at t_{n+1} (WinchController.correct)."""
     EA, L0 = 2e5, 20.0
     k = EA / L0
     set_t, band, gain = 5000.0, 200.0, 500.0
     u_max = 0.5 * 2 * math.pi / 20.0
     sc = hoist({"kind": "tension", "tension": set_t, "dead_band": band, "gain": gain, "max_speed": 2.0},
-               L0=L0, EA=EA, m=10.0, mu=0.1, duration=100.0, h=0.01, damping=0.5)
+               L0=L0, EA=EA, m=10.0, mu=0.1, duration=100.0, h=h, output=max(h, 0.1), damping=0.5)
     sc.pop("bodies")
     sc["vessels"] = {"tug": {"position": [0, 0, -L0 - 0.3], "motion": {"kind": "harmonic", "heave": {
         "amplitude": 0.5, "period": 20.0}, "ramp_duration": 10.0}}}
