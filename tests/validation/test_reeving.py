@@ -268,10 +268,10 @@ def test_rope_along_the_boom_is_internal_and_compresses_the_boom():
     assert axial - axial0 == pytest.approx(-T, rel=0.01)
 
 
-def _a_frame_scenario(duration):
+def _a_frame_scenario(duration, name="a_frame.json"):
     import json
     from pathlib import Path
-    path = Path(__file__).resolve().parents[2] / "scenarios" / "a_frame.json"
+    path = Path(__file__).resolve().parents[2] / "scenarios" / name
     data = json.loads(path.read_text())
     motion = data["vessels"]["barge"]["motion"]
     motion["file"] = str(path.parent / motion["file"])
@@ -341,6 +341,21 @@ def test_a_frame_swinging_out_with_a_deck_winch_lead_draws_rope_over_the_sheave(
     assert "slipped" in str(exc.value) and "first element" in str(exc.value)
     kept = exc.value.results
     assert 5.0 < kept.time[-1] < 26.0 and abs(kept.line("aframe_rope").reeving_slip[-1]) > 0.5
+
+
+def test_deck_winch_scenario_swings_out_with_the_winch_paying_out_the_slip():
+    """scenarios/a_frame_deck_winch.json, first 45 s: the run to the deck winch grows by about
+    7 m as the legs swing out; the rope slips over the sheave by that much while the winch
+    pays out 0.24 m/s for 28 s (6.7 m), so the module keeps its height within 2 m."""
+    res = rfesim.simulate(_a_frame_scenario(45.0, "a_frame_deck_winch.json"))
+    assert res.time[-1] == pytest.approx(45.0)
+    t = res.time
+    slip = res.line("aframe_rope").reeving_slip
+    swung = int(np.searchsorted(t, 36.0))
+    assert 6.5 < slip[swung] < 7.8
+    z = res.body("aframe_payload").position[:, 2]
+    assert np.abs(z[:swung] - z[0]).max() < 2.0
+    assert res.winches["aframe_winch"].payout[swung] == pytest.approx(0.24 * 28.0 + 0.24, rel=0.02)
 
 
 @pytest.mark.parametrize("edit, field, words", [
