@@ -445,7 +445,7 @@ class WinchController:
         T = float(self.system.ws.sigma[self.info.first_sde, 0])
         a = 2.0 * (v_mode - self.v_mode) / h - self.accel
         res = meq * a - (T - _table(m.torque, t_next) / r)
-        if abs(res) <= self.COUPLING_TOLERANCE * (abs(T) + meq * 9.81):
+        if abs(res) <= self.COUPLING_TOLERANCE * (abs(T) + meq * max(float(km.gravity), 1.0)):
             return False
         prev = getattr(self, "_secant", None)
         if prev is not None and prev[0] == t_next and prev[1] != a and prev[2] != res:
@@ -456,12 +456,14 @@ class WinchController:
         self._secant = (t_next, a, res)
         a -= res / slope
         v_mode = self.v_mode + 0.5 * h * (self.accel + a)
-        D_mode = self.D_mode + 0.5 * h * (self.v_mode + v_mode)
-        D = D_mode + D_c
-        v = v_mode + v_c
+        self._repay(km, t_next, self.D_mode + 0.5 * h * (self.v_mode + v_mode), v_mode, D_c, v_c)
+        return True
+
+    def _repay(self, km, t_next: float, D_mode: float, v_mode: float, D_c: float, v_c: float) -> None:
+        """Set the mode's corrected payout and speed for the step to be redone."""
+        D, v = D_mode + D_c, v_mode + v_c
         self._next = (t_next, D, v, D_mode, v_mode, D_c, v_c)
         set_payout(km, self.info, D - self.slipped, v, self.system.length_scale)
-        return True
 
     def _correct_tension(self, km, h: float) -> bool:
         """The constant-tension winch's speed against its characteristic at the tension the
@@ -485,11 +487,7 @@ class WinchController:
             slope = 1.0 + (k * h / m.gain if outside else 0.0)
         self._secant = (t_next, v_mode, res)
         v_mode -= res / slope
-        D_mode = self.D_mode + h * v_mode
-        D = D_mode + D_c
-        v = v_mode + v_c
-        self._next = (t_next, D, v, D_mode, v_mode, D_c, v_c)
-        set_payout(km, self.info, D - self.slipped, v, self.system.length_scale)
+        self._repay(km, t_next, self.D_mode + h * v_mode, v_mode, D_c, v_c)
         return True
 
     def after_step(self, km, state, t: float, h: float) -> None:
