@@ -11,7 +11,9 @@ its unit direction from the body u = (D - P) / L. Its tension is
   keeps T at any length;
 * ``force`` (kind 2): a push-pull element, a hydraulic cylinder at a set force: the force
   P(t) pushes the point away from the deck point (P > 0) or pulls it toward it (P < 0), at
-  any length (the tension is -P);
+  any length between its end stops (the tension is -P); beyond the longest length L_max the
+  stop pulls back with k_s (L - L_max), below the shortest L_min it pushes with
+  k_s (L_min - L) (arrays: tug_k = k_s, tug_L0 = L_min, tug_c = L_max, 0: no stop);
 * ``elastic`` (kind 1): a braked winch, T = max(0, k (L - L0) + c dL/dt) while L > L0 and
   0 when the line is slack (L <= L0), with dL/dt = u . (v_D - v_P).
 
@@ -81,8 +83,14 @@ def tugger_forces(tug_rfe, tug_att, tug_deck, tug_point, tug_kind, tug_t, tug_v,
         if tug_kind[j] == KIND_TENSION:
             T = table_value(tug_t[j], tug_v[j], tug_count[j], time)
         elif tug_kind[j] == KIND_FORCE:
-            # a push P > 0 (a cylinder) is a negative pull, of either sign
+            # a push P > 0 (a cylinder) is a negative pull, of either sign; end stops (tug_k the
+            # stops' stiffness, tug_L0 the shortest length, tug_c the longest, 0: none)
             T = -table_value(tug_t[j], tug_v[j], tug_count[j], time)
+            if tug_k[j] > 0.0:
+                if tug_c[j] > 0.0 and L > tug_c[j]:
+                    T += tug_k[j] * (L - tug_c[j])
+                elif L < tug_L0[j]:
+                    T -= tug_k[j] * (tug_L0[j] - L)
             tension_out[j] = T
             add_force_moment(F, M, i, ox, oy, oz, T * ux, T * uy, T * uz)
             continue

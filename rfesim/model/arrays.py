@@ -182,9 +182,9 @@ class KernelModel(NamedTuple):
     tug_t: np.ndarray = np.zeros((0, 1))             # (ng, K) s, set-tension table times
     tug_v: np.ndarray = np.zeros((0, 1))             # (ng, K) N, set tension
     tug_count: np.ndarray = np.zeros(0, np.int64)    # (ng,) int64 rows of the table
-    tug_k: np.ndarray = np.zeros(0)                  # (ng,) N/m, elastic: axial stiffness of the line
-    tug_L0: np.ndarray = np.zeros(0)                 # (ng,) m, elastic: unstretched length
-    tug_c: np.ndarray = np.zeros(0)                  # (ng,) N*s/m, elastic: axial damping
+    tug_k: np.ndarray = np.zeros(0)                  # (ng,) N/m, elastic: axial stiffness of the line; force: end-stop stiffness
+    tug_L0: np.ndarray = np.zeros(0)                 # (ng,) m, elastic: unstretched length; force: shortest length
+    tug_c: np.ndarray = np.zeros(0)                  # (ng,) N*s/m, elastic: axial damping; force: longest length (m)
     has_tuggers: bool = False
     # --- reeving: a sheave's rope run toward its winch (rfesim.loads.reeving); nv reevings
     rv_sde: np.ndarray = np.zeros(0, np.int64)       # (nv,) int64, the pinned join SDE (the sheave)

@@ -69,6 +69,10 @@ def tugger_arrays(sc, model) -> tuple[dict, list[TuggerInfo]]:
             out["tug_t"][j, m:] = rows[-1, 0]
             out["tug_v"][j, m:] = rows[-1, 1]
             out["tug_count"][j] = m
+            if tg.mode.kind == "force" and (tg.mode.length_min is not None or tg.mode.length_max is not None):
+                out["tug_k"][j] = tg.mode.stop_stiffness
+                out["tug_L0"][j] = tg.mode.length_min or 0.0
+                out["tug_c"][j] = tg.mode.length_max or 0.0
         else:
             out["tug_kind"][j] = 1
             out["tug_k"][j] = tg.mode.stiffness

@@ -201,6 +201,12 @@ class CylinderSpec(_Strict):
         "N", "A-frame: force per cylinder (positive pushing), or a table [[t s, N], ...]: the legs turn "
         "freely on their hinge under it and their weights (tilt_deg is then the starting tilt, a constant; "
         "statics finds the tilt the force at t = 0 holds)", default=None)
+    length_min: float | None = _units("m", "With force: the cylinder's shortest length, an end stop (default: none)",
+                                      default=None, gt=0.0)
+    length_max: float | None = _units("m", "With force: the cylinder's longest length, an end stop (default: none)",
+                                      default=None, gt=0.0)
+    stop_stiffness: float = _units("N/m", "With force: stiffness of each cylinder's end stops", default=1.0e9,
+                                   gt=0.0)
 
 
 class CraneTugger(_Strict):
@@ -631,9 +637,22 @@ def _a_frame(out: dict, name: str, tpl: AFrame, raw: dict, vname: str, vpos, hea
         rows = [[0.0, float(cyl.force)]] if isinstance(cyl.force, (int, float)) else cyl.force
         if cyl.eye > tpl.legs.length:
             raise FieldError("cylinder.eye", f"{cyl.eye} m is beyond the legs' {tpl.legs.length} m")
+        mode = {"kind": "force", "force": [[float(t), cyl.count * float(f)] for t, f in rows]}
+        start = cylinder_lever(cyl, math.pi / 2.0 - tilt0)[0]
+        if cyl.length_min is not None and cyl.length_max is not None and not cyl.length_min < cyl.length_max:
+            raise FieldError("cylinder.length_max", f"{cyl.length_max} m is not longer than length_min "
+                                                    f"{cyl.length_min} m")
+        for field, value, beyond in (("length_min", cyl.length_min, start < (cyl.length_min or 0.0)),
+                                     ("length_max", cyl.length_max, cyl.length_max is not None
+                                      and start > cyl.length_max)):
+            if value is not None:
+                if beyond:
+                    raise FieldError(f"cylinder.{field}", f"the starting tilt {tilt0_deg:g} deg puts the cylinder at "
+                                                          f"{start:.4g} m, beyond its {field} {value} m")
+                mode[field] = float(value)
+                mode["stop_stiffness"] = cyl.count * cyl.stop_stiffness
         _add(out, "tuggers", f"{name}_cylinder", {
-            "line": legs, "at": cyl.eye, "vessel": vname, "deck_point": deck,
-            "mode": {"kind": "force", "force": [[float(t), cyl.count * float(f)] for t, f in rows]}}, "cylinder")
+            "line": legs, "at": cyl.eye, "vessel": vname, "deck_point": deck, "mode": mode}, "cylinder")
     else:
         end_a["drives"] = [_drive("luffing", axis, tilt_table)]
     _add(out, "lines", legs, {"type": f"{legs}_section", "length": tpl.legs.length, "elements": tpl.legs.count(),

@@ -88,9 +88,15 @@ class TuggerForce(_Strict):
                                                   "[t (s), P (N)], linear between rows, held beyond them",
                                                   json_schema_extra={"units": "N (s, N)"})
 
+    length_min: float | None = _units("m", "End stop: the shortest length (default: none)", default=None, gt=0.0)
+    length_max: float | None = _units("m", "End stop: the longest length (default: none)", default=None, gt=0.0)
+    stop_stiffness: float = _units("N/m", "Stiffness of the end stops", default=1.0e9, gt=0.0)
+
     @model_validator(mode="after")
     def _table(self):
         _check_table(self.force, "force", "P", math.isfinite, "must be a finite force")
+        if self.length_min is not None and self.length_max is not None and not self.length_min < self.length_max:
+            raise FieldError("length_max", f"{self.length_max} m is not longer than length_min {self.length_min} m")
         return self
 
     def rows(self) -> list[list[float]]:

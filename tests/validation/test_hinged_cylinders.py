@@ -12,6 +12,8 @@
   gravity, strain, and -P L of the set push P over the cylinder length L) is conserved
   while the frame rolls over its unstable equilibrium (a set force balances the frame but
   does not hold it: the weights' moment grows with the tilt faster than the cylinder's);
+* with the cylinders' end stop the frame rests on it, pulled by what the stroke-driven
+  cylinders pull, and stays there when the payload is pushed;
 * the cylinder's eye sits on the legs' axis at its arc length; results files keep the
   hinge angle and the tugger's line point; bad input names its field.
 """
@@ -219,7 +221,40 @@ def test_cylinder_eye_on_the_legs_and_results_files_keep_hinge_and_line_point(tm
     assert back.line("af_stub").hinge_angle is None
 
 
+def test_a_frame_resting_on_its_cylinder_end_stop():
+    """The cylinders free (set force 0) with their longest length at 25 deg: the payload's
+    weight lays the frame on that end stop. Statics: 25 deg to the stop's compression, the
+    stop pulls what the stroke-driven frame's cylinders pull at 25 deg (within the legs'
+    flexibility: measured 259.68 against 260.42 kN), the cylinder 0.13 mm beyond its stop.
+    A 0.3 m/s push of the payload, in the frame's plane or across it, leaves the frame on its
+    stop: a stop holds the balance a set force alone cannot."""
+    from rfesim.scenario.cranes import CylinderSpec, cylinder_lever
+    L25 = cylinder_lever(CylinderSpec(base=[-3.0, 0.0], eye=5.0), math.radians(65.0))[0]
+    data = a_frame(tilt=25.0, force=0.0, duration=10.0, dt=0.01)
+    data["cranes"]["af"]["cylinder"]["length_max"] = L25
+    data["analysis"]["dynamics"]["output_interval"] = 0.5
+    res = rfesim.statics(data)
+    out = crane_summary(res, "af", cylinder=data["cranes"]["af"]["cylinder"])
+    assert out["drive_angle"]["luffing"][-1] == pytest.approx(25.0, abs=0.01)
+    pull = float(res.tugger("af_cylinder").tension[-1])
+    assert pull == pytest.approx(-2.0 * stroke_force(25.0), rel=5e-3)
+    assert res.tugger("af_cylinder").length[-1] - L25 == pytest.approx(pull / 2e9, rel=1e-3)
+    sc = rfesim.Scenario.model_validate(data)
+    system = System(compile_scenario(sc))
+    state, _ = _static_state(system, sc)
+    for axis in (0, 1):
+        start = state.copy()
+        start.qd[system.model.bodies[0].rfe, axis] = 0.3
+        _, rec, _ = run_dynamics(system, start, sc.analysis.dynamics)
+        hinge = rec.results().line("af_legs").hinge_angle
+        assert np.ptp(hinge) < 0.01
+
+
 @pytest.mark.parametrize("over, field, words", [
+    ({"cylinder": {"base": [-3.0, 0.0], "eye": 5.0, "force": 0.0, "length_max": 6.0}},
+     "cranes.af.cylinder.length_max", "beyond its length_max"),
+    ({"cylinder": {"base": [-3.0, 0.0], "eye": 5.0, "force": 0.0, "length_min": 7.0, "length_max": 6.9}},
+     "cranes.af.cylinder.length_max", "not longer than"),
     ({"cylinder": {"base": [-3.0, 0.0], "eye": 5.0, "force": 1e5}, "tilt_deg": [[0, 10], [5, 20]]},
      "cranes.af.tilt_deg", "starting tilt as a constant"),
     ({"cylinder": {"base": [-3.0, 0.0], "eye": 5.0, "force": 1e5, "stroke": [[0, 6.0]]}},

@@ -39,6 +39,11 @@ def tugger_reference(rfe_R, r, v, w, att_p, att_R, att_v, att_w, deck, point, ki
         T = float(np.interp(t, ts, vs))
     elif kind == 2:                  # a set push (a cylinder): a negative pull of either sign
         T = -float(np.interp(t, ts, vs))
+        if k > 0.0:                  # end stops: k their stiffness, L0 the shortest, c the longest length
+            if c > 0.0 and L > c:
+                T += k * (L - c)
+            elif L < L0:
+                T -= k * (L0 - L)
         F = T * u
         return F, np.cross(o, F), T, L
     else:
@@ -80,6 +85,8 @@ def test_tugger_kernel_equals_the_reference():
         vs[j, count[j]:] = vs[j, count[j] - 1]
     k, c = rng.uniform(1e4, 1e6, ng), rng.uniform(0, 1e4, ng)
     L0 = rng.uniform(0, 8, ng)
+    c[kind == 2] = rng.uniform(2.0, 12.0, int(np.sum(kind == 2)))    # the cylinders' longest lengths
+    k[np.where(kind == 2)[0][::3]] = 0.0                             # some without stops
     for t in (0.0, 3.7, 11.0):
         F, M = np.zeros((nb, 3)), np.zeros((nb, 3))
         T, L = np.zeros(ng), np.zeros(ng)
@@ -87,6 +94,7 @@ def test_tugger_kernel_equals_the_reference():
                       w, F, M, T, L)
         Fr, Mr = np.zeros((nb, 3)), np.zeros((nb, 3))
         slack = 0
+        stops = 0
         for j in range(ng):
             a, i, m = att[j], rfe[j], count[j]
             f, mo, Tr, Lr = tugger_reference(R[i], r[i], v[i], w[i], att_p[a], att_R[a], att_v[a], att_w[a], deck[j],
@@ -94,12 +102,13 @@ def test_tugger_kernel_equals_the_reference():
             Fr[i] += f
             Mr[i] += mo
             slack += Tr == 0.0
+            stops += kind[j] == 2 and k[j] > 0.0 and (Lr > c[j] or Lr < L0[j])
             assert T[j] == pytest.approx(Tr, rel=1e-12, abs=1e-9)
             assert L[j] == pytest.approx(Lr, rel=1e-12)
         np.testing.assert_allclose(F, Fr, rtol=1e-12, atol=1e-8)
         np.testing.assert_allclose(M, Mr, rtol=1e-12, atol=1e-8)
         assert 0 < slack < ng                # slack and taut elastic lines both exercised
-        assert (T < 0).any()                 # and pushing force elements
+        assert (T < 0).any() and stops > 0   # and pushing force elements, some on their end stops
 
 
 def hanging(tugger_mode, deck_point=(1000.0, 0.0, -ROPE - HALF), body_point=(0.0, 0.0, 0.0), duration=0.0):
