@@ -304,9 +304,11 @@ class WinchController:
             self.v_mode = speed_at(self.mode.rows, self.t)
 
     # ------------------------------------------------------------------ modes
-    def _drum_accel(self, t: float, v: float) -> float:
+    def _drum_accel(self, t: float, v: float, T: float | None = None) -> float:
+        """Payout acceleration (m/s^2) of the drum at the rope tension T (default: the last
+        measured) and payout speed v, the brake holding it at rest below its torque."""
         m = self.mode
-        net = m.radius * self.tension - _table(m.torque, t)
+        net = m.radius * (self.tension if T is None else T) - _table(m.torque, t)
         if m.brake_torque > 0.0:
             if abs(v) < 1e-12:
                 if abs(net) <= m.brake_torque:
@@ -432,19 +434,23 @@ class WinchController:
         one Newton update of a on the rope's axial stiffness k and damping c,
         da = -(m a - T + tau / r) / (m + k h^2/4 + c h/2), resets the payout and returns True:
         the step is redone from its start (rfesim.solvers.controlled). Strongly coupled: the
-        drum-rope mode is implicit at any step. False when balanced (and for braked drums,
-        whose brake logic keeps the staggered update)."""
+        drum-rope mode is implicit at any step. A brake acts against the motion (a drum at
+        rest at the step's end, held or stopped by its brake, is taken as it is). False when
+        balanced."""
         m = self.mode
         if m.kind == "tension":
             return self._correct_tension(km, h)
-        if m.kind != "drum" or m.brake_torque > 0.0:
+        if m.kind != "drum":
             return False
         t_next, D, v, D_mode, v_mode, D_c, v_c = self._next
+        if m.brake_torque > 0.0 and v_mode == 0.0:
+            return False            # held by the brake, or stopped by it within the step (as staggered)
         r = m.radius
         meq = m.inertia / (r * r)
         T = float(self.system.ws.sigma[self.info.first_sde, 0])
         a = 2.0 * (v_mode - self.v_mode) / h - self.accel
-        res = meq * a - (T - _table(m.torque, t_next) / r)
+        # the drum's acceleration with the tension reached (the brake against the motion)
+        res = meq * (a - self._drum_accel(t_next, v_mode, T))
         if abs(res) <= self.COUPLING_TOLERANCE * (abs(T) + meq * max(float(km.gravity), 1.0)):
             return False
         prev = getattr(self, "_secant", None)
@@ -456,6 +462,8 @@ class WinchController:
         self._secant = (t_next, a, res)
         a -= res / slope
         v_mode = self.v_mode + 0.5 * h * (self.accel + a)
+        if m.brake_torque > 0.0 and self.v_mode != 0.0 and v_mode * self.v_mode < 0.0:
+            v_mode = 0.0                                    # the brake stops the drum, not reverses it
         self._repay(km, t_next, self.D_mode + 0.5 * h * (self.v_mode + v_mode), v_mode, D_c, v_c)
         return True
 
