@@ -233,7 +233,6 @@ class _Curve:
             lengths = lengths * (1.0 + self.strain(0.5 * (mid[:-1] + mid[1:])))
         if end_b is None:
             return self._march(start, lengths)
-        strain = 0.0
         def miss(e):
             pts = self._march(start, lengths * (1.0 + e))
             return float(np.linalg.norm(pts[-1] - end_b)) * (1.0 if self._short(pts, end_b) else -1.0), pts

@@ -14,7 +14,6 @@ import time as _time
 import numpy as np
 
 from ..errors import CancelledError, ScenarioError, SolverError
-from ..model.assemble import solve_accelerations
 from ..model.compile import State
 from ..kinematics import rotation_to_zyx
 from ..model.bodies import connection_force

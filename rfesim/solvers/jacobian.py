@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ..kinematics import cross_into, matmul_into, matvec_into
+from ..kinematics import matmul_into, matvec_into
 from ..loads.reeving import reeving_tangent, slip_tangent
 from ..loads.sde_tangent import sde_tangent_rest
 from ..model.assemble import sde_part

@@ -237,7 +237,6 @@ def _solve(system: System, state: State | None, tolerance: float, max_iterations
     dq = np.zeros((n, 6))
     trial = np.zeros((n, 6))
     fac = np.zeros_like(system.Fac)
-    dummy = np.zeros((n, 6))
 
     # a rope slipping over its sheave (rfesim.loads.reeving.slip_arms) couples the sheave's
     # position with the stiff join: the central-difference Jacobian of that coupling left
