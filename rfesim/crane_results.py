@@ -112,11 +112,13 @@ def crane_summary(res, crane: str, *, static_tension: float | None = None, slack
     static one; see :func:`slack_events`) and ``snap_load_max`` N; ``payload_position``,
     ``payload_velocity``, ``payload_acceleration`` (nt, 3); ``base_force``,
     ``base_moment`` (nt, 3) N, N*m: the loads of the crane on the deck at the pedestal base
-    (A-frame: at the hinge); ``drive_angle``/``drive_torque`` {name: (nt,)} (slewing,
+    (A-frame: at the hinge; the portal A-frame: both legs', the moment about the point
+    between their stubs' feet, and ``base_force_legs`` (nt, 2, 3) per leg); ``drive_angle``/``drive_torque`` {name: (nt,)} (slewing,
     luffing); ``bend_moment_range`` {line: {arc_length, min, max, mean}} along the boom /
     legs and the pedestal; ``tip_position``, ``tip_acceleration`` (nt, 3): the sheave;
     ``cylinder_force`` (nt,) N per cylinder, pushing positive (with ``cylinder``, the
-    template's cylinder dict; force-driven A-frame cylinders: their set force, with
+    template's cylinder dict; the portal A-frame: the mean of its legs', each leg carrying
+    half the cylinders, and ``cylinder_force_legs`` (nt, 2); force-driven A-frame cylinders: their set force, with
     ``cylinder_length`` (nt,) m and the tilt ``drive_angle["luffing"]`` from that length); ``luffing_rope_tension`` (nt,) N per part of line (with
     ``luffing_rope``, the template's luffing_rope dict, and ``boom_length`` when its eye is
     not given)."""
@@ -134,16 +136,33 @@ def crane_summary(res, crane: str, *, static_tension: float | None = None, slack
     boom = res.line(boom_line)
     tip_line = res.line(f"{crane}_crossbeam") if f"{crane}_crossbeam" in res.lines else boom
     tip = np.asarray(tip_line.position, float)[:, -1, :]
-    out = {
+    portal = f"{crane}_legs_2" in res.lines          # the closed-portal A-frame (rfesim.scenario.cranes)
+    base_force = np.asarray(base.end_a_force, float)
+    base_moment = np.asarray(base.end_a_moment, float)
+    out = {}
+    if portal:
+        # both legs' loads on the deck, the moment about the point between the stubs' feet
+        stubs = [base, res.line(f"{crane}_stub_2")]
+        feet = [np.asarray(st.position, float)[:, 0, :] for st in stubs]
+        centre = 0.5 * (feet[0] + feet[1])
+        forces = [np.asarray(st.end_a_force, float) for st in stubs]
+        base_force = forces[0] + forces[1]
+        base_moment = sum(np.asarray(st.end_a_moment, float) + np.cross(f - centre, F)
+                          for st, f, F in zip(stubs, feet, forces))
+        out["base_force_legs"] = np.stack(forces, axis=1)
+    out.update({
         "time": time, "rope_tension": top, "hook_tension": hook, "static_tension": static,
         "daf": float(np.max(top) / static) if static > 0.0 else math.nan,
         "slack_events": events, "snap_load_max": float(max(snaps)) if snaps else math.nan,
-        "base_force": np.asarray(base.end_a_force, float), "base_moment": np.asarray(base.end_a_moment, float),
+        "base_force": base_force, "base_moment": base_moment,
         "tip_position": tip, "tip_acceleration": _acceleration(time, tip),
         "bend_moment_range": {boom_line: boom.range_graph("bend_moment"),
                               base_line: base.range_graph("bend_moment")},
         "drive_angle": {}, "drive_torque": {},
-    }
+    })
+    if portal:
+        for lname in (f"{crane}_legs_2", f"{crane}_stub_2", f"{crane}_crossbeam", f"{crane}_crossbeam_2"):
+            out["bend_moment_range"][lname] = res.line(lname).range_graph("bend_moment")
     if body is not None:
         out.update(payload_position=np.asarray(body.position, float),
                    payload_velocity=np.asarray(body.velocity, float),
@@ -167,7 +186,12 @@ def crane_summary(res, crane: str, *, static_tension: float | None = None, slack
         from .scenario.cranes import CylinderSpec, cylinder_angle
         cyl = CylinderSpec.model_validate({k: v for k, v in cylinder.items() if k != "force"})
         length = np.asarray(cyl_tugger.length, float)
-        out["cylinder_force"] = -np.asarray(cyl_tugger.tension, float) / cyl.count
+        push = -np.asarray(cyl_tugger.tension, float)
+        if portal:                       # each leg's tugger carries half the cylinders
+            push_2 = -np.asarray(res.tuggers[f"{crane}_cylinder_2"].tension, float)
+            out["cylinder_force_legs"] = np.stack([2.0 * push, 2.0 * push_2], axis=1) / cyl.count
+            push = push + push_2
+        out["cylinder_force"] = push / cyl.count
         out["cylinder_length"] = length
         tilt = np.full(len(length), math.nan)
         for k, L in enumerate(length):
@@ -180,7 +204,14 @@ def crane_summary(res, crane: str, *, static_tension: float | None = None, slack
     elif cylinder is not None and "luffing" in out["drive_torque"]:
         a_frame = boom_line.endswith("_legs")
         ang = out["drive_angle"]["luffing"]
-        out["cylinder_force"] = cylinder_forces(out["drive_torque"]["luffing"], ang, cylinder, a_frame)
+        torque = out["drive_torque"]["luffing"]
+        if portal:                       # each leg's drive stands for half the cylinders
+            leg2 = res.line(f"{crane}_legs_2")
+            torque_2 = np.asarray(leg2.drive_torque, float)[:, list(leg2.drive_names).index("luffing")]
+            out["cylinder_force_legs"] = np.stack([2.0 * cylinder_forces(torque, ang, cylinder, a_frame),
+                                                   2.0 * cylinder_forces(torque_2, ang, cylinder, a_frame)], axis=1)
+            torque = torque + torque_2
+        out["cylinder_force"] = cylinder_forces(torque, ang, cylinder, a_frame)
     if luffing_rope is not None and "luffing" in out["drive_torque"]:
         if luffing_rope.get("eye") is None and boom_length is None:
             raise ValueError("luffing_rope without an eye needs boom_length (the eye is at the tip)")

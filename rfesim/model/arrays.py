@@ -197,6 +197,11 @@ class KernelModel(NamedTuple):
     rv_arm_written: np.ndarray = np.zeros(0)         # (nv,) m, the join's arm on the rope as slip_arms last wrote it
     rv_arm_offset: np.ndarray = np.zeros(0)          # (nv,) m, the offset it added to the base arm
     has_reeving: bool = False
+    # --- closing joins: an SDE from end B of a line to end B of another (a portal's crossbeam,
+    # rfesim.model.joins); its two RFEs are not neighbours, so the Jacobian is block tridiagonal
+    # plus two off-band blocks per closure (rfesim.solvers.banded.bt_factor_closed)
+    cl_sde: np.ndarray = np.zeros(0, np.int64)       # (nc,) int64, the closing SDE
+    has_closures: bool = False
 
 
 class Workspace(NamedTuple):
@@ -280,6 +285,12 @@ class Workspace(NamedTuple):
     sea_reach: np.ndarray = np.zeros(0)              # (n,) m, how far below its centre each RFE (or body) can be wet
     step_state: np.ndarray = np.zeros(1, np.int64)   # (1,) int64, 1: the workspace holds the evaluation of the state
                                                      #   a generalised-alpha step just converged to (outputs reuse it)
+    cl_J: np.ndarray = np.zeros((0, 2, 6, 6))       # (nc, 2, 6, 6) off-band Jacobian blocks of the closures:
+                                                     #   [c, 0] row: left RFE, column: right RFE; [c, 1] the other
+    cl_Z: np.ndarray = np.zeros((0, 1, 6))           # (12 nc, n, 6) B^-1 U of the factorised band B (Woodbury)
+    cl_S: np.ndarray = np.zeros((0, 0))              # (12 nc, 12 nc) inverse of the capacitance I + W^T B^-1 U
+    cl_work: np.ndarray = np.zeros((0, 0))           # (12 nc, 12 nc) scratch of its inversion
+    cl_rhs: np.ndarray = np.zeros((1, 6))            # (n, 6) scratch right-hand side
 
 
 class Reference(NamedTuple):
@@ -305,7 +316,8 @@ class AttachmentState(NamedTuple):
 
 
 def new_workspace(n: int, nsde: int, nh: int = 1, nroller: int = 0, ntens: int = 0, nreel: int = 0,
-                  nmotor: int = 0, nbody: int = 0, ntug: int = 0, nreeve: int = 0) -> Workspace:
+                  nmotor: int = 0, nbody: int = 0, ntug: int = 0, nreeve: int = 0, nclosure: int = 0) -> Workspace:
+    m = 12 * nclosure
     return Workspace(
         R=np.zeros((n, 3, 3)), r=np.zeros((n, 3)), rbase=np.zeros((n, 3)), roff=np.zeros((n, 3)), v=np.zeros((n, 3)), w=np.zeros((n, 3)),
         wb=np.zeros((n, 3)), E=np.zeros((n, 3, 3)), Edot=np.zeros((n, 3)), F=np.zeros((n, 3)),
@@ -330,7 +342,8 @@ def new_workspace(n: int, nsde: int, nh: int = 1, nroller: int = 0, ntens: int =
         sea_reach=np.zeros(n), step_state=np.zeros(1, np.int64), motor_sat=np.zeros(nmotor, np.int64),
         c_tangent=np.zeros((nsde, 6)), deck_normal=np.zeros(nbody), tug_tension=np.zeros(ntug), tug_length=np.zeros(ntug),
         rv_tension=np.zeros(nreeve), rv_dir=np.zeros((nreeve, 3)), rv_fdir=np.zeros((nreeve, 3)),
-        rv_slip_out=np.zeros(nreeve))
+        rv_slip_out=np.zeros(nreeve), cl_J=np.zeros((nclosure, 2, 6, 6)), cl_Z=np.zeros((m, n, 6)),
+        cl_S=np.zeros((m, m)), cl_work=np.zeros((m, m)), cl_rhs=np.zeros((n, 6)))
 
 
 def _identities(m: int) -> np.ndarray:
@@ -464,3 +477,19 @@ def motor_arrays(motors: list[dict]) -> dict:
         out["motor_damping"][j] = float(m["damping"])
         out["motor_torque"][j] = float(m["max_torque"])
     return out
+
+
+def append_sde(sde: dict, plastic_rows: list, plastic_flags: list, tension_flags: list, left: int, right: int,
+               arm_left, arm_right, stiffness, damping, length: float) -> None:
+    """Append one elastic SDE (no plastic law, not tension-only) to the compile's SDE lists:
+    a joint between lines, a closing join, a body's connection (rfesim.model.compile)."""
+    sde["left"].append(left)
+    sde["right"].append(right)
+    sde["arm_left"].append(list(arm_left))
+    sde["arm_right"].append(list(arm_right))
+    sde["stiffness"].append(stiffness)
+    sde["damping"].append(damping)
+    sde["length"].append(length)
+    plastic_rows.append(np.zeros(2))
+    plastic_flags.append(0)
+    tension_flags.append(0)

@@ -194,16 +194,9 @@ def append_body(sc, name: str, index: int, line, pose, line_coefficients: np.nda
     rfe["clamp_R"].append(np.eye(3))
     stiffness, damping = connection_rows(line_coefficients, line.end_b.connection, end_mass, body.mass,
                                          end_inertia, row["inertia"])
-    sde["left"].append(n_total - 1)
-    sde["right"].append(n_total)
-    sde["arm_left"].append([0.5 * end_length, 0.0, 0.0])
-    sde["arm_right"].append(list(np.asarray(line.end_b.position, float)))
-    sde["stiffness"].append(stiffness)
-    sde["damping"].append(damping)
-    sde["length"].append(end_length)
-    plastic_rows.append(np.zeros(2))
-    plastic_flags.append(0)
-    tension_flags.append(0)
+    from .arrays import append_sde
+    append_sde(sde, plastic_rows, plastic_flags, tension_flags, n_total - 1, n_total, [0.5 * end_length, 0.0, 0.0],
+               np.asarray(line.end_b.position, float).tolist(), stiffness, damping, end_length)
     q0_blocks.append(np.zeros((1, 6)))
     X0_blocks.append(np.asarray(centre, float)[None, :])
     R0_blocks.append(np.asarray(R, float)[None, :, :])

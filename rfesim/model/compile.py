@@ -25,7 +25,7 @@ from .supports import compile_supports, compile_tensioners, resting_points, supp
 from .reels import compile_reels, reel_tail, reel_wrap_start, reeled_history, track_points
 from .bodies import append_body, body_arrays, body_pose, deck_arrays
 from .joins import JoinInfo, drive_rows, hinge_frame, joint_rows
-from .arrays import joint_arrays
+from .arrays import append_sde, joint_arrays
 from ..scenario.joins import join_parent, join_strings
 
 log = logging.getLogger("rfesim")
@@ -105,6 +105,7 @@ class Model:
     winches: list = field(default_factory=list)    # rfesim.model.winches.WinchInfo, one per winch
     tuggers: list = field(default_factory=list)    # rfesim.model.tuggers.TuggerInfo, one per tugger line
     joins: list = field(default_factory=list)      # rfesim.model.joins.JoinInfo, one per line-to-line join
+    closures: list = field(default_factory=list)   # rfesim.model.joins.JoinInfo, one per closing join (end B)
 
     @property
     def n(self) -> int:
@@ -342,8 +343,15 @@ def compile_scenario(sc, start: str | None = None) -> Model:
     join_drives: list = []                 # (joint SDE, parent end rotation at t = 0, schema drives)
     end_b_of: dict[str, dict] = {}         # per line: its end-B RFE, point, frame and SDE data (joins)
 
-    # the lines of a joined string get consecutive RFEs, parent then child
-    for lname in [name for string in join_strings(sc) for name in string]:
+    # the lines of a joined string get consecutive RFEs, parent then child; a string with a
+    # closing join (end B on another line's end B, rfesim.model.joins) after the strings it
+    # closes onto, so that its end B can be taken from theirs
+    closing = {name: join_parent(ln.end_b) for name, ln in sc.lines.items() if join_parent(ln.end_b) is not None}
+    strings = join_strings(sc)
+    strings = [st for st in strings if not closing.keys() & set(st)] + \
+        [st for st in strings if closing.keys() & set(st)]
+    closures: list[tuple[str, str]] = []   # (closing line, target line)
+    for lname in [name for string in strings for name in string]:
         line = sc.lines[lname]
         base = f"lines.{lname}"
         parent = join_parent(line.end_a)
@@ -406,6 +414,13 @@ def compile_scenario(sc, start: str | None = None) -> Model:
 
         A = _glob_point("end_a", line.end_a)
         B = _glob_point("end_b", line.end_b)
+        target = closing.get(lname)
+        if target is not None and B is None:
+            if target not in end_b_of:
+                problems.append((f"{base}.end_b.position", f"line '{target}' comes later in the scenario: give the "
+                                                           f"position of this closing end (global)"))
+                continue
+            B = end_b_of[target]["point"].copy()     # a closing join: end B starts at the target's end B
         dA = _glob_dir("end_a", line.end_a)
         dB = _glob_dir("end_b", line.end_b)
         down = np.array([0.0, 0.0, -1.0]) if env.gravity > 0 else np.array([1.0, 0.0, 0.0])
@@ -573,16 +588,8 @@ def compile_scenario(sc, start: str | None = None) -> Model:
                 motors.append({"sde": nsde_total, "stiffness": motor.stiffness, "damping": motor.damping,
                                "max_torque": motor.max_torque,
                                "table": [[r[0], math.radians(r[1])] for r in motor.angle], "name": motor.name})
-            sde["left"].append(pe["rfe"])
-            sde["right"].append(n_total)
-            sde["arm_left"].append([0.5 * pe["length"], 0.0, 0.0])
-            sde["arm_right"].append([-0.5 * lengths[0], 0.0, 0.0])
-            sde["stiffness"].append(stiffness_j)
-            sde["damping"].append(damping_j)
-            sde["length"].append(dxm)
-            plastic_rows.append(np.zeros(2))
-            plastic_flags.append(0)
-            tension_flags.append(0)
+            append_sde(sde, plastic_rows, plastic_flags, tension_flags, pe["rfe"], n_total,
+                       [0.5 * pe["length"], 0.0, 0.0], [-0.5 * lengths[0], 0.0, 0.0], stiffness_j, damping_j, dxm)
             rest = pe["frame"].T @ frames[0]
             join_infos.append(JoinInfo(parent=parent, child=lname, connection=line.end_a.connection, sde=nsde_total,
                                        parent_rfe=pe["rfe"], child_rfe=n_total, rest=rest, hinge=hinge))
@@ -637,6 +644,8 @@ def compile_scenario(sc, start: str | None = None) -> Model:
         n_total += nseg + 1
         nsde_total += nseg
         tension_flags.extend([1 if getattr(lt, "tension_only", False) else 0] * nseg)
+        if target is not None:
+            closures.append((lname, target))
         if body_pose_b is not None:
             body_infos.append(append_body(sc, line.end_b.attach, len(body_infos), line, body_pose_b, coef,
                                           lengths[-1], masses[-1], inertia[-1], n_total, nsde_total, rfe, sde,
@@ -644,6 +653,34 @@ def compile_scenario(sc, start: str | None = None) -> Model:
                                           R0_blocks, (KIND_FREE,)))
             n_total += 1
             nsde_total += 1
+
+    # closing joins (rfesim.model.joins): one SDE each, after all the lines' own
+    closure_infos: list[JoinInfo] = []
+    for lname, target in closures:
+        if target not in end_b_of:
+            continue                       # the target failed (its problem is reported)
+        pe, ce = end_b_of[target], end_b_of[lname]
+        gap = float(np.linalg.norm(ce["point"] - pe["point"]))
+        if gap > 1e-6:
+            problems.append((f"lines.{lname}.end_b.position", f"end B of '{lname}' starts {gap:.6g} m from end B of "
+                                                              f"line '{target}' it is joined to: they must agree "
+                                                              f"within 1e-6 m"))
+            continue
+        connection = sc.lines[lname].end_b.connection
+        dxm = 0.5 * (pe["dx"] + ce["dx"])
+        free_ends = {"end_a": {"kind": KIND_FREE}, "end_b": {"kind": KIND_FREE}}
+        rows_k, rows_c = [], []
+        for e in (pe, ce):
+            cj = _sde_coefficients(e["section"], dxm, e["shear_model"])
+            rows_k.append(cj)
+            rows_c.append(_sde_damping(e["damping"], e["section"], dxm, cj, np.array([pe["mass"], ce["mass"]]),
+                                       np.vstack([pe["inertia"], ce["inertia"]]), free_ends)[0])
+        stiffness_c, damping_c = joint_rows(connection, rows_k, rows_c)
+        append_sde(sde, plastic_rows, plastic_flags, tension_flags, pe["rfe"], ce["rfe"],
+                   [0.5 * pe["length"], 0.0, 0.0], [0.5 * ce["length"], 0.0, 0.0], stiffness_c, damping_c, dxm)
+        closure_infos.append(JoinInfo(parent=target, child=lname, connection=connection, sde=nsde_total,
+                                      parent_rfe=pe["rfe"], child_rfe=ce["rfe"], rest=pe["frame"].T @ ce["frame"]))
+        nsde_total += 1
 
     if problems:
         raise ScenarioError(problems)
@@ -679,8 +716,12 @@ def compile_scenario(sc, start: str | None = None) -> Model:
     tens_arrays, tens_infos = compile_tensioners(sc, attachment_names, lines)
     reel_arrays, reel_infos = compile_reels(sc, attachment_names, lines)
     join_arrays = {}
-    if join_infos:                                  # rest rotations and drives of the joints (model.joins)
-        join_arrays = joint_arrays(nsde_total, {ji.sde: ji.rest for ji in join_infos}, drive_rows(join_drives))
+    if join_infos or closure_infos:                 # rest rotations and drives of the joints (model.joins)
+        join_arrays = joint_arrays(nsde_total, {ji.sde: ji.rest for ji in join_infos + closure_infos},
+                                   drive_rows(join_drives))
+    if closure_infos:
+        join_arrays["cl_sde"] = np.array([ci.sde for ci in closure_infos], np.int64)
+        join_arrays["has_closures"] = True
     row = 0
     for ji in join_infos:
         count = sum(len(d) for s, _, d in join_drives if s == ji.sde)
@@ -749,7 +790,7 @@ def compile_scenario(sc, start: str | None = None) -> Model:
     model = Model(scenario=sc, km=km, lines=lines, attachment_names=attachment_names, motions=motions,
                   plastic_history_width=int(plastic_width), supports=support_infos, tensioners=tens_infos,
                   dof_mask=dof_mask, initial=initial, line_index={li.name: k for k, li in enumerate(lines)},
-                  bodies=body_infos, reels=reel_infos, joins=join_infos)
+                  bodies=body_infos, reels=reel_infos, joins=join_infos, closures=closure_infos)
     if reel_infos and km.has_plastic:
         model.initial_plastic_history = reeled_history(sc, lines, ref.R, km.plastic_params, int(plastic_width))
     if getattr(sc, "winches", None):

@@ -20,7 +20,10 @@ Jacobian:
 * a-frame: a deck stub (a short, stiff line under the hinge, clamped to the deck) ->
   clamped joint driven by the luffing cylinders -> legs (the two legs as one line: the
   symmetric in-plane equivalent of the portal, see docs/theory.md) -> crossbeam (a short
-  line carrying the crossbeam's mass) -> pinned joint (the top sheave) -> rope -> payload.
+  line carrying the crossbeam's mass) -> pinned joint (the top sheave) -> rope -> payload;
+  with ``crossbeam`` given, the closed portal: per leg a deck stub -> luffing joint -> leg
+  -> crossbeam half toward mid-span, the second half closing onto the first (a closing
+  join, rfesim.scenario.joins), the rope from mid-span.
 
 Drives are angle tables (deg against s); a luffing cylinder's stroke table is turned into
 the angle table by the triangle hinge - cylinder base - cylinder eye (``cylinder``), a
@@ -29,7 +32,8 @@ their forces are outputs (rfesim.crane_results). The winch (``winch``) is passed
 on the rope (rfesim.model.winches).
 
 Names made for crane ``c``: lines ``c_pedestal``, ``c_boom`` (column) or ``c_stub``,
-``c_legs``, ``c_crossbeam`` (a-frame), ``c_rope``; line types ``<line>_section``; the body
+``c_legs``, ``c_crossbeam`` (a-frame; the portal adds ``c_stub_2``, ``c_legs_2``,
+``c_crossbeam_2`` and the tugger ``c_cylinder_2``), ``c_rope``; line types ``<line>_section``; the body
 ``c_payload`` (inline payloads); the winch ``c_winch``; the vessel ``c_vessel`` (inline
 vessels); the tugger lines ``c_<name>`` (``tuggers``, rfesim.scenario.tuggers). Geometry in
 the vessel frame; SI units, angles in degrees.
@@ -314,9 +318,18 @@ class AFrame(_Crane):
                                           "(deg), or a table (or give cylinder.stroke)",
                                           json_schema_extra={"units": "deg"})
     cylinder: CylinderSpec | None = None
+    crossbeam: MemberSpec | None = Field(None, description="The crossbeam as a member (its length is "
+                                         "leg_spacing): the frame is then the closed portal -- two legs, each on "
+                                         "its own hinge with half the cylinders, and the crossbeam between their "
+                                         "tops with the sheave at mid-span (crossbeam_mass: the sheave block, "
+                                         "spread over it). Without it, the symmetric in-plane equivalent: one line "
+                                         "for both legs (docs/theory.md, 'Crane templates')")
 
     @model_validator(mode="after")
     def _drives(self):
+        if self.crossbeam is not None and abs(self.crossbeam.length - self.leg_spacing) > 1e-9 * self.leg_spacing:
+            raise FieldError("crossbeam.length", f"{self.crossbeam.length} m: the crossbeam spans the legs, "
+                                                 f"leg_spacing {self.leg_spacing} m")
         if self.cylinder is not None and self.cylinder.force is not None:
             force = self.cylinder.force
             if self.cylinder.stroke is not None:
@@ -599,33 +612,53 @@ def _a_frame(out: dict, name: str, tpl: AFrame, raw: dict, vname: str, vpos, hea
     tilt0_deg, tilt_table = _angle_profile(tpl, "tilt_deg",
                                            lambda a, inverse=False: math.pi / 2.0 - a)
     tilt0 = math.radians(tilt0_deg)
-    hinge = list(tpl.position)
     d_local = [math.sin(tilt0) * xo[0], math.sin(tilt0) * xo[1], math.cos(tilt0)]
+    # luffing axis: turning the legs outboard (tilt up) is a rotation about z x outboard
+    across = [-xo[1], xo[0], 0.0]
+    axis = _rot(vpos, heading, across)
+    p = tpl.legs.properties()
+    damping = {"axial_ratio": tpl.legs.damping_ratio, "bending_ratio": tpl.legs.damping_ratio}
+    if tpl.crossbeam is not None:
+        _a_frame_portal(out, name, tpl, raw, vname, vpos, heading, xo, across, axis, d_local, tilt0_deg, tilt_table)
+        return
+    hinge = list(tpl.position)
     top_local = [hinge[k] + tpl.legs.length * d_local[k] for k in range(3)]
     beam_len = 0.5
     tip_local = [top_local[k] + beam_len * d_local[k] for k in range(3)]
     tip = _to_global(vpos, heading, tip_local)
     # the two legs as one line: twice the axial and in-plane bending stiffness and mass; out of
     # plane the portal is stiffer (the legs' parallel-axis term at half the spacing)
-    p = tpl.legs.properties()
     EI_out = 2.0 * p["EI"] + 2.0 * p["EA"] * (0.5 * tpl.leg_spacing) ** 2
     leg_type = {"EA": 2.0 * p["EA"], "EIy": 2.0 * p["EI"], "EIz": EI_out, "GJ": 2.0 * p["GJ"],
-                "mass_per_length": 2.0 * p["mass_per_length"],
-                "damping": {"axial_ratio": tpl.legs.damping_ratio, "bending_ratio": tpl.legs.damping_ratio}}
+                "mass_per_length": 2.0 * p["mass_per_length"], "damping": damping}
     stub_type = {k: (10.0 * v if k in ("EA", "EIy", "EIz", "GJ") else v) for k, v in leg_type.items()}
     stub_type["mass_per_length"] = 1.0
     beam_type = dict(stub_type, mass_per_length=max(1.0, tpl.crossbeam_mass / beam_len))
     _add(out, "line_types", f"{legs}_section", leg_type, "legs")
     _add(out, "line_types", f"{stub}_section", stub_type, "legs")
     _add(out, "line_types", f"{beam}_section", beam_type, "crossbeam_mass")
+    _a_frame_leg(out, name, tpl, vname, vpos, heading, stub, legs, hinge, xo, axis, d_local, tilt0_deg, tilt_table,
+                 1.0, f"{name}_cylinder")
+    _add(out, "lines", beam, {"type": f"{beam}_section", "length": beam_len, "elements": 1,
+                              "end_a": {"attach": f"{legs}:end_b", "connection": "clamped",
+                                        "direction": _rot(vpos, heading, d_local)},
+                              "end_b": {"attach": "free"}}, "crossbeam_mass")
+    _rope_and_winch(out, name, tpl, raw, beam, tip, vname, legs)
+
+
+def _a_frame_leg(out: dict, name: str, tpl: AFrame, vname: str, vpos, heading, stub: str, legs: str, hinge: list,
+                 xo: list, axis: list, d_local: list, tilt0_deg: float, tilt_table, share: float,
+                 cylinder: str) -> None:
+    """A deck stub under the hinge and a leg line on it, luffed by its joint's drive (stroke or
+    tilt table) or hinged and pushed by a force tugger (``cylinder``) for ``share`` of the
+    cylinders."""
+    tilt0 = math.radians(tilt0_deg)
     stub_len = 1.0
     _add(out, "lines", stub, {
-        "type": f"{stub}_section", "length": stub_len, "elements": 1,
+        "type": f"{name}_stub_section", "length": stub_len, "elements": 1,
         "end_a": {"attach": vname, "position": [hinge[0], hinge[1], hinge[2] - stub_len],
                   "direction": [0.0, 0.0, 1.0], "connection": "clamped"},
         "end_b": {"attach": "free"}}, "legs")
-    # luffing axis: turning the legs outboard (tilt up) is a rotation about z x outboard
-    axis = _rot(vpos, heading, [-xo[1], xo[0], 0.0])
     end_a = {"attach": f"{stub}:end_b", "connection": "clamped", "direction": _rot(vpos, heading, d_local)}
     cyl = tpl.cylinder
     if cyl is not None and cyl.force is not None:
@@ -637,7 +670,7 @@ def _a_frame(out: dict, name: str, tpl: AFrame, raw: dict, vname: str, vpos, hea
         rows = [[0.0, float(cyl.force)]] if isinstance(cyl.force, (int, float)) else cyl.force
         if cyl.eye > tpl.legs.length:
             raise FieldError("cylinder.eye", f"{cyl.eye} m is beyond the legs' {tpl.legs.length} m")
-        mode = {"kind": "force", "force": [[float(t), cyl.count * float(f)] for t, f in rows]}
+        mode = {"kind": "force", "force": [[float(t), share * cyl.count * float(f)] for t, f in rows]}
         start = cylinder_lever(cyl, math.pi / 2.0 - tilt0)[0]
         if cyl.length_min is not None and cyl.length_max is not None and not cyl.length_min < cyl.length_max:
             raise FieldError("cylinder.length_max", f"{cyl.length_max} m is not longer than length_min "
@@ -650,18 +683,54 @@ def _a_frame(out: dict, name: str, tpl: AFrame, raw: dict, vname: str, vpos, hea
                     raise FieldError(f"cylinder.{field}", f"the starting tilt {tilt0_deg:g} deg puts the cylinder at "
                                                           f"{start:.4g} m, beyond its {field} {value} m")
                 mode[field] = float(value)
-                mode["stop_stiffness"] = cyl.count * cyl.stop_stiffness
-        _add(out, "tuggers", f"{name}_cylinder", {
+                mode["stop_stiffness"] = share * cyl.count * cyl.stop_stiffness
+        _add(out, "tuggers", cylinder, {
             "line": legs, "at": cyl.eye, "vessel": vname, "deck_point": deck, "mode": mode}, "cylinder")
     else:
         end_a["drives"] = [_drive("luffing", axis, tilt_table)]
-    _add(out, "lines", legs, {"type": f"{legs}_section", "length": tpl.legs.length, "elements": tpl.legs.count(),
-                              "end_a": end_a, "end_b": {"attach": "free"}}, "legs")
-    _add(out, "lines", beam, {"type": f"{beam}_section", "length": beam_len, "elements": 1,
-                              "end_a": {"attach": f"{legs}:end_b", "connection": "clamped",
-                                        "direction": _rot(vpos, heading, d_local)},
-                              "end_b": {"attach": "free"}}, "crossbeam_mass")
-    _rope_and_winch(out, name, tpl, raw, beam, tip, vname, legs)
+    _add(out, "lines", legs, {"type": f"{name}_legs_section", "length": tpl.legs.length,
+                              "elements": tpl.legs.count(), "end_a": end_a, "end_b": {"attach": "free"}}, "legs")
+
+
+def _a_frame_portal(out: dict, name: str, tpl: AFrame, raw: dict, vname: str, vpos, heading, xo: list,
+                    across: list, axis: list, d_local: list, tilt0_deg: float, tilt_table) -> None:
+    """The A-frame as the closed portal it is: two legs on their own hinges ``leg_spacing``
+    apart, each with half the cylinders, and the crossbeam in two halves from the legs' tops to
+    mid-span, the second closing onto the first (a closing join, rfesim.scenario.joins); the
+    rope hangs from mid-span (the sheave). Lines: ``c_stub``, ``c_legs``, ``c_crossbeam`` (leg
+    1 side, the sheave at its end B) and ``c_stub_2``, ``c_legs_2``, ``c_crossbeam_2``."""
+    half = 0.5 * tpl.leg_spacing
+    p = tpl.legs.properties()
+    damping = {"axial_ratio": tpl.legs.damping_ratio, "bending_ratio": tpl.legs.damping_ratio}
+    leg_type = {"EA": p["EA"], "EIy": p["EI"], "EIz": p["EI"], "GJ": p["GJ"],
+                "mass_per_length": p["mass_per_length"], "damping": damping}
+    stub_type = {k: (10.0 * v if k in ("EA", "EIy", "EIz", "GJ") else v) for k, v in leg_type.items()}
+    stub_type["mass_per_length"] = 1.0
+    b = tpl.crossbeam.properties()
+    beam_type = {"EA": b["EA"], "EIy": b["EI"], "EIz": b["EI"], "GJ": b["GJ"],
+                 "mass_per_length": b["mass_per_length"] + tpl.crossbeam_mass / tpl.leg_spacing,
+                 "damping": {"axial_ratio": tpl.crossbeam.damping_ratio,
+                             "bending_ratio": tpl.crossbeam.damping_ratio}}
+    _add(out, "line_types", f"{name}_legs_section", leg_type, "legs")
+    _add(out, "line_types", f"{name}_stub_section", stub_type, "legs")
+    _add(out, "line_types", f"{name}_crossbeam_section", beam_type, "crossbeam")
+    centre = list(tpl.position)
+    mid_local = [centre[k] + tpl.legs.length * d_local[k] for k in range(3)]
+    nbeam = max(1, int(math.ceil(tpl.crossbeam.count() / 2.0)))
+    for j, (side, suffix) in enumerate(((-1.0, ""), (1.0, "_2"))):
+        hinge = [centre[k] + side * half * across[k] for k in range(3)]
+        legs = f"{name}_legs{suffix}"
+        _a_frame_leg(out, name, tpl, vname, vpos, heading, f"{name}_stub{suffix}", legs, hinge, xo, axis, d_local,
+                     tilt0_deg, tilt_table, 0.5, f"{name}_cylinder{suffix}")
+        beam = {"type": f"{name}_crossbeam_section", "length": half, "elements": nbeam,
+                "end_a": {"attach": f"{legs}:end_b", "connection": "clamped",
+                          "direction": _rot(vpos, heading, [-side * c for c in across])},
+                "end_b": {"attach": "free"}}
+        if j == 1:
+            beam["end_b"] = {"attach": f"{name}_crossbeam:end_b", "connection": "clamped"}
+        _add(out, "lines", f"{name}_crossbeam{suffix}", beam, "crossbeam")
+    _rope_and_winch(out, name, tpl, raw, f"{name}_crossbeam", _to_global(vpos, heading, mid_local), vname,
+                    f"{name}_legs")
 
 
 def expand(data: dict) -> dict:

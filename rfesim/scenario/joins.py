@@ -18,6 +18,14 @@ end B of a parent is joined, a parent carries at most one child, no closed loops
 the parent is attached to nothing else, both lines are in the absolute formulation and the
 scene has no chains. The compile (rfesim.model.joins) numbers the RFEs of a string
 consecutively and adds one joint SDE between them.
+
+A *closing* join closes a loop (a portal's crossbeam onto the other half): end B of a line
+on end B of another, ``"end_b": {"attach": "<target>:end_b", "connection": "clamped"}``.
+It adds one SDE between the two end RFEs, which are not neighbours; the Jacobian is then
+the band plus two off-band blocks (rfesim.solvers.banded.bt_factor_closed), formed from
+the analytic tangent only. End B starts at the target's end B (give ``position`` when the
+target comes later), the target's end B is free or carries a child, and a closing end
+takes no drives, motor, reeving or hinge.
 """
 from __future__ import annotations
 
@@ -72,12 +80,9 @@ def check_join_references(sc) -> list[tuple[str, str]]:
         if parent is None:
             continue
         base = f"lines.{name}.end_a"
-        if parent not in sc.lines:
-            known = ", ".join(n for n in sc.lines if n != name) or "none"
-            errors.append((f"{base}.attach", f"unknown line '{parent}' (other lines: {known})"))
-            continue
-        if parent == name:
-            errors.append((f"{base}.attach", "a line cannot be joined to its own end B"))
+        bad = _named_line(sc, name, parent, base, "joined to")
+        if bad:
+            errors.append(bad)
             continue
         children.setdefault(parent, []).append(name)
         parent_line = sc.lines[parent]
@@ -119,4 +124,46 @@ def check_join_references(sc) -> list[tuple[str, str]]:
                 break
             seen.append(parent)
             cur = parent
+    errors.extend(_check_closures(sc))
+    return errors
+
+
+def _named_line(sc, name: str, other: str, base: str, verb: str) -> tuple[str, str] | None:
+    """The error of an end naming an unknown line or its own line's end B, else None."""
+    if other not in sc.lines:
+        known = ", ".join(n for n in sc.lines if n != name) or "none"
+        return f"{base}.attach", f"unknown line '{other}' (other lines: {known})"
+    if other == name:
+        return f"{base}.attach", f"a line cannot be {verb} its own end B"
+    return None
+
+
+def _check_closures(sc) -> list[tuple[str, str]]:
+    """Cross-checks of the closing joins (end B on another line's end B, see the module text)."""
+    errors: list[tuple[str, str]] = []
+    for name, line in sc.lines.items():
+        target = join_parent(line.end_b)
+        if target is None:
+            continue
+        base = f"lines.{name}.end_b"
+        bad = _named_line(sc, name, target, base, "closed onto")
+        if bad:
+            errors.append(bad)
+            continue
+        for field in ("drives", "motor", "reeving", "hinge_axis"):
+            if getattr(line.end_b, field, None):
+                errors.append((f"{base}.{field}", f"a closing join (end B on '{target}:end_b') takes no {field}"))
+        if sc.lines[target].end_b.attach != "free" and join_parent(sc.lines[target].end_b) is None:
+            errors.append((f"{base}.attach", f"end B of line '{target}' is attached to "
+                                             f"'{sc.lines[target].end_b.attach}': close onto a free end B"))
+        if getattr(sc, "chains", None):
+            errors.append((f"{base}.attach", "line-to-line joins are not available in a scene with chains"))
+        for who in (name, target):
+            if sc.lines[who].formulation != "absolute":
+                errors.append((f"lines.{who}.formulation", f"a closing join ('{name}' -> '{target}') needs both "
+                                                           f"lines in the absolute formulation"))
+        integ = sc.analysis.dynamics.integrator
+        if getattr(integ, "jacobian", "analytic") != "analytic":
+            errors.append(("analysis.dynamics.integrator.jacobian", f"line '{name}' closes a loop (end B on "
+                           f"'{target}:end_b'): its off-band coupling needs the analytic Jacobian"))
     return errors

@@ -937,7 +937,9 @@ class LineEnd(_Strict):
     attach: str = Field("free", description='"fixed" (global frame), "free", a vessel name, (end B) a body '
                                             'name (position: the attachment point in the body frame), or (end '
                                             'A) "<line>:end_b": joined to end B of another absolute line '
-                                            '(rfesim.model.joins; position optional)')
+                                            '(rfesim.model.joins; position optional), or (end B) '
+                                            '"<line>:end_b": a closing join onto end B of another line (a '
+                                            'portal\'s crossbeam, rfesim.scenario.joins)')
     position: Vector3 | None = _units("m", "Position of the end: global for fixed and free ends, in the vessel "
                                       "frame for a vessel", default=None)
     direction: Vector3 | None = Field(None, description="Unit tangent of the line at this end, pointing from "
@@ -1052,13 +1054,12 @@ class Line(_Strict):
         if self.end_a.attach == "free" and self.end_b.attach == "free":
             pass  # a free-floating line is allowed in dynamics (statics will be singular and says so)
         # an end on a chain link ("<chain>.<link>", checked by scenario.chains) may omit its position
-        if ":" in self.end_b.attach:
-            raise FieldError("end_b.attach", "a join starts at end A of the child line (\"end_a\": {\"attach\": "
-                                             "\"<parent>:end_b\"}); reverse this line")
+        # end B on "<line>:end_b" is a closing join (rfesim.scenario.joins); its position is optional
         if self.end_a.position is None and self.end_a.attach != "free" and "." not in self.end_a.attach \
                 and ":" not in self.end_a.attach:
             raise FieldError("end_a.position", f"an end attached to '{self.end_a.attach}' needs a position")
-        if self.end_b.position is None and self.end_b.attach != "free" and "." not in self.end_b.attach:
+        if self.end_b.position is None and self.end_b.attach != "free" and "." not in self.end_b.attach \
+                and ":" not in self.end_b.attach:
             raise FieldError("end_b.position", f"an end attached to '{self.end_b.attach}' needs a position")
         for i, load in enumerate(self.loads):
             if not isinstance(load.at, str) and not (0.0 <= load.at <= self.length):

@@ -18,47 +18,7 @@ from numba import njit
 @njit(cache=True)
 def invert6_into(A, out, work):
     """out = A^-1 for a 6x6 block (Gauss-Jordan, partial pivoting). Returns False if singular."""
-    for i in range(6):
-        for j in range(6):
-            work[i, j] = A[i, j]
-            out[i, j] = 1.0 if i == j else 0.0
-    scale = 0.0
-    for i in range(6):
-        for j in range(6):
-            if abs(A[i, j]) > scale:
-                scale = abs(A[i, j])
-    if scale == 0.0:
-        return False
-    for c in range(6):
-        p = c
-        best = abs(work[c, c])
-        for r in range(c + 1, 6):
-            if abs(work[r, c]) > best:
-                best = abs(work[r, c])
-                p = r
-        if best <= 1e-300 or best < 1e-15 * scale:
-            return False
-        if p != c:
-            for j in range(6):
-                tmp = work[c, j]
-                work[c, j] = work[p, j]
-                work[p, j] = tmp
-                tmp = out[c, j]
-                out[c, j] = out[p, j]
-                out[p, j] = tmp
-        inv = 1.0 / work[c, c]
-        for j in range(6):
-            work[c, j] *= inv
-            out[c, j] *= inv
-        for r in range(6):
-            if r == c:
-                continue
-            f = work[r, c]
-            if f != 0.0:
-                for j in range(6):
-                    work[r, j] -= f * work[c, j]
-                    out[r, j] -= f * out[c, j]
-    return True
+    return invert_into(A, out, work)
 
 
 @njit(cache=True, _nrt=True)
@@ -122,6 +82,119 @@ def bt_solve(F, rhs, out):
             for k in range(6):
                 s += F[i, 1, a, k] * tmp[k]
             out[i, a] = s
+
+
+@njit(cache=True)
+def invert_into(A, out, work):
+    """out = A^-1 for a small square A (Gauss-Jordan, partial pivoting). False if singular."""
+    m = A.shape[0]
+    scale = 0.0
+    for i in range(m):
+        for j in range(m):
+            work[i, j] = A[i, j]
+            out[i, j] = 1.0 if i == j else 0.0
+            if abs(A[i, j]) > scale:
+                scale = abs(A[i, j])
+    if scale == 0.0:
+        return False
+    for c in range(m):
+        p = c
+        best = abs(work[c, c])
+        for r in range(c + 1, m):
+            if abs(work[r, c]) > best:
+                best = abs(work[r, c])
+                p = r
+        if best <= 1e-300 or best < 1e-15 * scale:
+            return False
+        if p != c:
+            for j in range(m):
+                tmp = work[c, j]
+                work[c, j] = work[p, j]
+                work[p, j] = tmp
+                tmp = out[c, j]
+                out[c, j] = out[p, j]
+                out[p, j] = tmp
+        inv = 1.0 / work[c, c]
+        for j in range(m):
+            work[c, j] *= inv
+            out[c, j] *= inv
+        for r in range(m):
+            if r == c:
+                continue
+            f = work[r, c]
+            if f != 0.0:
+                for j in range(m):
+                    work[r, j] -= f * work[c, j]
+                    out[r, j] -= f * out[c, j]
+    return True
+
+
+# --------------------------------------------------------------------------- closing joins
+# A closing join (rfesim.model.joins) adds an SDE between RFEs a and b that are not
+# neighbours: J = B + U W^T with B the block-tridiagonal part (in J) and, per closure c,
+# U's columns E_a K_ab e_k and E_b K_ba e_k, W's E_b e_k and E_a e_k (k = 0..5; K_ab =
+# ws.cl_J[c, 0], K_ba = ws.cl_J[c, 1]). Woodbury: J^-1 r = y - Z S^-1 W^T y with y = B^-1 r,
+# Z = B^-1 U (12 nc solves per factorisation) and S = I + W^T Z (12 nc x 12 nc).
+
+@njit(cache=True, _nrt=True)
+def bt_factor_closed(J, F, km, ws):
+    """``bt_factor`` of J's band, then Z and S^-1 of the closures into ws (see above).
+    Returns the first singular pivot block, n for a singular capacitance matrix, or -1."""
+    bad = bt_factor(J, F)
+    if bad >= 0 or not km.has_closures:
+        return bad
+    n = J.shape[0]
+    m = ws.cl_Z.shape[0]
+    rhs = ws.cl_rhs
+    for col in range(m):
+        c = col // 12
+        part = (col % 12) // 6
+        k = col % 6
+        s = km.cl_sde[c]
+        node = km.sde_left[s] if part == 0 else km.sde_right[s]
+        for i in range(n):
+            for a in range(6):
+                rhs[i, a] = 0.0
+        for a in range(6):
+            rhs[node, a] = ws.cl_J[c, part, a, k]
+        bt_solve(F, rhs, ws.cl_Z[col])
+    for row in range(m):
+        c = row // 12
+        part = (row % 12) // 6
+        k = row % 6
+        s = km.cl_sde[c]
+        node = km.sde_right[s] if part == 0 else km.sde_left[s]
+        for col in range(m):
+            ws.cl_work[row, col] = ws.cl_Z[col, node, k] + (1.0 if row == col else 0.0)
+    S = ws.cl_work.copy()
+    if not invert_into(S, ws.cl_S, ws.cl_work):
+        return n
+    return -1
+
+
+@njit(cache=True, _nrt=True)
+def bt_solve_closed(F, rhs, out, km, ws):
+    """Solve J x = rhs with the factors of ``bt_factor_closed`` (rhs, out may alias)."""
+    bt_solve(F, rhs, out)
+    if not km.has_closures:
+        return
+    m = ws.cl_Z.shape[0]
+    w = np.empty(m)
+    for row in range(m):
+        c = row // 12
+        part = (row % 12) // 6
+        s = km.cl_sde[c]
+        node = km.sde_right[s] if part == 0 else km.sde_left[s]
+        w[row] = out[node, row % 6]
+    n = out.shape[0]
+    for col in range(m):
+        v = 0.0
+        for row in range(m):
+            v += ws.cl_S[col, row] * w[row]
+        if v != 0.0:
+            for i in range(n):
+                for a in range(6):
+                    out[i, a] -= ws.cl_Z[col, i, a] * v
 
 
 @njit(cache=True)

@@ -108,7 +108,9 @@ class Recorder:
         model = system.model
         # the SDEs whose end loads are outputs: joints between lines, then body connections
         joins = getattr(model, "joins", [])
-        self._end_sdes = np.array([ji.sde for ji in joins] + [b.sde for b in model.bodies], np.int64)
+        # (then the closing joins: their loads are the closing line's end B loads)
+        self._end_sdes = np.array([ji.sde for ji in joins] + [b.sde for b in model.bodies]
+                                  + [ci.sde for ci in getattr(model, "closures", [])], np.int64)
         self._end = np.zeros((self._end_sdes.shape[0], 4, 3))
         self._end_F = np.zeros((model.n, 3))
         self._end_M = np.zeros((model.n, 3))
@@ -269,6 +271,7 @@ class Recorder:
             self._record_bodies(k, ws, qdd)
         if getattr(sysm.model, "joins", None):
             self._record_joins(k, ws, state.t)
+        self._record_closures(slice(k, k + 1), self._end[None])
         for c in getattr(sysm, "controllers", ()):
             for ch, value in c.channels().items():
                 self.winch_data[c.name][ch][k] = value
@@ -356,6 +359,17 @@ class Recorder:
             line = self.line_data[b.line]           # the line's end B force is the force on the body
             line["end_b_force"][k] = force
             line["end_b_moment"][k] = moment
+
+    def _record_closures(self, rows, end_hist) -> None:
+        """A closing join's force and moment as the end B loads of its closing line (the
+        sign of an attached end: the line's pull on the target's end B). end_hist (rows, m,
+        4, 3): sde_end_loads of the end SDEs."""
+        model = self.system.model
+        first = len(getattr(model, "joins", [])) + len(model.bodies)
+        for c, ci in enumerate(getattr(model, "closures", [])):
+            line = self.line_data[ci.child]
+            line["end_b_force"][rows] = -end_hist[:, first + c, 2]
+            line["end_b_moment"][rows] = -end_hist[:, first + c, 3]
 
     def _record_joins(self, k: int, ws, t: float) -> None:
         """The joint loads as the end loads of the two joined lines, and the drive channels."""
@@ -459,6 +473,7 @@ class Recorder:
             line = self.line_data[b.line]           # the line's end B force is the force on the body
             line["end_b_force"][rows] = force
             line["end_b_moment"][rows] = moment
+        self._record_closures(rows, rec.end_hist[rows])
         for j, ji in enumerate(joins):
             end = rec.end_hist[rows, j]
             child, parent = self.line_data[ji.child], self.line_data[ji.parent]

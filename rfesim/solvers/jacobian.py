@@ -106,6 +106,9 @@ def jacobian_analytic_at(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask,
         sde_tangent_rest(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, ws.k_tangent, ws.c_tangent,
                          km.sde_has_rest, km.sde_rest, ws.sde_rest_eff, ws.R, ws.rbase, ws.roff, ws.sigma, Ks, Kds)
     elif km.has_plastic or km.has_tension_only:
+        # a slack rope element (rfesim.loads.tension_only) keeps its axial damping here although
+        # its force is 0: the exact tangent (no damping) was tried and took a snap load's peak
+        # 1.3 % lower at 2 ms steps (docs/theory.md, 'Slack ropes and Newton')
         sde_tangent_rest(km.sde_left, km.sde_right, km.sde_arm_left, km.sde_arm_right, ws.k_tangent, km.sde_damping,
                          km.sde_has_rest, km.sde_rest, ws.sde_rest_eff, ws.R, ws.rbase, ws.roff, ws.sigma, Ks, Kds)
     else:
@@ -126,6 +129,12 @@ def jacobian_analytic_at(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask,
             for a in range(6):
                 for b in range(6):
                     J[i, sl, a, b] = 0.0
+    if km.has_closures:
+        for c in range(ws.cl_J.shape[0]):
+            for blk in range(2):
+                for a in range(6):
+                    for b in range(6):
+                        ws.cl_J[c, blk, a, b] = 0.0
     KT = np.empty((6, 6))
     for s in range(km.sde_left.shape[0]):
         ia = km.sde_left[s]
@@ -135,6 +144,13 @@ def jacobian_analytic_at(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask,
             for bj in range(2):
                 j = ia if bj == 0 else ib
                 slot = j - i + 1
+                cl = -1
+                if slot < 0 or slot > 2:
+                    # a closing join's RFEs are not neighbours: its off-band blocks go to
+                    # ws.cl_J (rfesim.solvers.banded.bt_factor_closed)
+                    for c in range(km.cl_sde.shape[0]):
+                        if km.cl_sde[c] == s:
+                            cl = c
                 # KT = (cK K + cD Kd)[bi, bj] T_j  (6 x 6)
                 for a in range(6):
                     for b in range(6):
@@ -148,7 +164,10 @@ def jacobian_analytic_at(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask,
                         acc = 0.0
                         for k in range(6):
                             acc += T[i, k, a] * KT[k, b]
-                        J[i, slot, a, b] += acc
+                        if cl >= 0:
+                            ws.cl_J[cl, bi, a, b] += acc
+                        else:
+                            J[i, slot, a, b] += acc
     # local part: every RFE perturbed at once, SDE forces frozen
     eps = 1.5e-8
     for k in range(6):

@@ -49,7 +49,12 @@ def modal_analysis(system: System, state: State, nmodes: int) -> ModalResults:
     system.set_time(st.t)
     system.ws.waves_off[0] = 1          # about the static state: still water plus current
     try:
-        K = system.static_jacobian_accurate(st.q, st.ref).copy()
+        km = system.km
+        if km.has_closures:
+            # a closing join: its off-band blocks (in ws.cl_J) are added below
+            K = system.static_jacobian_closed(st.q, st.ref).copy()
+        else:
+            K = system.static_jacobian_accurate(st.q, st.ref).copy()
         system.evaluate(st)
         Mblk = system.ws.Mgen.copy()
     finally:
@@ -60,7 +65,16 @@ def modal_analysis(system: System, state: State, nmodes: int) -> ModalResults:
     if nact == 0:
         raise SolverError("modal analysis: the scene has no moving coordinates")
     nmodes = min(nmodes, nact)
-    Ksp = bt_to_sparse(K)[active][:, active]
+    Ksp = bt_to_sparse(K)
+    if km.has_closures:
+        n6 = 6 * system.n
+        for c, s in enumerate(km.cl_sde):
+            a, b = int(km.sde_left[s]), int(km.sde_right[s])
+            for blk, (i, j) in enumerate(((a, b), (b, a))):
+                ii, jj = np.meshgrid(np.arange(6 * i, 6 * i + 6), np.arange(6 * j, 6 * j + 6), indexing="ij")
+                Ksp = Ksp + sp.csr_matrix((system.ws.cl_J[c, blk].ravel(), (ii.ravel(), jj.ravel())),
+                                          shape=(n6, n6))
+    Ksp = Ksp.tocsr()[active][:, active]
     n = system.n
     Msp = sp.block_diag([Mblk[i] for i in range(n)], format="csr")[active][:, active]
     Ka = (Ksp - Ksp.T)

@@ -21,7 +21,7 @@ from ..loads.drives import rest_of_workspace
 from ..model.assemble import rebase
 from ..model.arrays import Reference
 from ..model.compile import State
-from .banded import bt_factor, bt_solve
+from .banded import bt_factor_closed, bt_solve_closed
 from .system import System
 
 log = logging.getLogger("rfesim")
@@ -243,6 +243,9 @@ def _solve(system: System, state: State | None, tolerance: float, max_iterations
     # Newton cycling (the A-frame with a deck winch lead: no convergence in 100 iterations),
     # the analytic one converges in 5 (docs/theory.md, 'Reeving')
     slipping = bool(getattr(system.km, "has_reeving", False) and np.any(system.km.rv_slip == 1))
+    # a closing join (rfesim.model.joins) couples RFEs that are not neighbours: the coloured
+    # differences would mix its blocks into the band (System.static_jacobian_closed)
+    closed = bool(system.km.has_closures)
     lam_done = 0.0
     dlam = 1.0 / max(1, load_steps)
     q_good = st.q.copy()
@@ -266,15 +269,19 @@ def _solve(system: System, state: State | None, tolerance: float, max_iterations
             if total_its >= max_iterations:
                 break
             total_its += 1
-            J = system.static_jacobian_analytic(st.q, st.ref, lam) if slipping else \
-                system.static_jacobian_accurate(st.q, st.ref, lam)
+            if slipping:
+                J = system.static_jacobian_analytic(st.q, st.ref, lam)
+            elif closed:
+                J = system.static_jacobian_closed(st.q, st.ref, lam)
+            else:
+                J = system.static_jacobian_accurate(st.q, st.ref, lam)
             # Solve; raise the Levenberg damping while the direction is not a descent
             # direction (a part in compression has negative geometric stiffness).
             bad = 0
             for _attempt in range(12):
-                bad = bt_factor(_regularise(J, mu, mask), fac)
+                bad = bt_factor_closed(_regularise(J, mu, mask), fac, system.km, system.ws)
                 if bad < 0:
-                    bt_solve(fac, r, dq)
+                    bt_solve_closed(fac, r, dq, system.km, system.ws)
                     dq *= -1.0
                     if float(np.sum(dq * r)) < 0.0:
                         break

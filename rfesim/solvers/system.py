@@ -20,7 +20,7 @@ class System:
         self.n = n
         self.ws = new_workspace(n, nsde, model.plastic_history_width, km.roller_attach.shape[0],
                                 km.tens_att.shape[0], km.reel_att.shape[0], km.motor_sde.shape[0],
-                                km.body_rfe.shape[0], km.tug_rfe.shape[0], km.rv_sde.shape[0])
+                                km.body_rfe.shape[0], km.tug_rfe.shape[0], km.rv_sde.shape[0], km.cl_sde.shape[0])
         if getattr(model, "initial_plastic_history", None) is not None:
             self.ws.plastic_hist[:] = model.initial_plastic_history     # pipe reeled on before t = 0
         self.vs = vessel_spec(model.motions)
@@ -105,6 +105,25 @@ class System:
         jacobian_analytic(self.km, self.att, q, ref, self.ws, float(scale), 0, self.Q0, self.V0, 1.0, 0.0, self.mask,
                           self.qd_buf, self.A_buf, work, self.qp, self.rp, self.hs, self.length_scale, self.J, self.Ks,
                           self.Kds, self.T, self.Fsde, self.Msde)
+        return self.J
+
+    def static_jacobian_closed(self, q: np.ndarray, ref, scale: float = 1.0) -> np.ndarray:
+        """Static Jacobian of a scene with closing joins (rfesim.model.joins): the central
+        differences of ``static_jacobian_accurate`` with the closing SDEs switched off (their
+        off-band coupling would mix into the coloured band), plus the closing SDEs' own part
+        of the analytic tangent (its change when they are switched on; their off-band blocks
+        in ws.cl_J). The analytic tangent alone left the A-frame's statics stalling."""
+        km = self.km
+        s = km.cl_sde
+        saved = km.sde_stiffness[s].copy()
+        km.sde_stiffness[s] = 0.0
+        try:
+            off = self.static_jacobian_analytic(q, ref, scale).copy()
+            J = self.static_jacobian_accurate(q, ref, scale).copy()
+        finally:
+            km.sde_stiffness[s] = saved
+        J += self.static_jacobian_analytic(q, ref, scale) - off
+        self.J[:] = J
         return self.J
 
     def static_jacobian_accurate(self, q: np.ndarray, ref, scale: float = 1.0) -> np.ndarray:

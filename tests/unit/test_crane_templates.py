@@ -196,6 +196,7 @@ def test_names_that_clash_are_refused():
 def test_template_scenarios_expand():
     for path, lines in (("scenarios/column_crane.json", {"crane_pedestal", "crane_boom", "crane_rope"}),
                         ("scenarios/a_frame.json", {"aframe_stub", "aframe_legs", "aframe_crossbeam",
+                                                    "aframe_stub_2", "aframe_legs_2", "aframe_crossbeam_2",
                                                     "aframe_rope"}),
                         ("scenarios/a_frame_deck_winch.json", {"aframe_stub", "aframe_legs", "aframe_crossbeam",
                                                                "aframe_rope"})):

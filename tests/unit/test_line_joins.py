@@ -88,7 +88,7 @@ def test_valid_crane_string_validates():
     ("lines__rope__end_a__attach", "column:end_b", "lines.boom.end_a.attach", ("already carries", "rope")),
     ("lines__column__end_b", {"attach": "fixed", "position": [1, 2, 6]}, "lines.column.end_b.attach",
      ("carries line 'boom'",)),
-    ("lines__column__end_b", {"attach": "boom:end_b"}, "lines.column.end_b.attach", ("end A",)),
+    ("lines__column__end_b", {"attach": "boom:end_b"}, "lines.column.end_b.attach", ("carries line 'boom'",)),
     ("lines__boom__formulation", "classical", "lines.boom.formulation", ()),
     ("lines__boom__end_a__connection", "pinned", "lines.boom.end_a.drives", ("clamped",)),
     ("lines__column__end_a__drives", [{"name": "x", "axis": [0, 0, 1], "angle": [[0, 0]]}],
