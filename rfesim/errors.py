@@ -38,15 +38,17 @@ class SolverError(RfesimError, RuntimeError):
     """A run that could not go on (divergence, NaN, Newton failure).
 
     Attributes: ``time`` (s), ``element`` (description of where), ``quantity``
-    (what went wrong), ``results`` (the Results computed up to the failure, or None).
+    (what went wrong), ``results`` (the Results computed up to the failure, or None),
+    ``hint`` (what the state at the failure suggests, or None).
     """
 
     def __init__(self, message: str, *, time: float | None = None, element: str | None = None,
-                 quantity: str | None = None, results=None):
+                 quantity: str | None = None, results=None, hint: str | None = None):
         self.time = time
         self.element = element
         self.quantity = quantity
         self.results = results
+        self.hint = hint
         parts = [message]
         if time is not None:
             parts.append(f"at t = {time:.6g} s")
@@ -54,7 +56,10 @@ class SolverError(RfesimError, RuntimeError):
             parts.append(f"in {element}")
         if quantity:
             parts.append(f"({quantity})")
-        super().__init__(" ".join(parts))
+        text = " ".join(parts)
+        if hint:
+            text += f"; {hint}"
+        super().__init__(text)
 
 
 class CancelledError(RfesimError):

@@ -136,6 +136,17 @@ def invert_into(A, out, work):
 # ws.cl_J[c, 0], K_ba = ws.cl_J[c, 1]). Woodbury: J^-1 r = y - Z S^-1 W^T y with y = B^-1 r,
 # Z = B^-1 U (12 nc solves per factorisation) and S = I + W^T Z (12 nc x 12 nc).
 
+@njit(cache=True)
+def _woodbury_node(km, idx, column):
+    """The RFE of U's column (``column``) or W's row ``idx``: 12 per closure, its end a's
+    6 then its end b's; a U column belongs to that end, a W row to the other one."""
+    s = km.cl_sde[idx // 12]
+    first = (idx % 12) < 6
+    if first == column:
+        return km.sde_left[s]
+    return km.sde_right[s]
+
+
 @njit(cache=True, _nrt=True)
 def bt_factor_closed(J, F, km, ws):
     """``bt_factor`` of J's band, then Z and S^-1 of the closures into ws (see above).
@@ -150,8 +161,7 @@ def bt_factor_closed(J, F, km, ws):
         c = col // 12
         part = (col % 12) // 6
         k = col % 6
-        s = km.cl_sde[c]
-        node = km.sde_left[s] if part == 0 else km.sde_right[s]
+        node = _woodbury_node(km, col, True)
         for i in range(n):
             for a in range(6):
                 rhs[i, a] = 0.0
@@ -159,11 +169,8 @@ def bt_factor_closed(J, F, km, ws):
             rhs[node, a] = ws.cl_J[c, part, a, k]
         bt_solve(F, rhs, ws.cl_Z[col])
     for row in range(m):
-        c = row // 12
-        part = (row % 12) // 6
         k = row % 6
-        s = km.cl_sde[c]
-        node = km.sde_right[s] if part == 0 else km.sde_left[s]
+        node = _woodbury_node(km, row, False)
         for col in range(m):
             ws.cl_work[row, col] = ws.cl_Z[col, node, k] + (1.0 if row == col else 0.0)
     S = ws.cl_work.copy()
@@ -181,11 +188,7 @@ def bt_solve_closed(F, rhs, out, km, ws):
     m = ws.cl_Z.shape[0]
     w = np.empty(m)
     for row in range(m):
-        c = row // 12
-        part = (row % 12) // 6
-        s = km.cl_sde[c]
-        node = km.sde_right[s] if part == 0 else km.sde_left[s]
-        w[row] = out[node, row % 6]
+        w[row] = out[_woodbury_node(km, row, False), row % 6]
     n = out.shape[0]
     for col in range(m):
         v = 0.0

@@ -611,8 +611,36 @@ def _raise(system: System, fail: np.ndarray, status: int, make_results, what: st
     elem = int(fail[1])
     where = system.model.describe_rfe(elem) if elem >= 0 else None
     quantity = QUANTITY.get(int(fail[2]), "failure")
-    res = make_results(status=1, message=f"{what}{quantity} at t = {t:.6g} s" + (f" in {where}" if where else ""))
-    raise SolverError(f"the run diverged: {quantity}", time=t, element=where, quantity=quantity, results=res)
+    hint = _slack_hint(system) if int(fail[2]) == Q_NEWTON else None
+    res = make_results(status=1, message=f"{what}{quantity} at t = {t:.6g} s" + (f" in {where}" if where else "")
+                       + (f"; {hint}" if hint else ""))
+    raise SolverError(f"the run diverged: {quantity}", time=t, element=where, quantity=quantity, results=res,
+                      hint=hint)
+
+
+def _slack_hint(system: System) -> str | None:
+    """For a Newton failure: the ropes with slack elements at the last iterate (ws holds its
+    evaluation) and what helps. A rope snatched taut again after going slack is a shock that
+    a dead stop of a drive or a winch gives for real; Newton then cycles between the taut and
+    slack states of its elements (docs/theory.md, 'Slack ropes and Newton')."""
+    km, ws, model = system.km, system.ws, system.model
+    if not km.has_tension_only:
+        return None
+    slack = []
+    for li in model.lines:
+        rows = np.arange(li.sde_start, li.sde_stop)
+        rope = rows[km.sde_tension_only[rows] == 1]
+        if rope.size == 0:
+            continue
+        n_slack = int(np.count_nonzero(ws.sigma[rope, 0] <= 0.0))
+        if n_slack:
+            slack.append(f"'{li.name}' {n_slack} of {rope.size}")
+    if not slack:
+        return None
+    return ("slack rope elements at the last iterate: " + ", ".join(slack)
+            + ". A rope snatched taut after going slack is a shock (a drive or winch table that stops "
+              "dead gives one); give tables that start and stop smoothly, or damp the rope's ringing "
+              "numerically: a lower analysis.dynamics.integrator.rho_inf (e.g. 0.5) at a step of 0.025-0.05 s")
 
 
 def _check_motor_rates(km, out_dt: float) -> None:

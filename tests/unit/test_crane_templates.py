@@ -199,6 +199,7 @@ def test_template_scenarios_expand():
                                                     "aframe_stub_2", "aframe_legs_2", "aframe_crossbeam_2",
                                                     "aframe_rope"}),
                         ("scenarios/a_frame_deck_winch.json", {"aframe_stub", "aframe_legs", "aframe_crossbeam",
+                                                               "aframe_stub_2", "aframe_legs_2", "aframe_crossbeam_2",
                                                                "aframe_rope"})):
         data = json.load(open(path))
         out = expand(data)

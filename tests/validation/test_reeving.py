@@ -345,18 +345,22 @@ def test_a_frame_swinging_out_with_a_deck_winch_lead_draws_rope_over_the_sheave(
 
 
 def test_deck_winch_scenario_swings_out_with_the_winch_paying_out_the_slip():
-    """scenarios/a_frame_deck_winch.json, first 45 s: the run to the deck winch grows by about
-    7 m as the legs swing out; the rope slips over the sheave by that much while the winch
-    pays out 0.24 m/s for 28 s (6.7 m), so the module keeps its height within 2 m."""
+    """scenarios/a_frame_deck_winch.json (the portal), first 45 s: the run to the deck winch
+    grows by about 7 m as the legs swing out; the rope slips over the sheave by that much while
+    the winch pays out as the legs turn (7.0 m over 5-35 s), so the module's hanging length
+    under the sheave stays within 0.6 m of the start through the swing (the sheave itself
+    heaves by 1-2 m with the barge's pitch at the stern) and the module hangs plumb under it."""
     res = rfesim.simulate(_a_frame_scenario(45.0, "a_frame_deck_winch.json"))
     assert res.time[-1] == pytest.approx(45.0)
     t = res.time
     slip = res.line("aframe_rope").reeving_slip
     swung = int(np.searchsorted(t, 36.0))
     assert 6.5 < slip[swung] < 7.8
-    z = res.body("aframe_payload").position[:, 2]
-    assert np.abs(z[:swung] - z[0]).max() < 2.0
-    assert res.winches["aframe_winch"].payout[swung] == pytest.approx(0.24 * 28.0 + 0.24, rel=0.02)
+    hanging = res.body("aframe_payload").position - res.line("aframe_rope").position[:, 0]
+    length = np.linalg.norm(hanging, axis=1)
+    assert np.abs(length[:swung] - length[0]).max() < 0.6
+    assert np.abs(hanging[:swung, :2]).max() < 0.3
+    assert res.winches["aframe_winch"].payout[swung] == pytest.approx(7.0, rel=0.02)
 
 
 @pytest.mark.parametrize("edit, field, words", [
