@@ -73,9 +73,12 @@ CHANNELS: dict[str, tuple[str, str]] = {
                                     "over its sheave toward a vessel lead: less the slip handed over)"),
     "winch_rope_mass_suspended": ("kg", "Mass of the rope out of the winch"),
     "winch_rope_mass_drum": ("kg", "Mass of the rope left on the drum"),
+    "winch_drum_radius": ("m", "Radius at which the rope leaves the drum (drum mode; grows with the rope on a "
+                               "layered drum); NaN in the other modes"),
 }
 
-WINCH_CHANNELS = ("payout", "speed", "tension", "suspended_length", "rope_mass_suspended", "rope_mass_drum")
+WINCH_CHANNELS = ("payout", "speed", "tension", "suspended_length", "rope_mass_suspended", "rope_mass_drum",
+                  "drum_radius")
 TUGGER_CHANNELS = ("tension", "length", "force")
 
 BODY_CHANNELS = ("position", "velocity", "acceleration", "rotation", "angular_velocity", "connection_force",
@@ -255,6 +258,7 @@ class WinchResults:
     suspended_length: np.ndarray       # (nt,) m, unstretched rope length out of the winch
     rope_mass_suspended: np.ndarray    # (nt,) kg
     rope_mass_drum: np.ndarray         # (nt,) kg
+    drum_radius: np.ndarray            # (nt,) m, radius the rope leaves the drum at (drum mode; else NaN)
 
 
 @dataclass
@@ -550,7 +554,8 @@ def open_results(path: str | os.PathLike) -> Results:
                                             **{ch: g[ch][()] for ch in ("roller_position", "roller_axis",
                                                                          "roller_reaction", "roller_force")})
         winches = {name: WinchResults(name=name, line=_s(g.attrs.get("line", "")),
-                                      **{ch: g[ch][()] for ch in WINCH_CHANNELS})
+                                      **{ch: g[ch][()] if ch in g else np.full(g["payout"].shape, np.nan)
+                                         for ch in WINCH_CHANNELS})      # files before drum_radius: NaN
                    for name, g in f.get("winches", {}).items()}
         tuggers = {name: TuggerResults(name=name, body=_s(g.attrs.get("body", "")), vessel=_s(g.attrs.get("vessel", "")),
                                        line=_s(g.attrs.get("line", "")), at=float(np.ravel(g.attrs.get("at", float("nan")))[0]),

@@ -33,6 +33,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import SolverError
+from ..scenario.winches import drum_radius
 from .arrays import KIND_CLAMPED, KIND_FREE
 
 MIN_FRACTION = 0.05      # haul-in stops (SolverError) below this fraction of the initial length
@@ -304,11 +305,27 @@ class WinchController:
             self.v_mode = speed_at(self.mode.rows, self.t)
 
     # ------------------------------------------------------------------ modes
-    def _drum_accel(self, t: float, v: float, T: float | None = None) -> float:
-        """Payout acceleration (m/s^2) of the drum at the rope tension T (default: the last
-        measured) and payout speed v, the brake holding it at rest below its torque."""
+    def _radius(self, D: float | None = None) -> float:
+        """Drum radius (m) with D m paid out (default: at the last accepted step), the rope on
+        the drum being stored - D (rfesim.scenario.winches.drum_radius)."""
         m = self.mode
-        net = m.radius * (self.tension if T is None else T) - _table(m.torque, t)
+        return drum_radius(m.radius, m.layers, self.info.stored - (self.D if D is None else D))
+
+    def _spool_term(self, v: float, r: float) -> float:
+        """v^2 r'(L) / r (m/s^2): with v = omega r and dL/dt = -v for the rope L on the drum,
+        dv/dt = r omega' - v^2 r'(L) / r; r' = d^2 / (2 pi w r) on a layered drum, else 0."""
+        lay = self.mode.layers
+        if lay is None:
+            return 0.0
+        return v * v * lay.rope_diameter ** 2 / (2.0 * math.pi * lay.width * r * r)
+
+    def _drum_accel(self, t: float, v: float, T: float | None = None, D: float | None = None) -> float:
+        """Payout acceleration (m/s^2) of the drum at the rope tension T (default: the last
+        measured), payout speed v and payout D (default: the last accepted; it sets the
+        radius of a layered drum), the brake holding it at rest below its torque."""
+        m = self.mode
+        r = self._radius(D)
+        net = r * (self.tension if T is None else T) - _table(m.torque, t)
         if m.brake_torque > 0.0:
             if abs(v) < 1e-12:
                 if abs(net) <= m.brake_torque:
@@ -316,7 +333,7 @@ class WinchController:
                 net -= math.copysign(m.brake_torque, net)
             else:
                 net -= math.copysign(m.brake_torque, v)
-        return m.radius * net / m.inertia
+        return r * net / m.inertia - self._spool_term(v, r)
 
     def _rope_axial(self) -> tuple[float, float]:
         """Axial stiffness (N/m) and damping (N*s/m) of the whole rope: its SDEs (and a shock
@@ -353,11 +370,12 @@ class WinchController:
         with b = k h^2/4 + c h/2: the drum-rope mode is integrated implicitly. A slack rope (T <= 0) has no stiffness: the drum runs free.
         The brake acts as in _drum_accel on that net force."""
         m = self.mode
-        r = m.radius
+        r = self._radius()
         meq = m.inertia / (r * r)
         k, c = self._rope_axial() if self.tension > 0.0 else (0.0, 0.0)
         kh = 0.25 * k * h * h + 0.5 * c * h
-        net = self.tension + h * k * self._stretch_rate() - kh * self.accel - _table(m.torque, t) / r
+        net = self.tension + h * k * self._stretch_rate() - kh * self.accel - _table(m.torque, t) / r \
+            - meq * self._spool_term(self.v_mode, r)
         if m.brake_torque > 0.0:
             fb = m.brake_torque / r
             if abs(self.v_mode) < 1e-12:
@@ -445,12 +463,12 @@ class WinchController:
         t_next, D, v, D_mode, v_mode, D_c, v_c = self._next
         if m.brake_torque > 0.0 and v_mode == 0.0:
             return False            # held by the brake, or stopped by it within the step (as staggered)
-        r = m.radius
+        r = self._radius(D)
         meq = m.inertia / (r * r)
         T = float(self.system.ws.sigma[self.info.first_sde, 0])
         a = 2.0 * (v_mode - self.v_mode) / h - self.accel
         # the drum's acceleration with the tension reached (the brake against the motion)
-        res = meq * (a - self._drum_accel(t_next, v_mode, T))
+        res = meq * (a - self._drum_accel(t_next, v_mode, T, D))
         if abs(res) <= self.COUPLING_TOLERANCE * (abs(T) + meq * max(float(km.gravity), 1.0)):
             return False
         prev = getattr(self, "_secant", None)
@@ -502,14 +520,14 @@ class WinchController:
         t_next, D, v, D_mode, v_mode, D_c, v_c = self._next
         self.measure()
         if self.mode.kind == "drum":
-            a_new = self._drum_accel(t, v_mode)
+            a_new = self._drum_accel(t, v_mode, None, D)
             v_new = self.v_mode + 0.5 * h * (self.accel + a_new)
             if self.mode.brake_torque > 0.0 and self.v_mode != 0.0 and v_new * self.v_mode <= 0.0:
                 v_new = 0.0
             if self.mode.brake_torque > 0.0 and self.v_mode == 0.0 and a_new == 0.0:
                 v_new = 0.0
             v_mode = v_new
-            self.accel = self._drum_accel(t, v_mode)
+            self.accel = self._drum_accel(t, v_mode, None, D)
         if self.hc is not None:
             e = self.zeta - D_c
             self.e_int += e * h
@@ -554,7 +572,8 @@ class WinchController:
                 "tension": float(self.system.ws.sigma[info.first_sde, 0]),
                 "suspended_length": info.length0 + info.payout,
                 "rope_mass_suspended": float(km.rfe_mass[info.rfe_lo:info.rfe_hi].sum()),
-                "rope_mass_drum": info.mass_per_length * (info.stored - self.D)}
+                "rope_mass_drum": info.mass_per_length * (info.stored - self.D),
+                "drum_radius": self._radius() if self.mode.kind == "drum" else math.nan}
 
 
 def _slipping_reeving(system, line: str) -> int | None:

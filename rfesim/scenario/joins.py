@@ -75,15 +75,7 @@ def check_join_references(sc) -> list[tuple[str, str]]:
     """Cross-checks of the joins (see the module text)."""
     errors: list[tuple[str, str]] = []
     children: dict[str, list[str]] = {}
-    for name, line in sc.lines.items():
-        parent = join_parent(line.end_a)
-        if parent is None:
-            continue
-        base = f"lines.{name}.end_a"
-        bad = _named_line(sc, name, parent, base, "joined to")
-        if bad:
-            errors.append(bad)
-            continue
+    for name, line, parent, base in _joined_ends(sc, "end_a", "joined to", errors):
         children.setdefault(parent, []).append(name)
         parent_line = sc.lines[parent]
         if parent_line.end_b.attach != "free":
@@ -128,6 +120,21 @@ def check_join_references(sc) -> list[tuple[str, str]]:
     return errors
 
 
+def _joined_ends(sc, end: str, verb: str, errors: list):
+    """(name, line, other line, field path of the end) of every line whose ``end`` joins
+    another line that exists and is not itself; the others' errors go to ``errors``."""
+    for name, line in sc.lines.items():
+        other = join_parent(getattr(line, end))
+        if other is None:
+            continue
+        base = f"lines.{name}.{end}"
+        bad = _named_line(sc, name, other, base, verb)
+        if bad:
+            errors.append(bad)
+            continue
+        yield name, line, other, base
+
+
 def _named_line(sc, name: str, other: str, base: str, verb: str) -> tuple[str, str] | None:
     """The error of an end naming an unknown line or its own line's end B, else None."""
     if other not in sc.lines:
@@ -141,15 +148,7 @@ def _named_line(sc, name: str, other: str, base: str, verb: str) -> tuple[str, s
 def _check_closures(sc) -> list[tuple[str, str]]:
     """Cross-checks of the closing joins (end B on another line's end B, see the module text)."""
     errors: list[tuple[str, str]] = []
-    for name, line in sc.lines.items():
-        target = join_parent(line.end_b)
-        if target is None:
-            continue
-        base = f"lines.{name}.end_b"
-        bad = _named_line(sc, name, target, base, "closed onto")
-        if bad:
-            errors.append(bad)
-            continue
+    for name, line, target, base in _joined_ends(sc, "end_b", "closed onto", errors):
         for field in ("drives", "motor", "reeving", "hinge_axis"):
             if getattr(line.end_b, field, None):
                 errors.append((f"{base}.{field}", f"a closing join (end B on '{target}:end_b') takes no {field}"))

@@ -17,6 +17,8 @@ Modes (payout positive, haul-in negative):
 * ``drum``: drum of radius r and inertia J driven by the rope tension T and the motor
   torque tau(t) (table, positive hauls in): J omega' = r T - tau, optionally held by a
   brake of torque ``brake_torque`` (the drum stands still while |r T - tau| stays below it).
+  With ``layers`` the radius r grows with the rope on the drum (``drum_radius``) and
+  v = omega r gives the payout acceleration r (r T - tau) / J - v^2 r'(L) / r.
 * ``tension``: constant tension: it pays out at (T - tension - dead_band) / gain above the
   band, hauls in at (T - tension + dead_band) / gain below it, at most ``max_speed``.
 
@@ -27,6 +29,7 @@ spring-damper in series with the rope at the winch. Units SI.
 """
 from __future__ import annotations
 
+import math
 from typing import Annotated, Literal, Union
 
 from pydantic import Field, model_validator
@@ -57,11 +60,36 @@ class WinchSpeed(_Strict):
         return self
 
 
+class DrumLayers(_Strict):
+    """Level-wound layers on the drum: the radius at which the rope leaves the drum grows
+    with the rope on it (``drum_radius``)."""
+
+    width: float = _units("m", "Drum width between the flanges", gt=0.0)
+    rope_diameter: float = _units("m", "Rope diameter (the pitch of the turns and of the layers)", gt=0.0)
+
+
+def drum_radius(radius: float, layers: DrumLayers | None, on_drum: float) -> float:
+    """Radius (m) at which the rope leaves a drum holding ``on_drum`` m of rope.
+
+    Without layers, ``radius``. With them, ``radius`` is the centre of the first layer's
+    turns (core radius plus half a rope diameter) and the rope fills the drum's cross-section
+    (width w, turns of pitch d in layers of pitch d): the rope holds the annulus
+    pi w (r^2 - r_1^2) = d^2 L, so r = sqrt(r_1^2 + L d^2 / (pi w)). At k full layers this
+    lies between the k-th and the (k + 1)-th layer's turn centres (which jump by d at each
+    crossover): the mean radius of a level-wound drum, continuous in L."""
+    if layers is None:
+        return float(radius)
+    L = max(float(on_drum), 0.0)
+    return math.sqrt(radius * radius + L * layers.rope_diameter ** 2 / (math.pi * layers.width))
+
+
 class WinchDrum(_Strict):
     """Drum dynamics J omega' = r T - tau (omega > 0 pays out), motor torque table, brake."""
 
     kind: Literal["drum"]
-    radius: float = _units("m", "Drum radius (rope layer)", gt=0.0)
+    radius: float = _units("m", "Drum radius (rope layer; with layers: the first layer's turn centres)", gt=0.0)
+    layers: DrumLayers | None = Field(None, description="Level-wound layers: the radius grows with the rope on "
+                                      "the drum, r = sqrt(radius^2 + L d^2 / (pi width)) (default: one radius)")
     inertia: float = _units("kg*m^2", "Rotational inertia of the drum and the drive about the drum axis", gt=0.0)
     torque: list[TorqueRow] = Field([[0.0, 0.0]], min_length=1, description="Motor torque rows [t (s), "
                                     "torque (N*m)], positive hauls in, linear between rows [s, N*m]",
@@ -72,6 +100,12 @@ class WinchDrum(_Strict):
     @model_validator(mode="after")
     def _times(self):
         _increasing(self.torque, "torque")
+        if self.layers is not None and self.layers.rope_diameter >= 2.0 * self.radius:
+            raise FieldError("layers.rope_diameter", f"{self.layers.rope_diameter} m does not fit a first layer "
+                                                     f"whose turns' centres are at radius {self.radius} m")
+        if self.layers is not None and self.layers.rope_diameter > self.layers.width:
+            raise FieldError("layers.rope_diameter", f"{self.layers.rope_diameter} m is wider than the drum "
+                                                     f"({self.layers.width} m between the flanges)")
         return self
 
 

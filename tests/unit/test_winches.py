@@ -73,10 +73,24 @@ def test_speed_table_beyond_stored_rope_is_refused():
     ({"line": "hoist", "shock_absorber": {"stiffness": -1.0}}, "winches.w.shock_absorber.stiffness"),
     ({"line": "hoist", "heave_compensation": {"kp": 1.0, "gain": 2.0}}, "winches.w.heave_compensation.gain"),
     ({"line": "hoist", "stored": 0.0}, "winches.w.stored"),
+    ({"line": "hoist", "mode": {"kind": "drum", "radius": 0.5, "inertia": 1.0,
+                                "layers": {"width": 0.0, "rope_diameter": 0.05}}}, "winches.w.mode.layers.width"),
+    ({"line": "hoist", "mode": {"kind": "drum", "radius": 0.5, "inertia": 1.0,
+                                "layers": {"width": 1.0}}}, "winches.w.mode.layers.rope_diameter"),
 ])
 def test_winch_value_errors_name_the_field(winch, field):
     errs = errors_of(scene(winches={"w": winch}))
     assert any(f.startswith(field) or f == field for f in errs), errs
+
+
+@pytest.mark.parametrize("layers, words", [
+    ({"width": 1.0, "rope_diameter": 1.2}, "does not fit a first layer"),
+    ({"width": 0.04, "rope_diameter": 0.05}, "wider than the drum"),
+])
+def test_layers_that_do_not_fit_name_the_rope_diameter(layers, words):
+    errs = errors_of(scene(winches={"w": {"line": "hoist", "mode": {"kind": "drum", "radius": 0.5, "inertia": 1.0,
+                                                                    "layers": layers}}}))
+    assert words in errs["winches.w.mode.layers.rope_diameter"], errs
 
 
 def test_winch_on_a_line_of_another_formulation_is_refused():

@@ -126,6 +126,71 @@ def test_motor_torque_r_times_static_tension_holds_the_payload():
     assert np.ptp(z) < 1e-4
 
 
+
+# ----------------------------------------------------------------------------- layered drum
+
+LAYERS = {"width": 0.2, "rope_diameter": 0.05}      # 4 turns a layer
+R1 = 0.3                                            # first layer's turn centres
+
+
+def test_layered_drum_radius_lies_between_the_layers_turn_centres():
+    """r = sqrt(r_1^2 + L d^2 / (pi w)): r_1 on an empty drum; with k full layers on it
+    (L_k = sum over the layers of (w / d) 2 pi (r_1 + (i - 1) d)) between the k-th and the
+    (k + 1)-th layer's turn centres, where a real drum's radius jumps at the crossover."""
+    from rfesim.scenario.winches import DrumLayers, drum_radius
+    lay = DrumLayers(**LAYERS)
+    d, w = LAYERS["rope_diameter"], LAYERS["width"]
+    assert drum_radius(R1, lay, 0.0) == R1 and drum_radius(R1, None, 50.0) == R1
+    for k in range(1, 8):
+        full = sum(w / d * 2.0 * math.pi * (R1 + (i - 1) * d) for i in range(1, k + 1))
+        r = drum_radius(R1, lay, full)
+        assert R1 + (k - 1) * d < r < R1 + k * d
+    assert drum_radius(R1, lay, 60.0) ** 2 == pytest.approx(R1 ** 2 + 60.0 * d * d / (math.pi * w), rel=1e-14)
+
+
+def test_motor_torque_holds_the_payload_at_the_layered_radius():
+    """60 m on the drum put the rope at r = 0.573 m, not the first layer's 0.3 m: the torque
+    r T0 holds the payload; R1 T0 (the bare drum's) lets the drum pay out."""
+    from rfesim.scenario.winches import DrumLayers, drum_radius
+    m, mu, L0, stored = 1000.0, 0.05, 20.0, 60.0
+    T0 = m * G + mu * G * (L0 - L0 / 20)
+    r = drum_radius(R1, DrumLayers(**LAYERS), stored)
+    assert r > 1.8 * R1
+    for torque, held in ((r * T0, True), (R1 * T0, False)):
+        mode = {"kind": "drum", "radius": R1, "layers": LAYERS, "inertia": 100.0, "torque": [[0.0, torque]]}
+        res = rfesim.simulate(hoist(mode, m=m, mu=mu, L0=L0, duration=3.0, h=0.01, stored=stored))
+        w = res.winch("w")
+        assert w.drum_radius[0] == pytest.approx(r, rel=1e-12)
+        if held:
+            assert np.abs(w.payout).max() < 1e-4
+        else:
+            assert w.payout[-1] > 1.0
+
+
+@pytest.mark.parametrize("h", [0.002, 0.02])
+def test_free_layered_drum_conserves_energy_as_its_radius_shrinks(h):
+    """A free drum (no torque) with 60 m in layers lets a 1 t payload fall 34 m in 3 s: the
+    radius shrinks from 0.573 to about 0.44 m, and with omega = v / r the payload's lost
+    potential energy is the kinetic energy of payload and drum, m g z = m v^2 / 2 +
+    J (v / r)^2 / 2, to 0.5 %; with the drum's inertia at the start radius the balance
+    would miss by more than 10 %. The drum's payout speed is omega r: the payload's."""
+    m, J, mu, stored = 1000.0, 100.0, 0.05, 60.0
+    mode = {"kind": "drum", "radius": R1, "layers": LAYERS, "inertia": J}
+    res = rfesim.simulate(hoist(mode, m=m, mu=mu, duration=3.0, h=h, output=0.02, damping=DRUM_DAMPING,
+                                stored=stored))
+    w = res.winch("w")
+    z = res.body("payload").position[:, 2]
+    vz = res.body("payload").velocity[:, 2]
+    r = w.drum_radius
+    assert r[0] > 0.57 and r[-1] < 0.46
+    drop = z[0] - z[-1]
+    assert drop > 30.0
+    v = w.speed[-1]
+    assert v == pytest.approx(-vz[-1], rel=5e-3)
+    kinetic = 0.5 * m * vz[-1] ** 2 + 0.5 * J * (v / r[-1]) ** 2
+    assert kinetic == pytest.approx(m * G * drop, rel=5e-3)
+    assert abs(0.5 * m * vz[-1] ** 2 + 0.5 * J * (v / r[0]) ** 2 - m * G * drop) > 0.1 * m * G * drop
+
 @pytest.mark.parametrize("h", [0.002, 0.05])
 def test_a_brake_that_renders_pays_out_at_the_net_force(h):
     """A brake torque of 0.6 r m g under a 1 t load: the drum renders and pays out at
@@ -251,8 +316,10 @@ def test_winch_results_reach_the_netcdf_file(tmp_path):
     path = tmp_path / "w.nc"
     res.to_netcdf(path)
     back = rfesim.open_results(path)
-    for ch in ("payout", "speed", "tension", "suspended_length", "rope_mass_suspended", "rope_mass_drum"):
+    for ch in ("payout", "speed", "tension", "suspended_length", "rope_mass_suspended", "rope_mass_drum",
+               "drum_radius"):
         np.testing.assert_array_equal(getattr(back.winch("w"), ch), getattr(res.winch("w"), ch))
+    assert np.all(np.isnan(res.winch("w").drum_radius))       # a speed-mode winch has no drum radius
     with h5py.File(path, "r") as f:
         g = f["winches/w"]
         assert g["payout"].attrs["units"] in ("m", b"m")
