@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import SolverError
-from ..scenario.winches import drum_radius
+from ..scenario.winches import drum_radius, drum_rope_inertia
 from .arrays import KIND_CLAMPED, KIND_FREE
 
 MIN_FRACTION = 0.05      # haul-in stops (SolverError) below this fraction of the initial length
@@ -311,6 +311,17 @@ class WinchController:
         m = self.mode
         return drum_radius(m.radius, m.layers, self.info.stored - (self.D if D is None else D))
 
+    def _inertia(self, D: float | None = None) -> float:
+        """Drum inertia (kg*m^2) with D m paid out (default: at the last accepted step): the
+        drum's own and, with ``rope_inertia``, the rope's on it (drum_rope_inertia). The rope
+        leaves at the drum's surface speed, so the angular momentum it takes away cancels
+        J' omega: J omega' = r T - tau holds with the current J."""
+        m = self.mode
+        if not m.rope_inertia:
+            return m.inertia
+        on_drum = self.info.stored - (self.D if D is None else D)
+        return m.inertia + drum_rope_inertia(m.radius, m.layers, on_drum, self.info.mass_per_length)
+
     def _spool_term(self, v: float, r: float) -> float:
         """v^2 r'(L) / r (m/s^2): with v = omega r and dL/dt = -v for the rope L on the drum,
         dv/dt = r omega' - v^2 r'(L) / r; r' = d^2 / (2 pi w r) on a layered drum, else 0."""
@@ -333,7 +344,7 @@ class WinchController:
                 net -= math.copysign(m.brake_torque, net)
             else:
                 net -= math.copysign(m.brake_torque, v)
-        return r * net / m.inertia - self._spool_term(v, r)
+        return r * net / self._inertia(D) - self._spool_term(v, r)
 
     def _rope_axial(self) -> tuple[float, float]:
         """Axial stiffness (N/m) and damping (N*s/m) of the whole rope: its SDEs (and a shock
@@ -371,7 +382,7 @@ class WinchController:
         The brake acts as in _drum_accel on that net force."""
         m = self.mode
         r = self._radius()
-        meq = m.inertia / (r * r)
+        meq = self._inertia() / (r * r)
         k, c = self._rope_axial() if self.tension > 0.0 else (0.0, 0.0)
         kh = 0.25 * k * h * h + 0.5 * c * h
         net = self.tension + h * k * self._stretch_rate() - kh * self.accel - _table(m.torque, t) / r \
@@ -464,7 +475,7 @@ class WinchController:
         if m.brake_torque > 0.0 and v_mode == 0.0:
             return False            # held by the brake, or stopped by it within the step (as staggered)
         r = self._radius(D)
-        meq = m.inertia / (r * r)
+        meq = self._inertia(D) / (r * r)
         T = float(self.system.ws.sigma[self.info.first_sde, 0])
         a = 2.0 * (v_mode - self.v_mode) / h - self.accel
         # the drum's acceleration with the tension reached (the brake against the motion)

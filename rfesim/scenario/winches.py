@@ -18,7 +18,8 @@ Modes (payout positive, haul-in negative):
   torque tau(t) (table, positive hauls in): J omega' = r T - tau, optionally held by a
   brake of torque ``brake_torque`` (the drum stands still while |r T - tau| stays below it).
   With ``layers`` the radius r grows with the rope on the drum (``drum_radius``) and
-  v = omega r gives the payout acceleration r (r T - tau) / J - v^2 r'(L) / r.
+  v = omega r gives the payout acceleration r (r T - tau) / J - v^2 r'(L) / r. J holds the
+  rope on the drum (``rope_inertia``, default on): J = inertia + mu * integral of r^2 dl.
 * ``tension``: constant tension: it pays out at (T - tension - dead_band) / gain above the
   band, hauls in at (T - tension + dead_band) / gain below it, at most ``max_speed``.
 
@@ -83,6 +84,16 @@ def drum_radius(radius: float, layers: DrumLayers | None, on_drum: float) -> flo
     return math.sqrt(radius * radius + L * layers.rope_diameter ** 2 / (math.pi * layers.width))
 
 
+def drum_rope_inertia(radius: float, layers: DrumLayers | None, on_drum: float, mass_per_length: float) -> float:
+    """Rotational inertia (kg*m^2) of the ``on_drum`` m of rope (``mass_per_length`` kg/m) on
+    the drum about its axis, mu * integral of r(l)^2 dl over the rope on it, r(l) as in
+    ``drum_radius``: mu r^2 L on one radius, mu (r_1^2 L + L^2 d^2 / (2 pi w)) in layers."""
+    L = max(float(on_drum), 0.0)
+    if layers is None:
+        return mass_per_length * radius * radius * L
+    return mass_per_length * (radius * radius * L + L * L * layers.rope_diameter ** 2 / (2.0 * math.pi * layers.width))
+
+
 class WinchDrum(_Strict):
     """Drum dynamics J omega' = r T - tau (omega > 0 pays out), motor torque table, brake."""
 
@@ -96,6 +107,9 @@ class WinchDrum(_Strict):
                                     json_schema_extra={"units": "s, N*m"})
     brake_torque: float = _units("N*m", "Brake: holds the drum while the net torque stays below it (0: none)",
                                  default=0.0, ge=0.0)
+    rope_inertia: bool = Field(True, description="Add the inertia of the rope on the drum, mass_per_length times "
+                               "the integral of r^2 over it, to ``inertia`` (it falls as the rope pays out); false "
+                               "when ``inertia`` already holds it")
 
     @model_validator(mode="after")
     def _times(self):

@@ -77,6 +77,8 @@ def test_speed_table_beyond_stored_rope_is_refused():
                                 "layers": {"width": 0.0, "rope_diameter": 0.05}}}, "winches.w.mode.layers.width"),
     ({"line": "hoist", "mode": {"kind": "drum", "radius": 0.5, "inertia": 1.0,
                                 "layers": {"width": 1.0}}}, "winches.w.mode.layers.rope_diameter"),
+    ({"line": "hoist", "mode": {"kind": "drum", "radius": 0.5, "inertia": 1.0, "rope_inertia": "some"}},
+     "winches.w.mode.rope_inertia"),
 ])
 def test_winch_value_errors_name_the_field(winch, field):
     errs = errors_of(scene(winches={"w": winch}))

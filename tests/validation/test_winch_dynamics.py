@@ -1,6 +1,7 @@
 """Winches against closed forms: payout of 50 m (mass conserved, payload lowered by the
 payout plus the change of elastic stretch, tension back to static), a free drum
-(g_eff = m g / (m + J / r^2)) and a holding motor torque, constant tension within the dead
+(g_eff = m g / (m + J / r^2), with the rope on the drum in J: a cosh closed form;
+in layers, energy) and a holding motor torque, constant tension within the dead
 band, heave compensation (the P controller's omega / sqrt(omega^2 + kp^2), much less with
 feedforward), and the shock absorber (static extra stretch T / k_sa; snap load with the
 series stiffness)."""
@@ -96,13 +97,19 @@ def test_payout_beyond_the_stored_rope_stops_the_run_with_results():
 # until it is, WinchController.correct): the same acceleration at 2 ms and at 50 ms.
 DRUM_DAMPING = {"axial": 1.5e6}
 
+
+def drum_mass(m, mu, L0, stored, J, r):
+    """Mass (kg) a vertical hoist from a one-radius drum accelerates: the payload, all the
+    rope (hanging or on the drum, both moving at the payout speed) and the drum, J / r^2."""
+    return m + mu * (L0 + stored) + J / r ** 2
+
 @pytest.mark.parametrize("h", [0.002, 0.05])
 def test_free_drum_accelerates_the_payload_at_the_reduced_gravity(h):
     m, J, r = 1000.0, 100.0, 0.5
     mode = {"kind": "drum", "radius": r, "inertia": J}
     res = rfesim.simulate(hoist(mode, m=m, mu=0.05, duration=3.0, h=h, output=max(h, 0.02), damping=DRUM_DAMPING))
     assert res.counters.get("coupling_iterations", 0) > 0
-    g_eff = m * G / (m + J / r ** 2)
+    g_eff = (m + 0.05 * 20.0) * G / drum_mass(m, 0.05, 20.0, 200.0, J, r)
     t = res.time
     z = res.body("payload").position[:, 2]
     keep = t > 0.3
@@ -112,6 +119,50 @@ def test_free_drum_accelerates_the_payload_at_the_reduced_gravity(h):
     a_drum = 2.0 * np.polyfit(t[keep], D[keep], 2)[0]
     assert a_drum == pytest.approx(g_eff, rel=0.01)
     assert abs(a - G) > 0.2 * G          # the drum's inertia matters
+
+
+@pytest.mark.parametrize("h", [0.005, 0.05])
+def test_free_drum_with_a_heavy_rope_follows_the_closed_form(h):
+    """The rope on the drum turns with it: J = J_0 + mu S r^2 falls as it pays out, and the
+    rope leaving at the drum's surface speed takes its angular momentum with it, so the
+    whole hoist is one constant mass M = m + mu (L_0 + S) + J_0 / r^2 pulled by the hanging
+    weight (m + mu (L_0 + D)) g: D(t) = (m / mu + L_0) (cosh(sqrt(mu g / M) t) - 1).
+    Here the 8 t of rope on the drum outweigh payload and drum; without it (rope_inertia
+    false) the drum pays out 34 m in 3 s, not 4.9 m. The hanging rope is short (2 m):
+    a payout stretches the rope's elements, so the hanging rope's share of M is not the
+    rigid mu L (docs/theory.md: with 20 m hanging the payout runs 2.4 % ahead)."""
+    m, mu, L0, stored, J, r = 1000.0, 20.0, 2.0, 400.0, 100.0, 0.5
+    M = drum_mass(m, mu, L0, stored, J, r)
+    t_end = 3.0
+
+    def run(rope_inertia, h):
+        mode = {"kind": "drum", "radius": r, "inertia": J, "rope_inertia": rope_inertia}
+        return rfesim.simulate(hoist(mode, m=m, mu=mu, L0=L0, stored=stored, EA=1e9, duration=t_end, h=h,
+                                     output=0.05, damping={"axial": 1.5e7}))
+
+    res = run(True, h)
+    t, D = res.time, res.winch("w").payout
+    exact = (m / mu + L0) * (np.cosh(np.sqrt(mu * G / M) * t) - 1.0)
+    assert exact[-1] > 4.5
+    assert np.abs(D - exact).max() < 3e-3 * exact[-1]
+    v = res.winch("w").speed[-1]
+    assert v == pytest.approx((m / mu + L0) * np.sqrt(mu * G / M) * np.sinh(np.sqrt(mu * G / M) * t_end),
+                              rel=2e-3)
+    bare = run(False, 0.005).winch("w").payout[-1]
+    assert bare > 3.0 * D[-1]
+
+
+def test_drum_rope_inertia_integrates_r_squared_over_the_layers():
+    """mu * integral of r(l)^2 dl: mu r^2 L on one radius; in layers the closed form equals
+    the quadrature of drum_radius^2 over the rope on the drum."""
+    from rfesim.scenario.winches import DrumLayers, drum_radius, drum_rope_inertia
+    lay = DrumLayers(**LAYERS)
+    assert drum_rope_inertia(0.5, None, 200.0, 20.0) == pytest.approx(20.0 * 0.25 * 200.0, rel=1e-15)
+    l = np.linspace(0.0, 60.0, 60001)
+    r2 = np.array([drum_radius(R1, lay, x) ** 2 for x in l])
+    quad = 20.0 * float(np.sum(0.5 * (r2[1:] + r2[:-1]) * np.diff(l)))
+    assert drum_rope_inertia(R1, lay, 60.0, 20.0) == pytest.approx(quad, rel=1e-10)
+    assert drum_rope_inertia(R1, lay, -1.0, 20.0) == 0.0
 
 
 def test_motor_torque_r_times_static_tension_holds_the_payload():
@@ -170,13 +221,18 @@ def test_motor_torque_holds_the_payload_at_the_layered_radius():
 @pytest.mark.parametrize("h", [0.002, 0.02])
 def test_free_layered_drum_conserves_energy_as_its_radius_shrinks(h):
     """A free drum (no torque) with 60 m in layers lets a 1 t payload fall 34 m in 3 s: the
-    radius shrinks from 0.573 to about 0.44 m, and with omega = v / r the payload's lost
-    potential energy is the kinetic energy of payload and drum, m g z = m v^2 / 2 +
-    J (v / r)^2 / 2, to 0.5 %; with the drum's inertia at the start radius the balance
-    would miss by more than 10 %. The drum's payout speed is omega r: the payload's."""
-    m, J, mu, stored = 1000.0, 100.0, 0.05, 60.0
+    radius shrinks from 0.573 to about 0.44 m, and with omega = v / r the potential energy
+    lost by payload and hanging rope, m g z + mu g (L^2 - L_0^2) / 2, is the kinetic energy
+    of payload, hanging rope and drum with its rope, (m + mu L) v^2 / 2 + (J_0 + J_rope)
+    omega^2 / 2, to 0.5 %; with the drum's radius and inertia at the start the balance
+    misses by more than 10 %. The drum's payout speed is omega r: the payload's. The rope is
+    light (0.05 kg/m): a payout stretches the hanging rope's elements, whose kinetic energy
+    is then not the rigid mu L v^2 / 2 (docs/theory.md); the heavy rope's inertia on the
+    drum is checked in test_free_drum_with_a_heavy_rope_follows_the_closed_form."""
+    from rfesim.scenario.winches import DrumLayers, drum_rope_inertia
+    m, J, mu, stored, L0 = 1000.0, 100.0, 0.05, 60.0, 20.0
     mode = {"kind": "drum", "radius": R1, "layers": LAYERS, "inertia": J}
-    res = rfesim.simulate(hoist(mode, m=m, mu=mu, duration=3.0, h=h, output=0.02, damping=DRUM_DAMPING,
+    res = rfesim.simulate(hoist(mode, m=m, mu=mu, L0=L0, duration=3.0, h=h, output=0.02, damping=DRUM_DAMPING,
                                 stored=stored))
     w = res.winch("w")
     z = res.body("payload").position[:, 2]
@@ -187,9 +243,16 @@ def test_free_layered_drum_conserves_energy_as_its_radius_shrinks(h):
     assert drop > 30.0
     v = w.speed[-1]
     assert v == pytest.approx(-vz[-1], rel=5e-3)
-    kinetic = 0.5 * m * vz[-1] ** 2 + 0.5 * J * (v / r[-1]) ** 2
-    assert kinetic == pytest.approx(m * G * drop, rel=5e-3)
-    assert abs(0.5 * m * vz[-1] ** 2 + 0.5 * J * (v / r[0]) ** 2 - m * G * drop) > 0.1 * m * G * drop
+    L = w.suspended_length[-1]
+    lay = DrumLayers(**LAYERS)
+    J_end = J + drum_rope_inertia(R1, lay, stored - w.payout[-1], mu)
+    J_start = J + drum_rope_inertia(R1, lay, stored, mu)
+    assert J_end < J_start
+    released = m * G * drop + mu * G * (L * L - L0 * L0) / 2.0
+    hanging = 0.5 * (m + mu * L) * vz[-1] ** 2
+    assert hanging + 0.5 * J_end * (v / r[-1]) ** 2 == pytest.approx(released, rel=5e-3)
+    assert abs(hanging + 0.5 * J_start * (v / r[0]) ** 2 - released) > 0.1 * released
+
 
 @pytest.mark.parametrize("h", [0.002, 0.05])
 def test_a_brake_that_renders_pays_out_at_the_net_force(h):
@@ -203,7 +266,7 @@ def test_a_brake_that_renders_pays_out_at_the_net_force(h):
     t = res.time
     keep = t > 0.3
     a = 2.0 * np.polyfit(t[keep], res.winch("w").payout[keep], 2)[0]
-    assert a == pytest.approx((m * G - Fb) / (m + J / r ** 2), rel=0.01)
+    assert a == pytest.approx(((m + 0.05 * 20.0) * G - Fb) / drum_mass(m, 0.05, 20.0, 200.0, J, r), rel=0.01)
 
 
 def test_brake_holds_the_drum():
