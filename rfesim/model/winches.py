@@ -21,6 +21,10 @@ SDE's rest gap by c_x * rate / k_x (``damping_offset``). A shock absorber replac
 first SDE of the line (at the winch) by the series spring k_r k_sa / (k_r + k_sa) with the
 absorber's damping.
 
+With ``payout_inertia`` the rope's free elements carry follower loads -m_i (1 - xi_i) d2D/dt2
+along them: the inertia of the material, which runs at dD/dt while the node at xi moves at
+xi dD/dt (docs/theory.md).
+
 The controllers (one per winch) compute D(t_{n+1}) before each step from their mode (speed
 table, drum dynamics, constant tension) plus the heave compensation, and read the rope
 tension (first SDE of the line) and the end-A point after the step (explicit coupling).
@@ -73,6 +77,9 @@ class WinchInfo:
     load_arm0: np.ndarray           # (nl, 3) m
     absorber_k: float = 0.0         # N/m, shock absorber in series with the first SDE (0: none)
     absorber_c: float = 0.0         # N*s/m
+    material_idx: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))   # (nm,) point loads
+    material_rfe: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))   # (nm,) their RFEs
+    material_lag: np.ndarray = field(default_factory=lambda: np.zeros(0))             # (nm,) 1 - xi_i
     spec: object = None             # the scenario Winch
     payout: float = 0.0             # m, current payout (as last set)
     speed: float = 0.0              # m/s
@@ -152,14 +159,32 @@ def compile_winches(sc, model) -> list[WinchInfo]:
             ext_arm0=np.asarray(ext_arm, float).reshape(-1, 3), load_idx=loads, load_arm0=km.load_arm[loads].copy(),
             absorber_k=float(sa.stiffness) if sa is not None else 0.0,
             absorber_c=float(sa.damping) if sa is not None else 0.0, spec=w)
+        if w.payout_inertia:
+            # follower loads along the free elements (x axis: toward end B) for the material's
+            # acceleration relative to the nodes (set_payout's accel; zero until a payout speeds up)
+            rfes = np.array([i for i in range(lo, hi) if km.rfe_kind[i] == KIND_FREE], np.int64)
+            first = km.load_rfe.shape[0]
+            info.material_idx = np.arange(first, first + rfes.size, dtype=np.int64)
+            info.material_rfe = rfes
+            info.material_lag = 1.0 - (rfes - lo + 0.5) / (hi - lo)
+            zeros = np.zeros((rfes.size, 3))
+            model.km = km = model.km._replace(
+                load_rfe=np.concatenate([km.load_rfe, rfes]), load_arm=np.concatenate([km.load_arm, zeros]),
+                load_force=np.concatenate([km.load_force, zeros]),
+                load_moment=np.concatenate([km.load_moment, zeros]),
+                load_local=np.concatenate([km.load_local, np.ones(rfes.size, np.int64)]),
+                has_loads=bool(km.has_loads or rfes.size > 0))
         set_payout(km, info, 0.0, 0.0)
         infos.append(info)
     return infos
 
 
-def set_payout(km, info: WinchInfo, payout: float, speed: float, length_scale: np.ndarray | None = None) -> None:
+def set_payout(km, info: WinchInfo, payout: float, speed: float, length_scale: np.ndarray | None = None,
+               accel: float | None = None) -> None:
     """Rewrite in place every array of ``km`` that depends on the element length of the
-    winch's line for the payout D (m) and payout speed (m/s) (see the module text)."""
+    winch's line for the payout D (m) and payout speed (m/s) (see the module text); with
+    ``accel`` (m/s^2, the payout's acceleration over the step) the follower loads of the
+    material's inertia, -m_i (1 - xi_i) accel along each free element (``payout_inertia``)."""
     ratio = (info.length0 + payout) / info.length0
     rate = speed / info.length0                     # d(ratio)/dt
     lo, hi, slo, shi = info.rfe_lo, info.rfe_hi, info.sde_lo, info.sde_hi
@@ -206,6 +231,8 @@ def set_payout(km, info: WinchInfo, payout: float, speed: float, length_scale: n
             km.sde_arm_left[s] = arm0 * (ratio + extra)
         else:
             km.sde_arm_right[s] = arm0 * (ratio + extra)
+    if accel is not None and info.material_idx.size:
+        km.load_force[info.material_idx, 0] = -km.rfe_mass[info.material_rfe] * info.material_lag * accel
     info.payout = payout
     info.speed = speed
 
@@ -310,6 +337,10 @@ class WinchController:
         the drum being stored - D (rfesim.scenario.winches.drum_radius)."""
         m = self.mode
         return drum_radius(m.radius, m.layers, self.info.stored - (self.D if D is None else D))
+
+    def _accel(self, v: float, h: float) -> float:
+        """The payout's mean acceleration (m/s^2) over a step of h s ending at the speed v."""
+        return (v - self.v) / h if h > 0.0 else 0.0
 
     def _inertia(self, D: float | None = None) -> float:
         """Drum inertia (kg*m^2) with D m paid out (default: at the last accepted step): the
@@ -451,7 +482,7 @@ class WinchController:
                               f"{100 * MIN_FRACTION:g} % of it is left hanging",
                               time=t_next, quantity="winch payout")
         self._next = (t_next, D, v, D_mode, v_mode, D_c, v_c)
-        set_payout(km, info, D - self.slipped, v, self.system.length_scale)
+        set_payout(km, info, D - self.slipped, v, self.system.length_scale, self._accel(v, h))
 
     COUPLING_TOLERANCE = 1e-5       # drum force balance, relative to the tension plus m g
     SPEED_TOLERANCE = 1e-3          # constant-tension speed against its characteristic, of max_speed
@@ -500,7 +531,7 @@ class WinchController:
         """Set the mode's corrected payout and speed for the step to be redone."""
         D, v = D_mode + D_c, v_mode + v_c
         self._next = (t_next, D, v, D_mode, v_mode, D_c, v_c)
-        set_payout(km, self.info, D - self.slipped, v, self.system.length_scale)
+        set_payout(km, self.info, D - self.slipped, v, self.system.length_scale, self._accel(v, t_next - self.t))
 
     def _correct_tension(self, km, h: float) -> bool:
         """The constant-tension winch's speed against its characteristic at the tension the

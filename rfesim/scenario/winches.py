@@ -162,6 +162,10 @@ class Winch(_Strict):
         description="speed profile, drum dynamics or constant tension (default: holds the rope)")
     heave_compensation: HeaveCompensation | None = None
     shock_absorber: ShockAbsorber | None = None
+    payout_inertia: bool = Field(True, description="Inertia of the rope's material running down the hanging "
+                                 "rope as the payout speeds up or slows down: the elements' nodes move at "
+                                 "xi dD/dt, the material at dD/dt, so each element i gets the follower load "
+                                 "-m_i (1 - xi_i) d2D/dt2 along it (docs/theory.md, 'Winches and rope payout')")
 
 
 def speed_payout(rows, t: float) -> tuple[float, float]:
