@@ -166,7 +166,8 @@ def compile_winches(sc, model) -> list[WinchInfo]:
             first = km.load_rfe.shape[0]
             info.material_idx = np.arange(first, first + rfes.size, dtype=np.int64)
             info.material_rfe = rfes
-            info.material_lag = 1.0 - (rfes - lo + 0.5) / (hi - lo)
+            centre = np.cumsum(lengths) - 0.5 * lengths          # the end elements may be half ones
+            info.material_lag = 1.0 - centre[rfes - lo] / lengths.sum()
             zeros = np.zeros((rfes.size, 3))
             model.km = km = model.km._replace(
                 load_rfe=np.concatenate([km.load_rfe, rfes]), load_arm=np.concatenate([km.load_arm, zeros]),
