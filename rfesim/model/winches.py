@@ -337,7 +337,11 @@ class WinchController:
         """Drum radius (m) with D m paid out (default: at the last accepted step), the rope on
         the drum being stored - D (rfesim.scenario.winches.drum_radius)."""
         m = self.mode
-        return drum_radius(m.radius, m.layers, self.info.stored - (self.D if D is None else D))
+        return drum_radius(m.radius, m.layers, self._on_drum(D))
+
+    def _on_drum(self, D: float | None = None) -> float:
+        """Rope (m) on the drum with D m paid out (default: at the last accepted step)."""
+        return self.info.stored - (self.D if D is None else D)
 
     def _accel(self, v: float, h: float) -> float:
         """The payout's mean acceleration (m/s^2) over a step of h s ending at the speed v."""
@@ -351,16 +355,15 @@ class WinchController:
         m = self.mode
         if not m.rope_inertia:
             return m.inertia
-        on_drum = self.info.stored - (self.D if D is None else D)
-        return m.inertia + drum_rope_inertia(m.radius, m.layers, on_drum, self.info.mass_per_length)
+        return m.inertia + drum_rope_inertia(m.radius, m.layers, self._on_drum(D), self.info.mass_per_length)
 
     def _spool_term(self, v: float, r: float) -> float:
         """v^2 r'(L) / r (m/s^2): with v = omega r and dL/dt = -v for the rope L on the drum,
-        dv/dt = r omega' - v^2 r'(L) / r; r' = d^2 / (2 pi w r) on a layered drum, else 0."""
+        dv/dt = r omega' - v^2 r'(L) / r; r' = growth / (2 r) on a layered drum, else 0."""
         lay = self.mode.layers
         if lay is None:
             return 0.0
-        return v * v * lay.rope_diameter ** 2 / (2.0 * math.pi * lay.width * r * r)
+        return 0.5 * v * v * lay.growth / (r * r)
 
     def _drum_accel(self, t: float, v: float, T: float | None = None, D: float | None = None) -> float:
         """Payout acceleration (m/s^2) of the drum at the rope tension T (default: the last

@@ -68,6 +68,11 @@ class DrumLayers(_Strict):
     width: float = _units("m", "Drum width between the flanges", gt=0.0)
     rope_diameter: float = _units("m", "Rope diameter (the pitch of the turns and of the layers)", gt=0.0)
 
+    @property
+    def growth(self) -> float:
+        """d(r^2)/dL = d^2 / (pi w) (m^2 per m of rope on the drum), see ``drum_radius``."""
+        return self.rope_diameter ** 2 / (math.pi * self.width)
+
 
 def drum_radius(radius: float, layers: DrumLayers | None, on_drum: float) -> float:
     """Radius (m) at which the rope leaves a drum holding ``on_drum`` m of rope.
@@ -81,7 +86,7 @@ def drum_radius(radius: float, layers: DrumLayers | None, on_drum: float) -> flo
     if layers is None:
         return float(radius)
     L = max(float(on_drum), 0.0)
-    return math.sqrt(radius * radius + L * layers.rope_diameter ** 2 / (math.pi * layers.width))
+    return math.sqrt(radius * radius + L * layers.growth)
 
 
 def drum_rope_inertia(radius: float, layers: DrumLayers | None, on_drum: float, mass_per_length: float) -> float:
@@ -91,7 +96,7 @@ def drum_rope_inertia(radius: float, layers: DrumLayers | None, on_drum: float, 
     L = max(float(on_drum), 0.0)
     if layers is None:
         return mass_per_length * radius * radius * L
-    return mass_per_length * (radius * radius * L + L * L * layers.rope_diameter ** 2 / (2.0 * math.pi * layers.width))
+    return mass_per_length * (radius * radius * L + 0.5 * L * L * layers.growth)
 
 
 class WinchDrum(_Strict):
