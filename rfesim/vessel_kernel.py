@@ -14,6 +14,7 @@ import numpy as np
 from numba import njit
 
 from .kinematics import matmul_into, matvec_into, rot_zyx_into
+from .sea.trig import sincos
 from .vessel import FixedVessel, HarmonicVessel, TableVessel
 
 
@@ -103,8 +104,7 @@ def _dofs(vs, j, t, d, dd, ddd):
                     continue
                 w = vs.h_omega[j, c, k]
                 arg = w * t + vs.h_phase[j, c, k]
-                s = math.sin(arg)
-                co = math.cos(arg)
+                s, co = sincos(arg)        # rfesim.sea.trig
                 d[k] += a * s
                 dd[k] += a * w * co
                 ddd[k] -= a * w * w * s

@@ -291,6 +291,7 @@ class Workspace(NamedTuple):
     cl_S: np.ndarray = np.zeros((0, 0))              # (12 nc, 12 nc) inverse of the capacitance I + W^T B^-1 U
     cl_work: np.ndarray = np.zeros((0, 0))           # (12 nc, 12 nc) scratch of its inversion
     cl_rhs: np.ndarray = np.zeros((1, 6))            # (n, 6) scratch right-hand side
+    cl_w: np.ndarray = np.zeros(0)                   # (12 nc,) scratch of the solve (bt_solve_closed)
 
 
 class Reference(NamedTuple):
@@ -343,7 +344,7 @@ def new_workspace(n: int, nsde: int, nh: int = 1, nroller: int = 0, ntens: int =
         c_tangent=np.zeros((nsde, 6)), deck_normal=np.zeros(nbody), tug_tension=np.zeros(ntug), tug_length=np.zeros(ntug),
         rv_tension=np.zeros(nreeve), rv_dir=np.zeros((nreeve, 3)), rv_fdir=np.zeros((nreeve, 3)),
         rv_slip_out=np.zeros(nreeve), cl_J=np.zeros((nclosure, 2, 6, 6)), cl_Z=np.zeros((m, n, 6)),
-        cl_S=np.zeros((m, m)), cl_work=np.zeros((m, m)), cl_rhs=np.zeros((n, 6)))
+        cl_S=np.zeros((m, m)), cl_work=np.zeros((m, m)), cl_rhs=np.zeros((n, 6)), cl_w=np.zeros(m))
 
 
 def _identities(m: int) -> np.ndarray:

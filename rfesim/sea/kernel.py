@@ -41,6 +41,7 @@ from numba import njit
 
 from ..interp import bracket
 from .current import current_profile
+from .trig import phase_sincos_into
 from .waves import STRETCHING_CODES, wave_components, water_depth
 
 
@@ -270,6 +271,17 @@ def sea_kinematics_reach(ss, t, points, reach, use_reach, eta, vel, acc):
     ebound = r * ss.elevation_bound
     cut = waves and ss.deep_z > -np.inf and (deep or h > ebound)
     top = ebound if use_reach else np.inf     # above every crest: dry whatever the waves
+    # |phase| <= tbound + (|x| + |y|) kmax at every point (phase_sincos_into)
+    tbound = 0.0
+    kmax = 0.0
+    if waves:
+        wmax = 0.0
+        pmax = 0.0
+        for j in range(nc):
+            wmax = max(wmax, abs(ss.omega[j]))
+            pmax = max(pmax, abs(ss.phase[j]))
+            kmax = max(kmax, abs(ss.wavenumber[j]))
+        tbound = abs(t) * wmax + pmax
     for i in range(n):
         x = points[i, 0]
         y = points[i, 1]
@@ -295,13 +307,11 @@ def sea_kinematics_reach(ss, t, points, reach, use_reach, eta, vel, acc):
                 ze_hi = zr
             below = ze_hi < ss.deep_z
         if waves and not below:
+            # sine and cosine of every phase (rfesim.sea.trig, on vector instructions)
+            phase_sincos_into(ss.omega, ss.wavenumber, ss.cos_direction, ss.sin_direction, ss.phase, t, x, y,
+                              tbound + (abs(x) + abs(y)) * kmax, sth, cth)
             for j in range(nc):
-                th = ss.omega[j] * t - ss.wavenumber[j] * (x * ss.cos_direction[j] + y * ss.sin_direction[j]) \
-                    + ss.phase[j]
-                c = math.cos(th)
-                cth[j] = c
-                sth[j] = th               # the phase: its sine only where the component counts
-                e += ss.amplitude[j] * c
+                e += ss.amplitude[j] * cth[j]
             e *= r
             if use_reach and zr - reach[i] > e:
                 eta[i] = ss.surface_level + e
@@ -346,7 +356,7 @@ def sea_kinematics_reach(ss, t, points, reach, use_reach, eta, vel, acc):
                 aw = ss.velocity[j]
                 aww = aw * ss.omega[j]
                 c = cth[j]
-                s = math.sin(sth[j])
+                s = sth[j]
                 uh = aw * C * c
                 duh = -aww * C * s
                 vx += uh * ss.cos_direction[j]

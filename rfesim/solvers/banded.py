@@ -179,14 +179,16 @@ def bt_factor_closed(J, F, km, ws):
     return -1
 
 
-@njit(cache=True, _nrt=True)
+@njit(cache=True, _nrt=False)
 def bt_solve_closed(F, rhs, out, km, ws):
-    """Solve J x = rhs with the factors of ``bt_factor_closed`` (rhs, out may alias)."""
+    """Solve J x = rhs with the factors of ``bt_factor_closed`` (rhs, out may alias). No
+    allocation, no reference counting of the model and workspace tuples (docs/theory.md,
+    'Reference counting off in the evaluation chain'): it runs at every Newton iteration."""
     bt_solve(F, rhs, out)
     if not km.has_closures:
         return
     m = ws.cl_Z.shape[0]
-    w = np.empty(m)
+    w = ws.cl_w
     for row in range(m):
         w[row] = out[_woodbury_node(km, row, False), row % 6]
     n = out.shape[0]
