@@ -69,3 +69,29 @@ def test_beyond_large_and_not_finite_use_the_library():
     assert math.isnan(s) and math.isnan(c)
     s, c = sincos(float("inf"))
     assert math.isnan(s) and math.isnan(c)
+
+
+@pytest.mark.parametrize("t, x, y", [(1234.5, 310.0, -42.0), (5.0e5, 1.0e3, 2.0e3)])
+def test_phase_sincos_into_on_both_paths(t, x, y):
+    """The component loop (rfesim.sea.trig.phase_sincos_into) against numpy's sin and cos of
+    the same phases: on the vector path (bound below LARGE) and on the library's path (a
+    bound above it, as the caller gives for late times or far points)."""
+    from rfesim.sea.trig import phase_sincos_into
+    rng = np.random.default_rng(5)
+    nc = 200
+    omega = rng.uniform(0.3, 3.0, nc)
+    k = omega ** 2 / 9.81
+    b = rng.uniform(-math.pi, math.pi, nc)
+    cb, sb = np.cos(b), np.sin(b)
+    phase = rng.uniform(0.0, 2.0 * math.pi, nc)
+    theta = omega * t - k * (x * cb + y * sb) + phase
+    bound = abs(t) * omega.max() + (abs(x) + abs(y)) * k.max() + phase.max()
+    assert np.all(np.abs(theta) <= bound)
+    s = np.empty(nc)
+    c = np.empty(nc)
+    phase_sincos_into(omega, k, cb, sb, phase, t, x, y, bound, s, c)
+    # the kernel's phase may differ from numpy's by a rounding of theta (fused multiply-adds)
+    tol = 3e-16 + 4.0 * np.spacing(np.abs(theta))
+    assert np.all(np.abs(s - np.sin(theta)) <= tol)
+    assert np.all(np.abs(c - np.cos(theta)) <= tol)
+    assert (bound < LARGE) == (t < 1.0e5)
