@@ -24,6 +24,9 @@ RUNAWAY_SPEED = 1.0e5           # m/s or rad/s: a state faster than this has div
 RUNAWAY_DISTANCE = 1.0e7        # m
 MAX_FRESH = 3                   # Jacobians formed within one Newton attempt before the step is given up
 PROGRESS = 0.5                  # ... unless each iteration still cuts the residual to this fraction
+SLOW_RATE = 0.25                # an iteration that cuts the residual by less than this fraction forms a new Jacobian
+STALE_ITERATIONS = 6.0          # ... unless it still contracts (below CONTRACTS) and, at the rate seen, reaches the
+CONTRACTS = 0.9                 # tolerance within this many more iterations (a Jacobian costs 6-10 residuals)
 
 # quantity codes in ``fail[2]``
 Q_POSITION, Q_VELOCITY, Q_NEWTON, Q_JACOBIAN = 0, 1, 2, 3
@@ -116,7 +119,9 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
     more than SLOW_STEP of them refreshes the Jacobian at the start of the next (a reused
     Jacobian goes stale as the line turns). Within a step, an iteration that reduces the
     residual by less than 4x forms a new Jacobian (so a step in trouble becomes full
-    Newton); a step that still fails restarts once from the constant-acceleration predictor
+    Newton), unless the iteration still contracts and, at the rate it shows, reaches the
+    tolerance within STALE_ITERATIONS more (a Jacobian and its factorisation cost as much as
+    6-10 residual evaluations: docs/theory.md, 'When Newton forms a new Jacobian'); a step that still fails restarts once from the constant-acceleration predictor
     with a fresh Jacobian. stats += [steps, newton iterations, jacobians,
     rebases]. ``analytic``: Jacobian from the SDE tangent (rfesim.solvers.jacobian) instead
     of coloured finite differences; Ks, Kds, T, Fsde, Msde are its work arrays. The Newton
@@ -168,7 +173,8 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
                     converged = True
                     ws.step_state[0] = 1      # ws holds the evaluation of the converged state
                     break
-                if it > 0 and rn > 0.25 * rn_prev:
+                if it > 0 and rn > SLOW_RATE * rn_prev and not (tol > 0.0 and rn < CONTRACTS * rn_prev and
+                        math.log(rn / tol) <= STALE_ITERATIONS * math.log(rn_prev / rn)):
                     # slow: a new Jacobian at this iterate, also when this attempt already formed
                     # one (a contact or friction state that changed since makes it wrong; a
                     # stale tangent then cycles where full Newton converges in a few steps);
