@@ -68,6 +68,7 @@ def sde_tangent_rest(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiff
     m = np.empty(3)
     tmp = np.empty(3)
     CB = np.empty((6, 12))
+    DB = np.empty((6, 12))
     FPa = np.empty((3, 3))
     PaF = np.empty((3, 3))
     FPb = np.empty((3, 3))
@@ -122,26 +123,22 @@ def sde_tangent_rest(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiff
                 B[3 + i, 3 + j] = -v
                 B[3 + i, 9 + j] = v
         # ---- material parts: B^T C B and B^T D B
+        # (C and D diagonal: B^T C B and B^T D B in one pass, each term as C B then B^T (C B))
         st = sde_stiffness[s]
         sd = sde_damping[s]
         for i in range(6):
             for j in range(12):
                 CB[i, j] = st[i] * B[i, j]
+                DB[i, j] = sd[i] * B[i, j]
         for i in range(12):
             for j in range(12):
                 acc = 0.0
+                accd = 0.0
                 for k in range(6):
                     acc += B[k, i] * CB[k, j]
+                    accd += B[k, i] * DB[k, j]
                 K[s, i, j] = acc
-        for i in range(6):
-            for j in range(12):
-                CB[i, j] = sd[i] * B[i, j]
-        for i in range(12):
-            for j in range(12):
-                acc = 0.0
-                for k in range(6):
-                    acc += B[k, i] * CB[k, j]
-                Kd[s, i, j] = acc
+                Kd[s, i, j] = accd
         # ---- geometric part (sigma fixed), spatial; see the module docstring
         for k in range(3):
             tmp[k] = sigma[s, k]

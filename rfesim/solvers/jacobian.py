@@ -135,6 +135,7 @@ def jacobian_analytic_at(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask,
                 for a in range(6):
                     for b in range(6):
                         ws.cl_J[c, blk, a, b] = 0.0
+    KK = np.empty((6, 6))
     KT = np.empty((6, 6))
     for s in range(km.sde_left.shape[0]):
         ia = km.sde_left[s]
@@ -151,23 +152,45 @@ def jacobian_analytic_at(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask,
                     for c in range(km.cl_sde.shape[0]):
                         if km.cl_sde[c] == s:
                             cl = c
-                # KT = (cK K + cD Kd)[bi, bj] T_j  (6 x 6)
+                # the block T_i^T (cK K + cD Kd)[bi, bj] T_j (6 x 6)
                 for a in range(6):
                     for b in range(6):
-                        acc = 0.0
-                        for k in range(6):
-                            kk = cK * Ks[s, 6 * bi + a, 6 * bj + k] + cD * Kds[s, 6 * bi + a, 6 * bj + k]
-                            acc += kk * T[j, k, b]
-                        KT[a, b] = acc
-                for a in range(6):
-                    for b in range(6):
-                        acc = 0.0
-                        for k in range(6):
-                            acc += T[i, k, a] * KT[k, b]
-                        if cl >= 0:
-                            ws.cl_J[cl, bi, a, b] += acc
-                        else:
-                            J[i, slot, a, b] += acc
+                        KK[a, b] = cK * Ks[s, 6 * bi + a, 6 * bj + b] + cD * Kds[s, 6 * bi + a, 6 * bj + b]
+                if km.rfe_kind[i] == 0 and km.rfe_kind[j] == 0:
+                    # free RFEs: T = diag(I, R E) (_maps), so only the rotation columns of KK
+                    # and the rotation rows of KK T_j are mapped (the same numbers, 4x fewer
+                    # multiplications than the general product below)
+                    for a in range(6):
+                        for b in range(3):
+                            KT[a, b] = KK[a, b]
+                            KT[a, 3 + b] = (KK[a, 3] * T[j, 3, 3 + b] + KK[a, 4] * T[j, 4, 3 + b]
+                                            + KK[a, 5] * T[j, 5, 3 + b])
+                    for a in range(3):
+                        for b in range(6):
+                            KK[a, b] = KT[a, b]
+                            KK[3 + a, b] = (T[i, 3, 3 + a] * KT[3, b] + T[i, 4, 3 + a] * KT[4, b]
+                                            + T[i, 5, 3 + a] * KT[5, b])
+                else:
+                    for a in range(6):
+                        for b in range(6):
+                            acc = 0.0
+                            for k in range(6):
+                                acc += KK[a, k] * T[j, k, b]
+                            KT[a, b] = acc
+                    for a in range(6):
+                        for b in range(6):
+                            acc = 0.0
+                            for k in range(6):
+                                acc += T[i, k, a] * KT[k, b]
+                            KK[a, b] = acc
+                if cl >= 0:
+                    for a in range(6):
+                        for b in range(6):
+                            ws.cl_J[cl, bi, a, b] += KK[a, b]
+                else:
+                    for a in range(6):
+                        for b in range(6):
+                            J[i, slot, a, b] += KK[a, b]
     # local part: every RFE perturbed at once, SDE forces frozen
     eps = 1.5e-8
     for k in range(6):

@@ -124,3 +124,60 @@ def test_jacobian_from_the_newton_iterate_equals_the_full_one(name):
                          system.Kds, system.T, system.Fsde, system.Msde, True)
     np.testing.assert_array_equal(r_it, r_full)
     np.testing.assert_array_equal(system.J, J_full)
+
+
+def _reference_jacobian(system, q, ref, Q0, V0, cq, cv, r0, mode):
+    """The analytic Jacobian written out with numpy, from the tangents that jacobian_analytic
+    left in system.Ks, Kds (SDEs, spatial) and T (the RFEs' coordinate maps): the SDE blocks
+    T_i^T (cK K + cD Kd) T_j, plus the local part by forward differences with every RFE
+    perturbed at once and the SDE forces frozen (residual_general mode 1)."""
+    from rfesim.solvers.residual import residual_general
+    km, n = system.km, q.shape[0]
+    cK, cD = (1.0, 0.0) if mode == 0 else (cq, cv)
+    J = np.zeros((n, 3, 6, 6))
+    for s in range(km.sde_left.shape[0]):
+        for bi, i in enumerate((km.sde_left[s], km.sde_right[s])):
+            for bj, j in enumerate((km.sde_left[s], km.sde_right[s])):
+                K = cK * system.Ks[s, 6 * bi:6 * bi + 6, 6 * bj:6 * bj + 6] + cD * system.Kds[s, 6 * bi:6 * bi + 6,
+                                                                                              6 * bj:6 * bj + 6]
+                J[i, j - i + 1] += system.T[i].T @ K @ system.T[j]
+    typical = np.where(np.arange(6) < 3, system.length_scale[:, None], 1.0)
+    for k in range(6):
+        qp = q.copy()
+        qp[:, k] = q[:, k] + 1.5e-8 * np.maximum(np.abs(q[:, k]), typical[:, k])
+        hs = qp[:, k] - q[:, k]
+        rp = np.zeros_like(q)
+        residual_general(system.km, system.att, qp, ref, system.ws, 1.0, mode, Q0, V0, cq, cv, system.mask,
+                         system.qd_buf, system.A_buf, rp, 1, system.Fsde, system.Msde)
+        J[:, 1, :, k] += (rp - r0) / hs[:, None]
+    return J
+
+
+@pytest.mark.parametrize("name", ["h1_riser", "cantilever_on_vessel"])
+@pytest.mark.parametrize("mode", [0, 1])
+def test_analytic_jacobian_assembly_against_its_numpy_form(name, mode):
+    """jacobian_analytic's assembly (the products with T specialised for free RFEs, whose T
+    is diag(I, R E); the general product for pinned and clamped ones) against the same
+    Jacobian formed with numpy from its own tangents: equal to rounding, block by block."""
+    sc = rfesim.load_scenario(scenarios()[name])
+    system = System(compile_scenario(sc))
+    state, _ = solve_statics(system)
+    rng = np.random.default_rng(11)
+    q = state.q.copy()
+    q[system.mask] += (rng.normal(size=q.shape) * 1e-3)[system.mask]
+    system.set_time(0.7)
+    h = 0.05
+    cq, cv = h * h * 0.3, h * 0.6
+    Q0 = q - cq * rng.normal(size=q.shape)
+    V0 = rng.normal(scale=0.1, size=q.shape)
+    Q0[~system.mask] = q[~system.mask]
+    V0[~system.mask] = 0.0
+    r0 = np.zeros_like(q)
+    jacobian_analytic(system.km, system.att, q, state.ref, system.ws, 1.0, mode, Q0, V0, cq, cv, system.mask,
+                      system.qd_buf, system.A_buf, r0, system.qp, system.rp, system.hs, system.length_scale, system.J,
+                      system.Ks, system.Kds, system.T, system.Fsde, system.Msde)
+    J = system.J.copy()
+    assert (system.km.rfe_kind == 0).sum() > 2 and (system.km.rfe_kind != 0).any()   # both paths taken
+    J_ref = _reference_jacobian(system, q, state.ref, Q0, V0, cq, cv, r0, mode)
+    scale = np.abs(J_ref).max(axis=(1, 3), keepdims=True) + 1e-300       # per block row
+    assert (np.abs(J - J_ref) / scale).max() < 1e-12

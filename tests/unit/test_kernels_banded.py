@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import reference_impl as ref
-from rfesim.solvers.banded import bt_factor, bt_matvec, bt_solve, bt_to_dense, bt_to_sparse, invert6_into
+from rfesim.solvers.banded import bt_factor, bt_matvec, bt_solve, bt_to_dense, bt_to_sparse, invert6_into, invert_into
 
 SIZES = [1, 2, 7, 50]
 SEEDS = [0, 1, 2]
@@ -84,6 +84,23 @@ def test_invert6(seed):
     P = np.eye(6)[[1, 0, 3, 2, 5, 4]] * rng.uniform(1.0, 2.0, size=6)
     assert invert6_into(P, out, work)
     np.testing.assert_allclose(out, np.linalg.inv(P), rtol=0, atol=ROUNDOFF)
+
+
+@pytest.mark.parametrize("seed", SEEDS)
+def test_invert6_is_the_general_inverse_to_the_bit(seed):
+    """invert6_into is Gauss-Jordan with the order fixed at 6 (unrolled by the compiler):
+    the same operations in the same order as invert_into, so the same bits, pivoting and
+    singular verdicts included."""
+    rng = np.random.default_rng(seed)
+    out6, out, work = np.zeros((6, 6)), np.zeros((6, 6)), np.zeros((6, 6))
+    for _ in range(20):
+        A = rng.normal(size=(6, 6)) * rng.uniform(1e-3, 1e3, size=(6, 1))
+        A[rng.integers(6)] = 0.0 if rng.uniform() < 0.2 else A[rng.integers(6)]   # singular now and then
+        ok6 = invert6_into(A, out6, work)
+        ok = invert_into(A, out, work)
+        assert ok6 == ok
+        if ok:
+            np.testing.assert_array_equal(out6, out)
 
 
 def test_invert6_reports_singular_blocks():
