@@ -46,6 +46,25 @@ def dense(system, J):
     return bt_to_dense(J)[np.ix_(mask, mask)]
 
 
+def _off_equilibrium(name, seed, t):
+    """The scene at its static state moved by 1e-3 (m or rad) at random, at time t, with the
+    predictor terms Q0, V0 and coefficients cq, cv of a 0.05 s implicit step."""
+    sc = rfesim.load_scenario(scenarios()[name])
+    system = System(compile_scenario(sc))
+    state, _ = solve_statics(system)
+    rng = np.random.default_rng(seed)
+    q = state.q.copy()
+    q[system.mask] += (rng.normal(size=q.shape) * 1e-3)[system.mask]
+    system.set_time(t)
+    h = 0.05
+    cq, cv = h * h * 0.3, h * 0.6
+    Q0 = q - cq * rng.normal(size=q.shape)
+    V0 = rng.normal(scale=0.1, size=q.shape)
+    Q0[~system.mask] = q[~system.mask]
+    V0[~system.mask] = 0.0
+    return system, state, q, Q0, V0, cq, cv
+
+
 @pytest.mark.parametrize("name", ["h1_riser", "cantilever_on_vessel"])
 @pytest.mark.parametrize("mode", [0, 1])
 def test_analytic_jacobian_matches_central_differences(name, mode):
@@ -97,19 +116,7 @@ def test_jacobian_from_the_newton_iterate_equals_the_full_one(name):
     jacobian_analytic, which evaluates both itself."""
     from rfesim.solvers.jacobian import jacobian_analytic_at
     from rfesim.solvers.residual import residual_general
-    sc = rfesim.load_scenario(scenarios()[name])
-    system = System(compile_scenario(sc))
-    state, _ = solve_statics(system)
-    rng = np.random.default_rng(3)
-    q = state.q.copy()
-    q[system.mask] += (rng.normal(size=q.shape) * 1e-3)[system.mask]
-    system.set_time(1.3)
-    h = 0.05
-    cq, cv = h * h * 0.3, h * 0.6
-    Q0 = q - cq * rng.normal(size=q.shape)
-    V0 = rng.normal(scale=0.1, size=q.shape)
-    Q0[~system.mask] = q[~system.mask]
-    V0[~system.mask] = 0.0
+    system, state, q, Q0, V0, cq, cv = _off_equilibrium(name, seed=3, t=1.3)
     args = (system.km, system.att, q, state.ref, system.ws, 1.0, 1, Q0, V0, cq, cv, system.mask,
             system.qd_buf, system.A_buf)
     r_full = np.zeros_like(q)
@@ -159,19 +166,7 @@ def test_analytic_jacobian_assembly_against_its_numpy_form(name, mode):
     """jacobian_analytic's assembly (the products with T specialised for free RFEs, whose T
     is diag(I, R E); the general product for pinned and clamped ones) against the same
     Jacobian formed with numpy from its own tangents: equal to rounding, block by block."""
-    sc = rfesim.load_scenario(scenarios()[name])
-    system = System(compile_scenario(sc))
-    state, _ = solve_statics(system)
-    rng = np.random.default_rng(11)
-    q = state.q.copy()
-    q[system.mask] += (rng.normal(size=q.shape) * 1e-3)[system.mask]
-    system.set_time(0.7)
-    h = 0.05
-    cq, cv = h * h * 0.3, h * 0.6
-    Q0 = q - cq * rng.normal(size=q.shape)
-    V0 = rng.normal(scale=0.1, size=q.shape)
-    Q0[~system.mask] = q[~system.mask]
-    V0[~system.mask] = 0.0
+    system, state, q, Q0, V0, cq, cv = _off_equilibrium(name, seed=11, t=0.7)
     r0 = np.zeros_like(q)
     jacobian_analytic(system.km, system.att, q, state.ref, system.ws, 1.0, mode, Q0, V0, cq, cv, system.mask,
                       system.qd_buf, system.A_buf, r0, system.qp, system.rp, system.hs, system.length_scale, system.J,
