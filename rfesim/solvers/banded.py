@@ -19,7 +19,8 @@ from numba import njit
 def invert6_into(A, out, work):
     """out = A^-1 for a 6x6 block (Gauss-Jordan, partial pivoting). Returns False if singular.
     The order 6 is a constant here, so the compiler unrolls the elimination's inner loops
-    (about 2x faster than ``invert_into`` on a 6x6: the pivot blocks of bt_factor)."""
+    (the same operations as ``invert_into``; bt_factor of the S-lay benchmark's Jacobian
+    0.14 -> 0.12 ms)."""
     return _gauss_jordan(A, out, work, 6)
 
 

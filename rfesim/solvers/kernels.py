@@ -121,8 +121,9 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
     residual by less than 4x forms a new Jacobian (so a step in trouble becomes full
     Newton), unless the iteration still contracts and, at the rate it shows, reaches the
     tolerance within STALE_ITERATIONS more (a Jacobian and its factorisation cost as much as
-    6-10 residual evaluations: docs/theory.md, 'When Newton forms a new Jacobian'); a step that still fails restarts once from the constant-acceleration predictor
-    with a fresh Jacobian. stats += [steps, newton iterations, jacobians,
+    6-10 residual evaluations: docs/theory.md, 'When Newton forms a new Jacobian'); a step
+    that still fails restarts once from the constant-acceleration predictor with a fresh
+    Jacobian. stats += [steps, newton iterations, jacobians,
     rebases]. ``analytic``: Jacobian from the SDE tangent (rfesim.solvers.jacobian) instead
     of coloured finite differences; Ks, Kds, T, Fsde, Msde are its work arrays. The Newton
     predictor extrapolates the acceleration linearly from the last two steps (qdd_prev holds
