@@ -74,7 +74,6 @@ def sde_tangent_rest(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiff
     FPb = np.empty((3, 3))
     PbF = np.empty((3, 3))
     for s in range(sde_left.shape[0]):
-        a = sde_left[s]
         b = sde_right[s]
         Rb = R[b]
         sde_geometry_rest(s, sde_left, sde_right, sde_arm_left, sde_arm_right, rest_flag, rest_static, rest_eff, R,
