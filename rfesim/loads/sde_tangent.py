@@ -5,12 +5,18 @@ x = (dr_a, da_a, dr_b, da_b) (da: small rotation, dR = [da]x R), the deformation
 B of ``rfesim.loads.sde`` gives d(eps) = B dx and the generalised forces f = -B^T sigma.
 The tangent K = -df/dx is
 
-* material: B^T C B (exact), and B^T D B for the velocity dependence of the damping;
+* material: B^T C B (exact), and B^T D B for the velocity dependence of the damping (both
+  symmetric: formed on and above the diagonal);
 * geometric: d(B^T sigma)/dx at fixed sigma, from the rotation of F = R' F' with the mean
-  frame, the arms p x F, the moment m = R_b J_r^-T M' (which turns with the mean frame)
-  and the gap moment F x g. In these geometric terms J_r(theta) and W are taken as the
-  identity: an error of the order of the relative rotation theta of neighbouring RFEs
-  (0.01-0.05 rad), which leaves Newton's convergence linear with a tiny rate.
+  frame (angular velocity omega' = (I - W/2) da_a + (W/2) da_b), the arms p x F, the moment
+  m = R_b J_r^-T M' (which turns with R_b and changes with theta through J_r^-T,
+  ``jr_inv_t_derivative``) and the gap moment h = F x g (in M_a with I - W^T/2, in M_b with
+  W^T/2). The one term left out is the change of W in W^T h: h is O(|F| |g|), the force
+  times the gap of a stiff spring, so the tangent is exact to that order at any relative
+  rotation theta. (Taking W = J_r = I, as it was until 2026-11, is an error of order theta:
+  harmless between neighbouring RFEs of a line, but a pin between a rope's end and a
+  payload turned 90 deg from it gave the payload's free yaw a false stiffness coupling of
+  O(|F|), docs/theory.md, 'The SDE tangent'.)
 
 Rest rotations (``rfesim.loads.sde.sde_geometry_rest``): the spatial variation of
 R_a* = R_a R0 is that of R_a (d R_a* = [da_a]x R_a*, i.e. R_a* [R0^T R_a^T da_a]x), so B
@@ -23,6 +29,8 @@ Tested against finite differences of ``sde_forces`` in tests/unit/test_sde_tange
 (and with rest rotations in tests/unit/test_sde_rest_rotation.py).
 """
 from __future__ import annotations
+
+import math
 
 import numpy as np
 from numba import njit
@@ -73,6 +81,16 @@ def sde_tangent_rest(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiff
     PaF = np.empty((3, 3))
     FPb = np.empty((3, 3))
     PbF = np.empty((3, 3))
+    GF = np.empty((3, 3))
+    Wh = np.empty((3, 3))
+    FW = np.empty((3, 3))
+    PaW = np.empty((3, 3))
+    PbW = np.empty((3, 3))
+    GW = np.empty((3, 3))
+    dh = np.empty((4, 3, 3))
+    WTdh = np.empty((4, 3, 3))
+    E = np.empty((3, 3))
+    Mp = np.empty(3)
     for s in range(sde_left.shape[0]):
         b = sde_right[s]
         Rb = R[b]
@@ -122,7 +140,8 @@ def sde_tangent_rest(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiff
                 B[3 + i, 3 + j] = -v
                 B[3 + i, 9 + j] = v
         # ---- material parts: B^T C B and B^T D B
-        # (C and D diagonal: B^T C B and B^T D B in one pass, each term as C B then B^T (C B))
+        # (C and D diagonal: B^T C B and B^T D B in one pass, each term as C B then B^T (C B);
+        # both symmetric, so formed on and above the diagonal and mirrored)
         st = sde_stiffness[s]
         sd = sde_damping[s]
         for i in range(6):
@@ -130,54 +149,114 @@ def sde_tangent_rest(sde_left, sde_right, sde_arm_left, sde_arm_right, sde_stiff
                 CB[i, j] = st[i] * B[i, j]
                 DB[i, j] = sd[i] * B[i, j]
         for i in range(12):
-            for j in range(12):
+            for j in range(i, 12):
                 acc = 0.0
                 accd = 0.0
                 for k in range(6):
                     acc += B[k, i] * CB[k, j]
                     accd += B[k, i] * DB[k, j]
                 K[s, i, j] = acc
+                K[s, j, i] = acc
                 Kd[s, i, j] = accd
+                Kd[s, j, i] = accd
         # ---- geometric part (sigma fixed), spatial; see the module docstring
+        # The mean frame {i'} turns with omega' = (I - W/2) da_a + (W/2) da_b (the angular
+        # velocity of sde_forces_rest_into), the gap moment h = F x g enters M_a with
+        # I - W^T/2 and M_b with W^T/2 (apply_section_force), and the section moment
+        # m = R_b J_r^-T M' turns with R_b and changes with theta through J_r^-T. Taking
+        # W = J_r = I here (an error of order theta) left O(theta |F|) in directions with
+        # no stiffness of their own: a rope's end pinned to a payload at 90 deg
+        # (docs/theory.md, 'The SDE tangent').
         for k in range(3):
             tmp[k] = sigma[s, k]
         matvec_into(Rp, tmp, F)
         for k in range(3):
-            tmp[k] = sigma[s, 3 + k]
-        matvec_into(Rp, tmp, m)                       # m ~ R' M'
+            Mp[k] = sigma[s, 3 + k]
+        for k in range(3):
+            tmp[k] = Jri[0, k] * Mp[0] + Jri[1, k] * Mp[1] + Jri[2, k] * Mp[2]
+        matvec_into(Rb, tmp, m)                       # m = R_b J_r^-T M' (eq. 8.90.2)
         skew_into(F, Fx)
         skew_into(m, mx)
-        # helper products: [F]x[pa]x, [pa]x[F]x, [F]x[pb]x, [pb]x[F]x
+        # E = R_b d(J_r^-T M')/d(theta) J_r^-1 R_b^T: d m = [da_b]x m + E (da_b - da_a)
+        jr_inv_t_derivative(th, Mp, T1)
+        matmul_into(T1, Jri, T2)
+        matmul_into(Rb, T2, T1)
+        for i in range(3):
+            for j in range(3):
+                E[i, j] = T1[i, 0] * Rb[j, 0] + T1[i, 1] * Rb[j, 1] + T1[i, 2] * Rb[j, 2]
+        # helper products: [F]x[pa]x, [pa]x[F]x, [F]x[pb]x, [pb]x[F]x, [g]x[F]x
         matmul_into(Fx, Pa, FPa)
         matmul_into(Pa, Fx, PaF)
         matmul_into(Fx, Pb, FPb)
         matmul_into(Pb, Fx, PbF)
-        # d(B^T sigma) rows: [-F_a; -M_a; -F_b; -M_b]; columns dr_a, da_a, dr_b, da_b
-        # dg = dr_b - dr_a - [pb]x da_b + [pa]x da_a
+        matmul_into(Gx, Fx, GF)
         for i in range(3):
             for j in range(3):
-                # -F_a = -F : d = +1/2 [F]x (da_a + da_b)
-                K[s, i, 3 + j] += 0.5 * Fx[i, j]
-                K[s, i, 9 + j] += 0.5 * Fx[i, j]
-                # -F_b = +F : d = -1/2 [F]x (da_a + da_b)
-                K[s, 6 + i, 3 + j] -= 0.5 * Fx[i, j]
-                K[s, 6 + i, 9 + j] -= 0.5 * Fx[i, j]
-                # -M_a = -pa x F - m + h/2
-                hh = 0.5 * (PaF[i, j] + mx[i, j])
-                K[s, 3 + i, 3 + j] += -FPa[i, j] + hh
-                K[s, 3 + i, 9 + j] += hh
-                # -M_b = pb x F + m + h/2
-                hb = -0.5 * (PbF[i, j] + mx[i, j])
-                K[s, 9 + i, 9 + j] += FPb[i, j] + hb
-                K[s, 9 + i, 3 + j] += hb
-        # +1/2 [F]x dg in both moment rows
-        matmul_into(Gx, Fx, T1)                              # [g]x [F]x: from dF x g in dh
-        for row in (3, 9):
+                Wh[i, j] = 0.5 * W[i, j]
+        # omega' maps: X omega' = X (I - W/2) da_a + X (W/2) da_b
+        matmul_into(Fx, Wh, FW)
+        matmul_into(PaF, Wh, PaW)
+        matmul_into(PbF, Wh, PbW)
+        matmul_into(GF, Wh, GW)
+        # dh = [g]x[F]x omega' + [F]x dg, dg = dr_b - dr_a + [pa]x da_a - [pb]x da_b
+        for i in range(3):
+            for j in range(3):
+                dh[0, i, j] = -Fx[i, j]                            # dr_a
+                dh[1, i, j] = GF[i, j] - GW[i, j] + FPa[i, j]      # da_a
+                dh[2, i, j] = Fx[i, j]                             # dr_b
+                dh[3, i, j] = GW[i, j] - FPb[i, j]                 # da_b
+        # W^T/2 dh: the part of dh in M_b (M_a takes the rest, dh - W^T/2 dh)
+        for c in range(4):
             for i in range(3):
                 for j in range(3):
-                    K[s, row + i, 3 + j] += 0.25 * T1[i, j]
-                    K[s, row + i, 9 + j] += 0.25 * T1[i, j]
-                    K[s, row + i, j] -= 0.5 * Fx[i, j]            # dr_a
-                    K[s, row + i, 6 + j] += 0.5 * Fx[i, j]        # dr_b
-                    K[s, row + i, 3 + j] += 0.5 * FPa[i, j]      # da_a via [pa]x
-                    K[s, row + i, 9 + j] -= 0.5 * FPb[i, j]      # da_b via -[pb]x
+                    WTdh[c, i, j] = Wh[0, i] * dh[c, 0, j] + Wh[1, i] * dh[c, 1, j] + Wh[2, i] * dh[c, 2, j]
+        # rows [-F_a; -M_a; -F_b; -M_b] of d(B^T sigma); columns dr_a, da_a, dr_b, da_b
+        for i in range(3):
+            for j in range(3):
+                fa = Fx[i, j] - FW[i, j]
+                fb = FW[i, j]
+                # -F_a = -F: d = [F]x omega'
+                K[s, i, 3 + j] += fa
+                K[s, i, 9 + j] += fb
+                # -F_b = +F: d = -[F]x omega'
+                K[s, 6 + i, 3 + j] -= fa
+                K[s, 6 + i, 9 + j] -= fb
+                # -M_a = -pa x F - m + (I - W^T/2) h
+                K[s, 3 + i, 3 + j] += -FPa[i, j] + PaF[i, j] - PaW[i, j] + E[i, j]
+                K[s, 3 + i, 9 + j] += PaW[i, j] + mx[i, j] - E[i, j]
+                # -M_b = pb x F + m + W^T/2 h
+                K[s, 9 + i, 9 + j] += FPb[i, j] - PbW[i, j] - mx[i, j] + E[i, j]
+                K[s, 9 + i, 3 + j] += -PbF[i, j] + PbW[i, j] - E[i, j]
+                for c in range(4):
+                    K[s, 3 + i, 3 * c + j] += dh[c, i, j] - WTdh[c, i, j]
+                    K[s, 9 + i, 3 * c + j] += WTdh[c, i, j]
+
+
+@njit(cache=True)
+def jr_inv_t_derivative(th, Mp, D):
+    """D = d(J_r(theta)^-T M')/d(theta) at fixed M', with J_r^-T = I - [th]x/2 + c [th]x^2,
+    c(phi) = 1/phi^2 - cot(phi/2)/(2 phi) (rfesim.kinematics.relative_rotation_terms):
+    J_r^-T M' = M' - th x M'/2 + c (th (th.M') - phi^2 M'), so
+    D = [M']x/2 + c'/phi u th^T + c ((th.M') I + th M'^T - 2 M' th^T), u = th (th.M') - phi^2 M'."""
+    phi2 = th[0] * th[0] + th[1] * th[1] + th[2] * th[2]
+    phi = math.sqrt(phi2)
+    if phi < 0.1:
+        # series: c = 1/12 + phi^2/720 + phi^4/30240 + phi^6/1209600, c'/phi from its derivative
+        c = 1.0 / 12.0 + phi2 / 720.0 + phi2 * phi2 / 30240.0 + phi2 * phi2 * phi2 / 1209600.0
+        dc = 1.0 / 360.0 + phi2 / 7560.0 + phi2 * phi2 / 201600.0
+    else:
+        sh = math.sin(0.5 * phi)
+        ch = math.cos(0.5 * phi)
+        c = 1.0 / phi2 - ch / (2.0 * phi * sh)
+        dc = (-2.0 / (phi2 * phi) + 1.0 / (4.0 * phi * sh * sh) + ch / (2.0 * phi2 * sh)) / phi
+    tm = th[0] * Mp[0] + th[1] * Mp[1] + th[2] * Mp[2]
+    for i in range(3):
+        u = th[i] * tm - phi2 * Mp[i]
+        for j in range(3):
+            D[i, j] = dc * u * th[j] + c * ((tm if i == j else 0.0) + th[i] * Mp[j] - 2.0 * Mp[i] * th[j])
+    D[0, 1] += -0.5 * Mp[2]
+    D[0, 2] += 0.5 * Mp[1]
+    D[1, 0] += 0.5 * Mp[2]
+    D[1, 2] += -0.5 * Mp[0]
+    D[2, 0] += -0.5 * Mp[1]
+    D[2, 1] += 0.5 * Mp[0]
