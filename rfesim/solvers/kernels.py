@@ -120,8 +120,10 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
     Jacobian goes stale as the line turns). Within a step, an iteration that reduces the
     residual by less than 4x forms a new Jacobian (so a step in trouble becomes full
     Newton), unless the iteration still contracts and, at the rate it shows, reaches the
-    tolerance within STALE_ITERATIONS more (a Jacobian and its factorisation cost as much as
-    6-10 residual evaluations: docs/theory.md, 'When Newton forms a new Jacobian'); a step
+    tolerance within STALE_ITERATIONS more and within the iterations left in the step less 3
+    (a Jacobian and its factorisation cost as much as 6-10 residual evaluations; without the
+    second limit steps ran out of iterations and were halved: docs/theory.md, 'When Newton
+    forms a new Jacobian'); a step
     that still fails restarts once from the constant-acceleration predictor with a fresh
     Jacobian. stats += [steps, newton iterations, jacobians,
     rebases]. ``analytic``: Jacobian from the SDE tangent (rfesim.solvers.jacobian) instead
@@ -174,8 +176,9 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
                     converged = True
                     ws.step_state[0] = 1      # ws holds the evaluation of the converged state
                     break
+                stale = min(STALE_ITERATIONS, maxit - 3.0 - it)
                 if it > 0 and rn > SLOW_RATE * rn_prev and not (tol > 0.0 and rn < CONTRACTS * rn_prev and
-                        math.log(rn / tol) <= STALE_ITERATIONS * math.log(rn_prev / rn)):
+                        stale > 0.0 and math.log(rn / tol) <= stale * math.log(rn_prev / rn)):
                     # slow: a new Jacobian at this iterate, also when this attempt already formed
                     # one (a contact or friction state that changed since makes it wrong; a
                     # stale tangent then cycles where full Newton converges in a few steps);
