@@ -579,3 +579,18 @@ def seabed_friction_spring_slider(normal, tangent, centre, anchor, stick_stiffne
         fa, fl = fa * normal_force / ratio, fl * normal_force / ratio
     force = fa * axial + fl * lateral
     return force, centre + force / (stick_stiffness * contact_length)
+
+
+def spatial_central_differences(fun, Ra, Rb, ra, rb, step):
+    """d fun / dx by central differences in the spatial virtual displacements of a pair of
+    RFEs, x = (dr_a, da_a, dr_b, da_b) with R -> exp(da) R: column j of the result is
+    (fun at +step e_j - fun at -step e_j) / (2 step); fun(Ra, Rb, ra, rb) returns a vector."""
+    columns = []
+    for j in range(12):
+        values = []
+        for sign in (1.0, -1.0):
+            d = np.zeros(12)
+            d[j] = sign * step
+            values.append(np.asarray(fun(exp_so3(d[3:6]) @ Ra, exp_so3(d[9:12]) @ Rb, ra + d[0:3], rb + d[6:9])))
+        columns.append((values[0] - values[1]) / (2.0 * step))
+    return np.stack(columns, axis=1)

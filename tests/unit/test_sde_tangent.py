@@ -5,6 +5,8 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
+from reference_impl import spatial_central_differences
+
 from rfesim.loads.sde import sde_forces
 from rfesim.loads.sde_tangent import sde_tangent
 
@@ -37,18 +39,8 @@ def spatial_forces(Ra, Rb, ra, rb, arm_a, arm_b, stiffness):
 
 def finite_difference_tangent(Ra, Rb, ra, rb, arm_a, arm_b, stiffness, h=1e-7):
     """-df/dx by central differences in spatial virtual displacements and rotations."""
-    K = np.zeros((12, 12))
-    for j in range(12):
-        cols = []
-        for sign in (1.0, -1.0):
-            d = np.zeros(12)
-            d[j] = sign * h
-            Ra2 = Rotation.from_rotvec(d[3:6]).as_matrix() @ Ra
-            Rb2 = Rotation.from_rotvec(d[9:12]).as_matrix() @ Rb
-            f, _ = spatial_forces(Ra2, Rb2, ra + d[0:3], rb + d[6:9], arm_a, arm_b, stiffness)
-            cols.append(f)
-        K[:, j] = -(cols[0] - cols[1]) / (2 * h)
-    return K
+    return -spatial_central_differences(
+        lambda Ra2, Rb2, ra2, rb2: spatial_forces(Ra2, Rb2, ra2, rb2, arm_a, arm_b, stiffness)[0], Ra, Rb, ra, rb, h)
 
 
 @pytest.mark.parametrize("seed", range(6))
@@ -181,17 +173,8 @@ def test_material_parts_are_BT_C_B_and_BT_D_B_of_the_deformation_map(seed, bend)
     Ra, Rb, ra, rb, arm_a, arm_b = random_pair(rng, bend=bend, gap=1e-3)
     stiffness = np.array([1e6, 3e5, 2e5, 1e4, 2e4, 3e4])
     damping = np.array([10.0, 5.0, 4.0, 1.0, 2.0, 3.0])
-    h = 1e-6
-    B = np.zeros((6, 12))
-    for j in range(12):
-        cols = []
-        for sign in (1.0, -1.0):
-            d = np.zeros(12)
-            d[j] = sign * h
-            cols.append(deformation(Rotation.from_rotvec(d[3:6]).as_matrix() @ Ra,
-                                    Rotation.from_rotvec(d[9:12]).as_matrix() @ Rb, ra + d[0:3], rb + d[6:9],
-                                    arm_a, arm_b))
-        B[:, j] = (cols[0] - cols[1]) / (2 * h)
+    B = spatial_central_differences(
+        lambda Ra2, Rb2, ra2, rb2: deformation(Ra2, Rb2, ra2, rb2, arm_a, arm_b), Ra, Rb, ra, rb, 1e-6)
     K, Kd = np.zeros((1, 12, 12)), np.zeros((1, 12, 12))
     sde_tangent(np.array([0]), np.array([1]), arm_a[None], arm_b[None], stiffness[None], damping[None],
                 np.stack([Ra, Rb]), np.stack([ra, rb]), np.zeros((2, 3)), np.zeros((1, 6)), K, Kd)
