@@ -527,7 +527,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         return out
 
     @app.get("/scenarios/{name}", tags=["scenarios"], responses=_responses(401, 404),
-             summary="One bundled scenario (JSON), ready to POST to /jobs")
+             summary="One bundled scenario (JSON); run it with POST /jobs {\"scenario\": name}")
     def get_scenario(name: str):
         stem = name[:-5] if name.endswith(".json") else name
         path = next((p for p in scenario_files() if p.stem == stem), None)

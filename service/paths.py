@@ -1,17 +1,20 @@
 """File-system safety and the bundled example scenarios.
 
 No scenario field may make the service read or write outside its data directory. The
-scenario schema has no file fields today; :func:`check_scenario_paths` guards the
-future ones (a vessel motion time-series file, a spectrum table): every string value of
-a path-like key must name a file inside ``<data_dir>/files`` once resolved (symbolic
-links followed), and must not be a URL.
+scenario schema has file fields (``file`` of a ``csv`` or ``rao`` vessel motion) and may
+get more (a spectrum table): :func:`check_scenario_paths` checks every string value of a
+path-like key, which must name a file inside ``<data_dir>/files`` once resolved
+(symbolic links followed), and must not be a URL. The one exception is a bundled example
+submitted by name: the data files that example itself names (``scenarios/data/...``,
+resolved against the bundled scenarios folder) are passed in ``allowed`` and accepted,
+those exact files and nothing else.
 """
 from __future__ import annotations
 
 import os
 import re
 from pathlib import Path
-from typing import Any
+from typing import Any, Collection
 
 # keys that name files: "file", "path", "time_series_file", "rao_path", "filename", "directory", ...
 PATH_KEY = re.compile(r"(^|_)(file|files|path|paths|filename|filenames|dir|directory|folder|url|uri)$", re.I)
@@ -28,11 +31,12 @@ def files_dir(data_dir: Path) -> Path:
     return Path(data_dir).resolve() / "files"
 
 
-def resolve_data_path(value: str, data_dir: Path) -> Path:
+def resolve_data_path(value: str, data_dir: Path, allowed: Collection[Path] = ()) -> Path:
     """The absolute path of a scenario's file reference, or UnsafePath.
 
     Relative paths are taken from ``<data_dir>/files``; the result, with symbolic links
-    resolved, must lie inside that folder.
+    resolved, must lie inside that folder or be one of the ``allowed`` files (resolved
+    absolute paths: the data files of a bundled example).
     """
     if not isinstance(value, str) or not value.strip():
         raise UnsafePath("must be a non-empty file name")
@@ -48,15 +52,19 @@ def resolve_data_path(value: str, data_dir: Path) -> Path:
         resolved = Path(os.path.realpath(candidate))
     except (OSError, ValueError) as exc:
         raise UnsafePath(f"is not a usable path ({exc})") from None
+    if resolved in allowed:
+        return resolved
     if resolved != base and base not in resolved.parents:
         raise UnsafePath(f"must name a file inside the service's data directory ({base}), "
                          f"not {value!r}")
     return resolved
 
 
-def check_scenario_paths(data: Any, data_dir: Path, _prefix: str = "") -> list[tuple[str, str]]:
+def check_scenario_paths(data: Any, data_dir: Path, _prefix: str = "",
+                         allowed: Collection[Path] = ()) -> list[tuple[str, str]]:
     """``(dotted.path, reason)`` for every path-like field of a raw scenario that points
-    outside the data directory (an empty list when all are safe)."""
+    outside the data directory and is not one of the ``allowed`` files (an empty list
+    when all are safe)."""
     errors: list[tuple[str, str]] = []
     if isinstance(data, dict):
         items = data.items()
@@ -68,20 +76,20 @@ def check_scenario_paths(data: Any, data_dir: Path, _prefix: str = "") -> list[t
         path = f"{_prefix}.{key}" if _prefix else str(key)
         if isinstance(value, str) and PATH_KEY.search(str(key)):
             try:
-                resolve_data_path(value, data_dir)
+                resolve_data_path(value, data_dir, allowed)
             except UnsafePath as exc:
                 errors.append((path, str(exc)))
         elif isinstance(value, list) and PATH_KEY.search(str(key)):
             for i, item in enumerate(value):
                 if isinstance(item, str):
                     try:
-                        resolve_data_path(item, data_dir)
+                        resolve_data_path(item, data_dir, allowed)
                     except UnsafePath as exc:
                         errors.append((f"{path}.{i}", str(exc)))
                 else:
-                    errors += check_scenario_paths(item, data_dir, f"{path}.{i}")
+                    errors += check_scenario_paths(item, data_dir, f"{path}.{i}", allowed)
         else:
-            errors += check_scenario_paths(value, data_dir, path)
+            errors += check_scenario_paths(value, data_dir, path, allowed)
     return errors
 
 

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 from pathlib import Path
 from typing import Any
 
@@ -33,21 +34,119 @@ def _scenario_errors(exc, suffix: str = "") -> Invalid:
     return Invalid([(_loc(f), r + suffix) for f, r in exc.errors])
 
 
+# YAML anchors and aliases (&name, *name) make a document a graph: a 400-byte "billion
+# laughs" body expands to 9**8 nodes when constructed. What aliases may add, beyond what the
+# document writes out, is capped (checked on the composed graph, before any construction).
+YAML_ALIAS_MAX_NODES = 100_000
+YAML_ALIAS_MAX_CHARS = 1_000_000
+_SATURATE = 10**15
+
+
 def parse_body(body: bytes, content_type: str | None) -> Any:
     """JSON (or YAML when the content type says so) -> plain data; Invalid if not."""
     from rfesim import ScenarioError
     from rfesim.scenario import parse_text
 
     fmt = "yaml" if content_type and "yaml" in content_type.lower() else "json"
+    if fmt == "yaml" and b"&" in body and b"*" in body:      # no anchor, no alias: nothing to expand
+        check_yaml_expansion(body)
     try:
         return parse_text(body, fmt)
     except ScenarioError as exc:
         raise Invalid([(["body"], r) for _, r in exc.errors]) from None
 
 
-def bundled(name: str, scenarios_dir: Path | None) -> dict:
-    """A bundled example scenario by name (``cantilever_pipe``), as a dict."""
+def check_yaml_expansion(body: bytes | str) -> tuple[int, int]:
+    """Invalid when the YAML document's aliases expand it too much (or make it recursive);
+    else (expanded nodes, expanded scalar characters).
+
+    Only composes the document (a graph where an alias is the node it names, linear in the
+    text) and sums the sizes bottom-up, each node once. A document that does not compose is
+    left to :func:`rfesim.scenario.parse_text`, which reports the error."""
+    import yaml
+
+    try:
+        text = body.decode("utf-8-sig") if isinstance(body, bytes) else body
+        root = yaml.compose(text, Loader=yaml.SafeLoader)   # pure Python: no C-stack overflow when deep
+    except (UnicodeDecodeError, yaml.YAMLError, RecursionError):
+        return 0, 0
+    if root is None:
+        return 0, 0
+    size: dict[int, tuple[int, int]] = {}      # id(node) -> (nodes, characters) once expanded
+    open_: set[int] = set()                    # nodes whose children are being summed (the DFS path)
+    stack: list[tuple[Any, bool]] = [(root, False)]
+    while stack:
+        node, children_done = stack.pop()
+        key = id(node)
+        kids = _yaml_children(node)
+        if children_done:
+            nodes, chars = 1, 0
+            for kid in kids:
+                n, c = size[id(kid)]
+                nodes, chars = nodes + n, chars + c
+            size[key] = (min(nodes, _SATURATE), min(chars, _SATURATE))
+            open_.discard(key)
+        elif key in open_:
+            mark = node.start_mark
+            raise Invalid([(["body"], f"invalid YAML at line {mark.line + 1} column {mark.column + 1}: an alias "
+                                      f"refers to a node that contains it (a recursive structure)")])
+        elif key not in size:
+            if isinstance(node, yaml.ScalarNode):
+                size[key] = (1, len(node.value))
+                continue
+            open_.add(key)
+            stack.append((node, True))
+            stack.extend((kid, False) for kid in kids if id(kid) not in size)
+    written_nodes = len(size)
+    written_chars = sum(len(n.value) for n in _iter_scalars(root))
+    nodes, chars = size[id(root)]
+    if nodes - written_nodes > YAML_ALIAS_MAX_NODES or chars - written_chars > YAML_ALIAS_MAX_CHARS:
+        def shown(n: int) -> str:
+            return f"{n}" if n < _SATURATE else f"more than {_SATURATE:.0e}"
+
+        raise Invalid([(["body"], f"YAML aliases (*name) expand this document to {shown(nodes)} nodes and "
+                                  f"{shown(chars)} characters of values, from {written_nodes} nodes written out; "
+                                  f"this service accepts at most {YAML_ALIAS_MAX_NODES} nodes and {YAML_ALIAS_MAX_CHARS} "
+                                  f"characters added by aliases: write the repeated parts out instead")])
+    return nodes, chars
+
+
+def _yaml_children(node) -> list:
+    import yaml
+
+    if isinstance(node, yaml.SequenceNode):
+        return list(node.value)
+    if isinstance(node, yaml.MappingNode):
+        return [n for pair in node.value for n in pair]
+    return []
+
+
+def _iter_scalars(root):
+    """Every distinct scalar node of a composed YAML graph, once."""
+    import yaml
+
+    seen, stack = set(), [root]
+    while stack:
+        node = stack.pop()
+        if id(node) in seen:
+            continue
+        seen.add(id(node))
+        if isinstance(node, yaml.ScalarNode):
+            yield node
+        else:
+            stack.extend(_yaml_children(node))
+
+
+def bundled(name: str, scenarios_dir: Path | None) -> tuple[dict, frozenset[Path]]:
+    """A bundled example scenario by name (``cantilever_pipe``), as a dict, and the data
+    files it may read.
+
+    The example's relative data files (``"file": "data/barge_100m_raos.json"``) are
+    taken from the bundled scenarios folder, as ``rfesim run scenarios/<name>.json``
+    does, and made absolute; those that lie inside that folder are returned as the only
+    files outside ``<data>/files`` that the path guard accepts for this submission."""
     from rfesim.scenario import parse_text
+    from rfesim.scenario.files import resolve_data_files
 
     if scenarios_dir is None:
         raise Invalid([(["scenario"], "this installation has no bundled scenarios")])
@@ -56,24 +155,48 @@ def bundled(name: str, scenarios_dir: Path | None) -> dict:
     if not SAFE_NAME.match(stem) or not path.is_file():
         known = ", ".join(sorted(p.stem for p in scenarios_dir.glob("*.json")))
         raise Invalid([(["scenario"], f"no bundled scenario {name!r} (available: {known})")])
-    return parse_text(path.read_bytes(), "json")
+    data = parse_text(path.read_bytes(), "json")
+    root = Path(os.path.realpath(scenarios_dir))
+    allowed = set()
+    for value in _file_values(data):
+        resolved = Path(os.path.realpath(root / value))       # an absolute value stays itself
+        if root in resolved.parents:
+            allowed.add(resolved)
+    return resolve_data_files(data, root), frozenset(allowed)
 
 
-def unwrap(data: Any, scenarios_dir: Path | None) -> tuple[Any, dict]:
+def _file_values(data: Any) -> list[str]:
+    """The string values of every ``file`` key of a raw scenario (csv and rao motions)."""
+    out = []
+    if isinstance(data, dict):
+        for key, value in data.items():
+            if key == "file" and isinstance(value, str) and value.strip() and "\x00" not in value:
+                out.append(value)
+            else:
+                out += _file_values(value)
+    elif isinstance(data, list):
+        for value in data:
+            out += _file_values(value)
+    return out
+
+
+def unwrap(data: Any, scenarios_dir: Path | None) -> tuple[Any, dict, frozenset[Path]]:
     """The body of POST /jobs: a scenario, or ``{"scenario": <scenario or bundled name>,
-    "overrides": {dotted.path: value}}``. Returns (scenario data, overrides)."""
+    "overrides": {dotted.path: value}}``. Returns (scenario data, overrides, the data
+    files of a bundled scenario that the path guard accepts: none for a given scenario)."""
     if not (isinstance(data, dict) and "scenario" in data):
-        return data, {}
+        return data, {}, frozenset()
     extra = [k for k in data if k not in WRAPPER_KEYS]
     if extra:
         raise Invalid([([str(k)], f"unknown key (allowed with 'scenario': {', '.join(WRAPPER_KEYS)})")
                        for k in extra])
     scenario = data["scenario"]
+    allowed: frozenset[Path] = frozenset()
     if isinstance(scenario, str):
-        scenario = bundled(scenario, scenarios_dir)
+        scenario, allowed = bundled(scenario, scenarios_dir)
     elif not isinstance(scenario, dict):
         raise Invalid([(["scenario"], "must be a scenario (a mapping) or the name of a bundled scenario")])
-    return scenario, check_overrides(data.get("overrides"))
+    return scenario, check_overrides(data.get("overrides")), allowed
 
 
 def check_overrides(overrides: Any) -> dict:
@@ -116,8 +239,10 @@ def check_limits(sc, settings, prefix: list | None = None) -> None:
     """The service's limits on one validated Scenario (Invalid naming the field)."""
     prefix = prefix or []
     errors = []
-    if not sc.lines:
-        errors.append((prefix + ["lines"], "the scenario has no lines to simulate"))
+    from rfesim.scenario.load import check_runnable
+
+    for field, reason in check_runnable(sc):        # what a run refuses (rfesim.scenario.load)
+        errors.append((prefix + [field], reason))
     nrfe = sum(line.elements + 1 for line in sc.lines.values())
     if nrfe > settings.max_rfes:
         errors.append((prefix + ["lines"], f"the scenario has {nrfe} RFEs (sum over lines of elements + 1); this "
@@ -143,7 +268,7 @@ def prepare_job(data: Any, settings, scenarios_dir: Path | None):
     from rfesim.scenario import apply_overrides
     from rfesim.scenario.files import resolve_data_files
 
-    scenario, overrides = unwrap(data, scenarios_dir)
+    scenario, overrides, allowed = unwrap(data, scenarios_dir)
     if not isinstance(scenario, dict):
         # never a string: rfesim.load_scenario would read a string as a file path
         raise Invalid([(["body"], "must be a scenario (a JSON object), or {\"scenario\": <scenario or bundled "
@@ -151,7 +276,7 @@ def prepare_job(data: Any, settings, scenarios_dir: Path | None):
     try:
         if overrides:
             scenario = apply_overrides(scenario, overrides)
-        path_errors = check_scenario_paths(scenario, settings.resolved_data_dir())
+        path_errors = check_scenario_paths(scenario, settings.resolved_data_dir(), allowed=allowed)
         if path_errors:
             raise Invalid([(_loc(f), r) for f, r in path_errors])
         # relative data files are the service's <data_dir>/files, never its working directory:
@@ -173,13 +298,13 @@ def prepare_sweep(data: Any, settings, scenarios_dir: Path | None) -> tuple[dict
 
     if not isinstance(data, dict):
         raise Invalid([(["body"], "must be a mapping: {\"scenario\": ..., \"vary\": {path: [values]}}")])
-    allowed = ("scenario", "vary", "overrides")
-    extra = [k for k in data if k not in allowed]
+    keys = ("scenario", "vary", "overrides")
+    extra = [k for k in data if k not in keys]
     missing = [k for k in ("scenario", "vary") if k not in data]
     if extra or missing:
-        raise Invalid([([str(k)], f"unknown key (allowed: {', '.join(allowed)})") for k in extra]
+        raise Invalid([([str(k)], f"unknown key (allowed: {', '.join(keys)})") for k in extra]
                       + [([k], "required field is missing") for k in missing])
-    scenario, overrides = unwrap({"scenario": data["scenario"], "overrides": data.get("overrides")}, scenarios_dir)
+    scenario, overrides, allowed = unwrap({"scenario": data["scenario"], "overrides": data.get("overrides")}, scenarios_dir)
     vary = data["vary"]
     if not isinstance(vary, dict) or not vary:
         raise Invalid([(["vary"], "must be a non-empty mapping of dotted scenario paths to lists of values")])
@@ -203,7 +328,7 @@ def prepare_sweep(data: Any, settings, scenarios_dir: Path | None) -> tuple[dict
         where = ", ".join(f"{k}={json.dumps(v)}" for k, v in values.items())
         try:
             case = apply_overrides(scenario, {**overrides, **values})
-            path_errors = check_scenario_paths(case, settings.resolved_data_dir())
+            path_errors = check_scenario_paths(case, settings.resolved_data_dir(), allowed=allowed)
             if path_errors:
                 raise Invalid([(_loc(f), f"{r} (load case {where})") for f, r in path_errors])
             case = resolve_data_files(case, files_dir(settings.resolved_data_dir()))

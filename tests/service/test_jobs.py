@@ -160,8 +160,8 @@ def test_validation_answers_name_the_field(api, shared_server):
     r = api.client.post("/jobs", json="/etc/passwd")
     assert r.status_code == 422 and r.json()["detail"][0]["loc"] == ["body"]
 
-    # a file reference outside the data directory (no file field exists in the schema yet:
-    # the guard runs before the schema)
+    # a file reference outside the data directory (the guard checks every path-like key,
+    # also ones the schema does not know, before the schema)
     crafted = riser()
     crafted["vessels"]["ship"]["motion"] = {"kind": "table", "time_series_file": "../../../etc/passwd"}
     r = api.client.post("/jobs", json=crafted)
