@@ -25,10 +25,34 @@ def _other_formulations(sc: Scenario) -> bool:
     return bool(sc.chains) or any(line.formulation != "absolute" for line in sc.lines.values())
 
 
+def _unsupported_lines(sc: Scenario) -> list[str]:
+    """Lines free at both ends that no other line hangs from: without seabed, rollers or a
+    balance of weight and buoyancy they have no static equilibrium."""
+    used = set()
+    for line in sc.lines.values():
+        for end in (line.end_a, line.end_b):
+            if ":" in end.attach:
+                used.add(end.attach.split(":", 1)[0])
+    return [name for name, line in sc.lines.items()
+            if line.end_a.attach == "free" and line.end_b.attach == "free" and name not in used]
+
+
 def _static_state(system: System, sc: Scenario, progress=None):
     s = sc.analysis.statics
-    state, info = solve_statics(system, tolerance=s.tolerance, max_iterations=s.max_iterations,
-                                load_steps=s.load_steps, progress=progress, seabed_friction=s.seabed_friction)
+    try:
+        state, info = solve_statics(system, tolerance=s.tolerance, max_iterations=s.max_iterations,
+                                    load_steps=s.load_steps, progress=progress, seabed_friction=s.seabed_friction)
+    except SolverError as exc:
+        free = _unsupported_lines(sc)
+        if not free or exc.hint:
+            raise
+        names = ", ".join(f"'{n}'" for n in free)
+        hint = (f"line{'s' if len(free) > 1 else ''} {names} {'have' if len(free) > 1 else 'has'} no support "
+                f"(both ends free): unless the seabed, rollers or buoyancy hold it there is no static "
+                f"equilibrium; attach an end, or set analysis.statics.enabled to false and start the dynamics "
+                f"from the given shape")
+        raise SolverError(exc.message, time=exc.time,
+                          element=exc.element, quantity=exc.quantity, results=exc.results, hint=hint) from None
     if system.km.has_reels:
         # reels that hold a back tension: turn the drums until they do (rfesim.solvers.reel_statics)
         from .solvers.reel_statics import settle_back_tension

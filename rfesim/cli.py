@@ -74,6 +74,44 @@ def _output_path(out: str | None, scenario: Path, default_suffix: str | None) ->
         raise CliError(f"error: the output path is a folder: {p}")
     if p.exists() and p.resolve() == scenario.resolve():
         raise CliError(f"error: the output file would overwrite the scenario: {p}")
+    check_writable(p)
+    return p
+
+
+def check_writable(p: Path) -> None:
+    """CliError now, before a long run, when the file ``p`` cannot be written (a folder that
+    is read-only, or a file that is): a probe file is created and removed beside it."""
+    import tempfile
+
+    folder = p.parent if str(p.parent) else Path(".")
+    try:
+        if p.exists():
+            with open(p, "ab"):
+                pass
+        else:
+            with tempfile.NamedTemporaryFile(dir=folder, prefix=f".{p.name}.", suffix=".probe"):
+                pass
+    except OSError as exc:
+        raise CliError(f"error: cannot write {p}: {exc.strerror or exc}") from None
+
+
+def _plot_path(plot: str, scenario: Path, out: Path | None) -> Path:
+    """The --plot file: a writable path, not the results file, in a format matplotlib writes."""
+    p = _output_path(plot, scenario, None)
+    if out is not None and (p.resolve() == out.resolve()):
+        raise CliError(f"error: --plot and -o name the same file ({p}): the plot would replace the results",
+                       EXIT_USAGE)
+    suffix = p.suffix.lower().lstrip(".")
+    if suffix:
+        from .plot import _pyplot
+
+        plt = _pyplot()
+        fig = plt.figure()
+        formats = fig.canvas.get_supported_filetypes()
+        plt.close(fig)
+        if suffix not in formats:
+            raise CliError(f"error: --plot {plot}: matplotlib cannot write '.{suffix}' files; give one of "
+                           + ", ".join("." + f for f in sorted(formats)), EXIT_USAGE)
     return p
 
 
@@ -132,7 +170,17 @@ def _run_summary(res, wall: float) -> list[str]:
     else:
         simulated = float(res.time[-1] - res.time[0]) if nt else 0.0
         step = c.get("time_step")
-        step_txt = f" of {step:.4g} s" if isinstance(step, (int, float)) else ""
+        halvings = int(c.get("step_halvings", 0) or 0)
+        if isinstance(step, (int, float)) and halvings:
+            # the steps then include the halves of the halved ones
+            step_txt = (f" (time step {step:.4g} s, {halvings} step halving{'s' if halvings != 1 else ''} where "
+                        f"Newton needed a shorter step)")
+        elif isinstance(step, (int, float)) and c.get("rejected_steps") is None:
+            step_txt = f" of {step:.4g} s"
+        elif isinstance(step, (int, float)):
+            step_txt = f" (adaptive, first step {step:.4g} s, {c.get('rejected_steps', 0)} rejected)"
+        else:
+            step_txt = ""
         lines.append(f"simulated {simulated:.6g} s: {c.get('steps', 0)} steps{step_txt}, {nt} output times, "
                      f"wall time {wall:.3g} s")
     return lines + _line_extremes(res)
@@ -151,6 +199,10 @@ def cmd_check(args) -> int:
         data = parse_text(*_read_file(_scenario_path(args.scenario)))
         print(json.dumps(expand(data), indent=2))
         return EXIT_OK
+    from .errors import ScenarioError
+    from .scenario.load import check_runnable
+    if check_runnable(sc):          # what `run` refuses too (rfesim.model.compile)
+        raise ScenarioError(check_runnable(sc))
     an = sc.analysis
     parts = [f"{len(sc.lines)} lines", f"{len(sc.vessels)} vessels", f"{len(sc.line_types)} line types",
              f"{sum(li.elements for li in sc.lines.values())} elements"]
@@ -166,6 +218,27 @@ def cmd_check(args) -> int:
         analyses.append(f"{an.modal.modes} modes")
     print(f"OK: {sc.name}: {', '.join(parts)}; " + (", ".join(analyses) or "no analysis enabled"))
     return EXIT_OK
+
+
+def numba_cache_is_cold() -> bool:
+    """True when the compiled numba kernels are not in the cache yet (the first run after an
+    install, or a new NUMBA_CACHE_DIR): the run then spends minutes compiling before its first
+    step. Judged by the cache index of the time-step and statics kernels; False when numba's
+    cache cannot be inspected."""
+    try:
+        from .solvers.jacobian import jacobian_analytic_at
+        from .solvers.kernels import ga_advance
+
+        paths = [d._cache._cache_file._index_path for d in (ga_advance, jacobian_analytic_at)]
+    except Exception:  # pragma: no cover - a numba without this (private) layout
+        return False
+    return not all(os.path.exists(p) for p in paths)
+
+
+def _note_cold_cache() -> None:
+    if numba_cache_is_cold():
+        _err("compiling the numba kernels: the first run after an install takes several minutes "
+             "(about 8 on 2 cores); they are cached, so later runs start in seconds")
 
 
 def _progress_bar(args):
@@ -186,8 +259,9 @@ def cmd_run(args) -> int:
     scenario = _scenario_path(args.scenario)
     out = _output_path(args.output, scenario, ".nc")
     if args.plot:
-        _output_path(args.plot, scenario, None)
+        _plot_path(args.plot, scenario, out)
     sc = rfesim.load_scenario(scenario)
+    _note_cold_cache()
     bar = _progress_bar(args)
     wall0 = time.perf_counter()
     try:
@@ -240,6 +314,7 @@ def cmd_statics(args) -> int:
     scenario = _scenario_path(args.scenario)
     out = _output_path(args.output, scenario, None)
     sc = rfesim.load_scenario(scenario)
+    _note_cold_cache()
     wall0 = time.perf_counter()
     try:
         res = rfesim.statics(sc)
@@ -269,6 +344,7 @@ def cmd_modes(args) -> int:
     sc = _load(args.scenario)
     if args.n is not None and args.n < 1:
         raise CliError("error: -n must be at least 1", EXIT_USAGE)
+    _note_cold_cache()
     try:
         md = rfesim.modes(sc, n=args.n)
     except rfesim.SolverError as exc:

@@ -37,13 +37,14 @@ class ScenarioError(RfesimError, ValueError):
 class SolverError(RfesimError, RuntimeError):
     """A run that could not go on (divergence, NaN, Newton failure).
 
-    Attributes: ``time`` (s), ``element`` (description of where), ``quantity``
+    Attributes: ``message`` (what failed, without the rest), ``time`` (s), ``element`` (description of where), ``quantity``
     (what went wrong), ``results`` (the Results computed up to the failure, or None),
     ``hint`` (what the state at the failure suggests, or None).
     """
 
     def __init__(self, message: str, *, time: float | None = None, element: str | None = None,
                  quantity: str | None = None, results=None, hint: str | None = None):
+        self.message = message
         self.time = time
         self.element = element
         self.quantity = quantity

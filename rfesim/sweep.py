@@ -379,6 +379,17 @@ def main(argv: list[str] | None = None) -> int:
         if not folder.is_dir():
             print(f"error: the output folder does not exist: {folder}", file=sys.stderr)
             return 1
+        if Path(args.output).is_dir():
+            print(f"error: the output path is a folder: {args.output} (give a file, e.g. {args.output}/table.csv)",
+                  file=sys.stderr)
+            return 1
+        from .cli import CliError, check_writable
+
+        try:
+            check_writable(Path(args.output))
+        except CliError as exc:
+            print(str(exc), file=sys.stderr)
+            return 1
     for n, flag in ((args.local_cluster, "--local-cluster"), (args.workers, "--workers")):
         if n is not None and n < 1:
             print(f"error: {flag} must be at least 1", file=sys.stderr)

@@ -147,6 +147,27 @@ def test_run_progress_bar(good, tmp_path, capsys):
     assert "100.0%" in err and "ETA" in err
 
 
+def test_cold_numba_cache_is_announced(good, tmp_path, monkeypatch, capsys):
+    # a run compiles (or loads) the kernels into the cache: the next run says nothing about it
+    assert main(["run", str(good), "-o", str(tmp_path / "a.nc"), "--no-progress"]) == 0
+    capsys.readouterr()
+    assert main(["run", str(good), "-o", str(tmp_path / "b.nc"), "--no-progress"]) == 0
+    assert "compiling" not in capsys.readouterr().err
+    # an empty cache directory is cold
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "empty_cache"))
+    cold = subprocess.run([sys.executable, "-c", "from rfesim.cli import numba_cache_is_cold as f; print(f())"],
+                          capture_output=True, text=True, env=env, timeout=120)
+    assert cold.stdout.strip() == "True", cold.stderr
+    # and then run, statics and modes say why the first run is slow, on stderr
+    monkeypatch.setattr("rfesim.cli.numba_cache_is_cold", lambda: True)
+    for argv in (["run", str(good), "-o", str(tmp_path / "c.nc"), "--no-progress"], ["statics", str(good)],
+                 ["modes", str(good), "-n", "2"]):
+        assert main(argv) == 0
+        captured = capsys.readouterr()
+        assert "compiling the numba kernels" in captured.err, argv
+        assert "compiling" not in captured.out
+
+
 def test_run_solver_error_writes_partial_results(tmp_path, capsys):
     import rfesim
 
@@ -155,9 +176,59 @@ def test_run_solver_error_writes_partial_results(tmp_path, capsys):
     assert main(["run", str(path), "-o", str(out), "--plot", str(png), "--no-progress"]) == 3
     err = capsys.readouterr().err
     assert "solver error:" in err and "partial results" in err and str(out) in err
+    # the step is named against the RK4 stability limit, in the warning and in the error
+    assert "longer than its stability limit" in err and "analysis.dynamics.integrator.time_step" in err
     assert png.is_file() and png.stat().st_size > 0
     res = rfesim.open_results(out)
     assert res.status == 1 and 0 < len(res.time) and res.time[-1] < 5.0
+
+
+def test_plot_path_checked_before_the_run(good, tmp_path, capsys):
+    same = tmp_path / "same.png"
+    assert main(["run", str(good), "-o", str(same), "--plot", str(same), "--no-progress"]) == 2
+    assert "--plot and -o name the same file" in capsys.readouterr().err
+    assert not same.exists()
+    out = tmp_path / "o.nc"
+    assert main(["run", str(good), "-o", str(out), "--plot", str(tmp_path / "o.xyz"), "--no-progress"]) == 2
+    err = capsys.readouterr().err
+    assert "cannot write '.xyz' files" in err and ".png" in err and "Traceback" not in err
+    assert not out.exists()                     # refused before the run, nothing written
+
+
+@pytest.mark.skipif(not Path("/proc/self").is_dir(), reason="needs a Linux /proc (not writable, even for root)")
+def test_unwritable_output_refused_before_the_run(good, capsys):
+    assert main(["run", str(good), "-o", "/proc/rfesim_results.nc", "--no-progress"]) == 1
+    err = capsys.readouterr().err
+    assert "cannot write /proc/rfesim_results.nc" in err
+    assert "simulated" not in err
+
+
+def test_summary_counts_halved_steps():
+    import numpy as np
+
+    from rfesim.cli import _run_summary
+
+    class Res:
+        kind = "dynamics"
+        time = np.linspace(0.0, 6.0, 4)
+        lines = {}
+        counters = {"steps": 31, "time_step": 2.0, "step_halvings": 3}
+
+    text = _run_summary(Res(), 1.0)[0]
+    assert text.startswith("simulated 6 s: 31 steps (time step 2 s, 3 step halvings where Newton needed")
+    Res.counters = {"steps": 3, "time_step": 2.0}
+    assert _run_summary(Res(), 1.0)[0].startswith("simulated 6 s: 3 steps of 2 s, 4 output times")
+
+
+def test_sweep_output_folder_refused_before_the_cases(good, tmp_path, capsys):
+    from rfesim.sweep import main as sweep_main
+
+    folder = tmp_path / "outdir"
+    folder.mkdir()
+    assert sweep_main([str(good), "--vary", "analysis.dynamics.duration=0.05", "-o", str(folder)]) == 1
+    err = capsys.readouterr().err
+    assert "the output path is a folder" in err
+    assert not (tmp_path / "outdir.tmp").exists()
 
 
 def diverging_scenario() -> dict:

@@ -43,6 +43,7 @@ from ..model.compile import State, compile_scenario
 from ..model.outputs import reactions
 from ..scenario.chains import chain_point
 from ..solvers.banded import bt_factor, bt_solve
+from ..solvers.dynamics import output_schedule
 from ..solvers.kernels import REBASE_THRESHOLD, genalpha_parameters, jacobian_fd, jacobian_fd_general, residual_q
 from ..solvers.residual import residual_norm
 from ..solvers.system import System
@@ -603,7 +604,7 @@ class Integrator:
     def step(self, st: State, c, h, force_ref) -> bool:
         """One step of size h from st.t; st (line) and c = dict(x, v, a, aux) (chain) are
         updated in place on success. Returns False (state untouched) when Newton fails."""
-        ms, cp, sysm = self.ms, self.cp, self.ms.system
+        cp, sysm = self.cp, self.ms.system
         am, af, beta, gamma = self.am, self.af, self.beta, self.gamma
         cq = h * h * beta * (1.0 - af) / (1.0 - am)
         cv = h * gamma * (1.0 - af) / (1.0 - am)
@@ -819,10 +820,8 @@ def simulate(sc, progress=None):
     start_dynamics(ms, st, c)
     h = float(integ.time_step)
     T = float(dyn.duration)
-    out_dt = float(dyn.output_interval) if dyn.output_interval is not None else h * max(1, math.ceil(T / h / 10000.0))
-    per_out = max(1, int(math.ceil(out_dt / h - 1e-9)))
-    h = out_dt / per_out
-    n_out = int(math.floor(T / out_dt + 1e-9))
+    out_dt, n_out, h = output_schedule(T, h, dyn.output_interval)
+    per_out = max(1, int(round(out_dt / h)))
     rec = _Recorded(ms, n_out + 1)
     rec.record(st, c)
     force_ref = sysm.force_scale(st)

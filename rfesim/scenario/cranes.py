@@ -110,7 +110,9 @@ class MemberSpec(_Strict):
     elements: int | None = Field(None, ge=1, le=1000, description="Number of SDEs (default: one per 2 m, at "
                                  "least 4)")
     outer_diameter: float | None = _units("m", "Tube outer diameter (also the wind/drag diameter)", default=None,
-                                          gt=0.0)
+                                          gt=0.0, le=50.0,
+                                          limit="a crane member is a slender tube, at most a few metres across "
+                                                "(check the units, metres)")
     wall_thickness: float | None = _units("m", "Tube wall thickness", default=None, gt=0.0)
     youngs_modulus: float = _units("Pa", "Young's modulus", default=STEEL_E, gt=0.0)
     density: float = _units("kg/m^3", "Density of the steel", default=STEEL_DENSITY, gt=0.0)

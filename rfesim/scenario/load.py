@@ -10,16 +10,17 @@ import difflib
 import json
 import math
 import os
+import re
 import types
 import typing
 from pathlib import Path
 from typing import Annotated, Any, Callable, Literal, Union
 
 import yaml
-from pydantic import BaseModel, ValidationError
+from pydantic import BaseModel, TypeAdapter, ValidationError
 
 from ..errors import ScenarioError
-from .schema import FieldError, Scenario
+from .schema import FieldError, Scenario, yaml_bool_hint
 
 RESERVED_ATTACH = ("fixed", "free")
 
@@ -181,7 +182,10 @@ def _reason(err: dict, owner: type | None = None, key: Any = None, tp: Any = Non
         return "", f"must be a finite number, got {_show(got)}"
     if typ in ("greater_than", "greater_than_equal", "less_than", "less_than_equal"):
         bound = msg.lower().replace("input should be", "must be")
-        return "", f"{bound} (got {_show(got)})"
+        why, unit = _limit_reason(owner, key) if typ.startswith("less") else (None, None)
+        if why and unit and unit != "1":
+            bound += f" {unit}"
+        return "", f"{bound} (got {_show(got)})" + (f": {why}" if why else "")
     if typ in ("union_tag_invalid", "union_tag_not_found"):
         field = str(ctx.get("discriminator", "'kind'")).strip("'\"")
         expected = ctx.get("expected_tags") or ", ".join(f"'{k}'" for k in _kinds(tp))
@@ -199,10 +203,23 @@ def _reason(err: dict, owner: type | None = None, key: Any = None, tp: Any = Non
     if typ == "string_too_long":
         return "", f"is too long (at most {ctx.get('max_length')} characters)"
     if typ in _TYPE_REASONS:
+        hint = f" ({yaml_bool_hint(got)})" if isinstance(got, bool) and typ == "string_type" else ""
         if typ == "string_type" and "[key]" in err.get("loc", ()):
-            return "", f"names must be text (strings), got {_show(got)}"
-        return "", f"{_TYPE_REASONS[typ]}, got {_show(got)}"
+            if isinstance(got, bool):
+                return "", f"names must be text (strings), got the boolean {_show(got)}{hint}"
+            return "", f"names must be text (strings), got {_show(got)} (quote it: '{got}')"
+        return "", f"{_TYPE_REASONS[typ]}, got {_show(got)}{hint}"
     return "", msg
+
+
+def _limit_reason(owner: type | None, key: Any) -> tuple[str | None, str | None]:
+    """(the reason documented for a field's upper bound, its unit): ``limit`` and ``units`` in
+    its JSON Schema extra (rfesim.scenario.schema._units)."""
+    field = owner.model_fields.get(key) if owner is not None and isinstance(key, str) else None
+    extra = getattr(field, "json_schema_extra", None)
+    if not isinstance(extra, dict):
+        return None, None
+    return extra.get("limit"), extra.get("units")
 
 
 def validation_errors(exc: ValidationError, prefix: tuple = ()) -> list[tuple[str, str]]:
@@ -213,6 +230,9 @@ def validation_errors(exc: ValidationError, prefix: tuple = ()) -> list[tuple[st
         loc = tuple(prefix) + tuple(err.get("loc", ()))
         parts, owner, tp = _resolve(loc)
         extra, reason = _reason(err, owner, parts[-1] if parts else None, tp)
+        if parts and err.get("loc", ())[-1:] == ("[key]",) and isinstance(err.get("input"), bool):
+            # pydantic reports a boolean key as its index 0/1: name it by what the user wrote
+            parts = parts[:-1] + [_show(err["input"])]
         if extra:
             parts = parts + [extra]
         path = ".".join(parts)
@@ -237,6 +257,47 @@ def _rest_position(sc: Scenario, end) -> list[float] | None:
     x, y, z = end.position
     c, s = math.cos(h), math.sin(h)
     return [vessel.position[0] + c * x - s * y, vessel.position[1] + s * x + c * y, vessel.position[2] + z]
+
+
+SEABED_TOLERANCE = 0.05     # m an end may lie in the seabed beyond its radius and its static sinkage
+
+
+def _below_seabed(sc: Scenario, lt, attach: str, p: list[float]) -> str | None:
+    """Why a placed line end (global rest position ``p``) lies too deep in the seabed, or None.
+
+    An end may rest on the seabed and sit in it by its contact radius (outer_diameter/2),
+    the static sinkage of its submerged weight on the seabed spring (w/k, as a laid line
+    rests, rfesim.model.compile) and SEABED_TOLERANCE; the seabed height is taken under the
+    end (flat, sloped or profile seabed)."""
+    env = sc.environment
+    if env.seabed is None:
+        return None
+    zb = env.seabed_z_at(p[0], p[1])
+    if zb is None or not math.isfinite(zb):
+        return None
+    from ..model.sections import section_from_type
+    sec = section_from_type(lt)
+    radius = 0.5 * sec.outer_diameter
+    w = sec.mass_per_length * env.gravity
+    if env.water is not None:
+        w -= env.water.density * env.gravity * sec.displaced_area
+    sink = max(w, 0.0) / env.seabed.normal_stiffness
+    allowed = radius + sink + SEABED_TOLERANCE
+    depth = zb - p[2]
+    if not depth > allowed:
+        return None
+    frame = "" if attach == "fixed" else f" (global, with vessel '{attach}' at rest)"
+    return (f"z = {p[2]:.6g} m{frame} is {depth:.4g} m below the seabed (z = {zb:.6g} m under this end): an end "
+            f"may rest on the seabed and lie at most {allowed:.3g} m in it (its radius {radius:.3g} m + the "
+            f"sinkage of its weight {sink:.3g} m + {SEABED_TOLERANCE} m)")
+
+
+def check_runnable(sc: Scenario) -> list[tuple[str, str]]:
+    """What a run refuses in a scenario that is otherwise valid (shared by ``rfesim check``
+    with rfesim.model.compile.compile_scenario): a scene with nothing to simulate."""
+    if not sc.lines and not sc.chains:
+        return [("lines", "the scenario has no lines to simulate")]
+    return []
 
 
 def _on_chain(sc: Scenario, attach: str) -> bool:
@@ -290,6 +351,12 @@ def check_references(sc: Scenario) -> list[tuple[str, str]]:
                 errors.append((f"{base}.length", f"{line.length} m is shorter than the distance between its ends "
                                                  f"({d:.6g} m): the line would be stretched by "
                                                  f"{100 * (d / line.length - 1):.3g} %"))
+        for end_name, p in (("end_a", pa), ("end_b", pb)):
+            attach = getattr(line, end_name).attach
+            if p is not None and attach != "free" and all(math.isfinite(c) for c in p):
+                why = _below_seabed(sc, lt, attach, p)
+                if why:
+                    errors.append((f"{base}.{end_name}.position", why))
         on_reel = any(sup.kind == "reel" and sup.line == lname for sup in sc.supports.values())
         if line.end_a.attach == "free" and line.end_a.position is None and line.end_b.attach == "free" \
                 and not on_reel:        # a reel places end A on its wrap (stored_length)
@@ -324,6 +391,85 @@ def check_references(sc: Scenario) -> list[tuple[str, str]]:
     return list(dict.fromkeys(errors))
 
 
+def _extreme_number(data: Any, path: tuple = ()) -> tuple[float, tuple, Any] | None:
+    """(|log10|v||, path, v) of the number in ``data`` farthest from 1 in magnitude."""
+    best = None
+    if isinstance(data, dict):
+        items = ((str(k), v) for k, v in data.items())
+    elif isinstance(data, list):
+        items = ((str(i), v) for i, v in enumerate(data))
+    else:
+        if isinstance(data, (int, float)) and not isinstance(data, bool) and data != 0:
+            try:
+                return abs(math.log10(abs(data))), path, data
+            except (ValueError, OverflowError):       # nan, inf
+                return None
+        return None
+    for key, value in items:
+        found = _extreme_number(value, path + (key,))
+        if found is not None and (best is None or found[0] > best[0]):
+            best = found
+    return best
+
+
+def arithmetic_error(exc: Exception, where: str, *sources: tuple[tuple, Any]) -> tuple[str, str]:
+    """(field path, reason) for arithmetic that failed (overflow, division by zero, a solver
+    that found no root) while checking ``where``: the number of ``sources`` ((path prefix,
+    data) pairs) far out of range (beyond 1e30 or below 1e-30 in size) is named, else
+    ``where``."""
+    what = "overflows" if isinstance(exc, OverflowError) else \
+        "divides by zero" if isinstance(exc, ZeroDivisionError) else "fails"
+    best = None
+    for prefix, data in sources:
+        found = _extreme_number(data, tuple(prefix))
+        if found is not None and (best is None or found[0] > best[0]):
+            best = found
+    if best is not None and best[0] >= 30.0:
+        return ".".join(best[1]), (f"{_show(best[2])} is out of range: the computation with it {what} ({exc}); "
+                                   f"give a value of a physical size (SI units)")
+    return where, (f"these values cannot be computed with: the arithmetic {what} ({exc}); check their sizes "
+                   f"and units")
+
+
+def _arithmetic_site(obj: Any, tp: Any, path: tuple = ()) -> tuple | None:
+    """The deepest path in ``obj`` (of schema type ``tp``) whose validation on its own raises
+    an ArithmeticError, or None."""
+    t = _unwrap(tp)
+    members = [_unwrap(a) for a in typing.get_args(t)] if typing.get_origin(t) in (Union, types.UnionType) else [t]
+    for m in members:
+        children: list = []
+        if isinstance(obj, dict) and isinstance(m, type) and issubclass(m, BaseModel):
+            children = [(k, v, m.model_fields[k].annotation) for k, v in obj.items()
+                        if isinstance(k, str) and k in m.model_fields]
+        elif isinstance(obj, dict) and typing.get_origin(m) is dict:
+            children = [(str(k), v, typing.get_args(m)[1]) for k, v in obj.items()]
+        elif isinstance(obj, list) and typing.get_origin(m) is list:
+            children = [(str(i), v, typing.get_args(m)[0]) for i, v in enumerate(obj)]
+        for key, value, sub in children:
+            found = _arithmetic_site(value, sub, path + (key,))
+            if found is not None:
+                return found
+    if not isinstance(obj, (dict, list)):
+        return None
+    try:
+        TypeAdapter(tp).validate_python(obj)
+    except ArithmeticError:
+        return path
+    except Exception:  # noqa: BLE001 - only the arithmetic failure is looked for here
+        return None
+    return None
+
+
+def _at(data: Any, path: tuple) -> Any:
+    """The part of ``data`` at ``path`` (keys as text)."""
+    for key in path:
+        if isinstance(data, list):
+            data = data[int(key)]
+        else:
+            data = next(v for k, v in data.items() if str(k) == key)
+    return data
+
+
 def validate_dict(obj: Any, _raw: Callable | None = None) -> Scenario:
     """Validate a plain dict into a Scenario, raising ScenarioError on any problem."""
     if not isinstance(obj, dict):
@@ -338,7 +484,14 @@ def validate_dict(obj: Any, _raw: Callable | None = None) -> Scenario:
         sc = raw(obj)
     except ValidationError as exc:
         raise ScenarioError(validation_errors(exc)) from None
-    errors = check_references(sc)
+    except ArithmeticError as exc:
+        # a validator computing with an absurd number (1e300): name the section, and the number
+        where = _arithmetic_site(obj, Scenario) or ()
+        raise ScenarioError([arithmetic_error(exc, ".".join(where), (where, _at(obj, where)))]) from None
+    try:
+        errors = check_references(sc)
+    except ArithmeticError as exc:
+        raise ScenarioError([arithmetic_error(exc, "", ((), obj))]) from None
     if errors:
         raise ScenarioError(errors)
     return sc
@@ -362,10 +515,55 @@ def _construct_unique_mapping(loader, node, deep=False):
                                       f"key '{key}' appears twice in the same mapping (first at line "
                                       f"{seen[key].line + 1})")])
         seen[key] = key_node.start_mark
-    return loader.construct_mapping(node, deep=deep)
+    mapping = loader.construct_mapping(node, deep=deep)
+    for key_node, _ in node.value:
+        # an unquoted yes/no/on/off/true/false key is a boolean in YAML 1.1: keep the word to
+        # report it (_bool_keys) instead of a name "false"
+        if isinstance(key_node, yaml.ScalarNode) and key_node.tag == "tag:yaml.org,2002:bool" \
+                and key_node.style is None:
+            value = loader.construct_object(key_node, deep=deep)
+            if isinstance(value, bool) and value in mapping:
+                mapping[_YamlBoolKey(key_node.value, value, key_node.start_mark)] = mapping.pop(value)
+    return mapping
+
+
+class _YamlBoolKey:
+    """A mapping key that YAML read as a boolean (``no:``), with the word the user wrote."""
+
+    def __init__(self, word: str, value: bool, mark):
+        self.word, self.value, self.mark = word, value, mark
+
+    def __repr__(self) -> str:
+        return self.word
+
+
+def _bool_keys(data: Any, path: tuple = ()) -> list[tuple[str, str]]:
+    """Errors for the keys YAML read as booleans, with their dotted paths."""
+    out = []
+    if isinstance(data, dict):
+        for key, value in data.items():
+            if isinstance(key, _YamlBoolKey):
+                where = ".".join(path + (key.word,))
+                out.append((where, f"YAML reads the unquoted key {key.word} (line {key.mark.line + 1}) as the "
+                                   f"boolean {'true' if key.value else 'false'}, not a name: quote it "
+                                   f"(\"{key.word}\": ...) (YAML 1.1 reads yes, no, on, off, true and false "
+                                   f"as booleans)"))
+                out.extend(_bool_keys(value, path + (key.word,)))
+            else:
+                out.extend(_bool_keys(value, path + (str(key),)))
+    elif isinstance(data, list):
+        for i, value in enumerate(data):
+            out.extend(_bool_keys(value, path + (str(i),)))
+    return out
 
 
 _UniqueKeyLoader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, _construct_unique_mapping)
+# numbers in exponent form as YAML 1.2 (and JSON, and every engineer) writes them: 2.1e11, 1e5,
+# 3E-2 -- YAML 1.1, and so PyYAML, reads them as text unless they have a dot and a signed exponent
+_UniqueKeyLoader.add_implicit_resolver(
+    "tag:yaml.org,2002:float",
+    re.compile(r"^(?:[-+]?(?:[0-9][0-9_]*)(?:\.[0-9_]*)?[eE][-+]?[0-9]+|[-+]?\.[0-9_]+[eE][-+]?[0-9]+)$"),
+    list("-+0123456789."))
 
 
 def _unique_json_object(pairs):
@@ -388,13 +586,17 @@ def _parse_json(text: str) -> Any:
 
 def _parse_yaml(text: str) -> Any:
     try:
-        return yaml.load(text, Loader=_UniqueKeyLoader)  # noqa: S506 - a SafeLoader subclass
+        data = yaml.load(text, Loader=_UniqueKeyLoader)  # noqa: S506 - a SafeLoader subclass
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         where = f" at line {mark.line + 1} column {mark.column + 1}" if mark is not None else ""
         raise ScenarioError([("", f"invalid YAML{where}: {getattr(exc, 'problem', None) or exc}")]) from None
     except RecursionError:
         raise ScenarioError([("", "invalid YAML: nested too deeply")]) from None
+    errors = _bool_keys(data)
+    if errors:
+        raise ScenarioError(errors)
+    return data
 
 
 def parse_text(text: str | bytes, fmt: str = "auto") -> Any:
@@ -426,16 +628,43 @@ def parse_text(text: str | bytes, fmt: str = "auto") -> Any:
     return _parse_yaml(text)
 
 
+def _list_index(path: str, key: str, items: list) -> int:
+    """The list position ``key`` names in a dotted override path (ScenarioError if none)."""
+    if key.startswith("-") and key[1:].isdigit():
+        raise ScenarioError([(path, f"'{key}' is a negative list position: positions count from 0 at the "
+                                    f"start of the list ({_span(items)})")])
+    if not (key.isascii() and key.isdigit()):
+        raise ScenarioError([(path, f"'{key}' is not a valid index: a list position is a whole number from 0")])
+    i = int(key)
+    if i >= len(items):
+        raise ScenarioError([(path, f"'{key}' is not a valid index: beyond the end of the list ({_span(items)})")])
+    return i
+
+
+def _span(items: list) -> str:
+    n = len(items)
+    return "the list is empty" if n == 0 else "its only position is 0" if n == 1 else f"positions 0 to {n - 1}"
+
+
 def set_path(data: dict, path: str, value: Any) -> None:
-    """Set ``data[a][b][c] = value`` for a dotted path ``a.b.c`` (list indices allowed)."""
+    """Set ``data[a][b][c] = value`` for a dotted path ``a.b.c`` (list positions from 0 allowed).
+
+    Refused with a ScenarioError naming the path: an empty path or an empty part (``lines..pipe``,
+    a leading or trailing dot), a negative or missing list position, a part under a value that
+    is not a mapping or a list."""
+    if not isinstance(path, str) or not path.strip():
+        raise ScenarioError([(str(path), "an override needs a dotted field path such as lines.pipe.elements, "
+                                         "got an empty one")])
     keys = path.split(".")
+    for i, k in enumerate(keys):
+        if not k.strip():
+            where = "at the start" if i == 0 else "at the end" if i == len(keys) - 1 else f"after '{keys[i - 1]}'"
+            raise ScenarioError([(path, f"part {i + 1} of the dotted path is empty ({where}: a stray or doubled "
+                                        f"dot): each part must name a field, an entry or a list position")])
     cur: Any = data
     for i, k in enumerate(keys[:-1]):
         if isinstance(cur, list):
-            try:
-                cur = cur[int(k)]
-            except (ValueError, IndexError):
-                raise ScenarioError([(path, f"'{k}' is not a valid index")]) from None
+            cur = cur[_list_index(path, k, cur)]
             continue
         if not isinstance(cur, dict):
             raise ScenarioError([(path, f"'{'.'.join(keys[:i])}' is not a mapping")])
@@ -444,10 +673,7 @@ def set_path(data: dict, path: str, value: Any) -> None:
         cur = cur[k]
     last = keys[-1]
     if isinstance(cur, list):
-        try:
-            cur[int(last)] = value
-        except (ValueError, IndexError):
-            raise ScenarioError([(path, f"'{last}' is not a valid index")]) from None
+        cur[_list_index(path, last, cur)] = value
     elif isinstance(cur, dict):
         cur[last] = value
     else:

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import copy
 import math
-from typing import Annotated, Any, Literal, Union
+from typing import Annotated, Literal, Union
 
 from pydantic import Field, TypeAdapter, ValidationError, model_validator
 
@@ -40,7 +40,9 @@ STEEL_DENSITY = 7850.0
 class PipeSpec(_Strict):
     """The pipe: steel geometry and grade, optional coating and contents, sea-load coefficients."""
 
-    outer_diameter: float = _units("m", "Steel outer diameter", gt=0.0)
+    outer_diameter: float = _units("m", "Steel outer diameter", gt=0.0, le=10.0,
+                                   limit="pipelines are at most about 1.5 m (60 in) across (check the units, "
+                                         "metres)")
     wall_thickness: float = _units("m", "Steel wall thickness", gt=0.0)
     grade: Literal["X52", "X56", "X60", "X65", "X70", "X80"] = Field(
         "X65", description="API 5L steel grade: the yield stress of an elastoplastic pipe (SMYS)")
@@ -91,7 +93,9 @@ class TensionerSpec(_Strict):
 class StingerSpec(_Strict):
     """S-lay stinger: an arc of V-roller stations from the vessel's deck line."""
 
-    radius: float = _units("m", "Radius of the arc of roller stations", default=100.0, gt=0.0)
+    radius: float = _units("m", "Radius of the arc of roller stations", default=100.0, gt=0.0, le=1.0e4,
+                           limit="a stinger arc is at most a few hundred metres in radius (check the units, "
+                                 "metres)")
     length: float | None = _units("m", "Arc length (default: the tip angle equals the catenary's departure "
                                   "angle)", default=None, gt=0.0)
     start: Vector3 = _units("m", "First roller station (V bottom), vessel frame", default=[0.0, 0.0, 2.0])
@@ -112,7 +116,9 @@ class _Template(_Strict):
                                        "vessel (position, heading_deg, motion) made as <name>_vessel")
     pipe: PipeSpec
     tension: float | None = _units("N", "Horizontal lay tension H of the suspended pipe (the bottom tension)",
-                                   default=None)
+                                   default=None, le=1.0e9,
+                                   limit="beyond any lay vessel: the largest tensioners hold about 20 MN "
+                                         "(check the units, newtons)")
     laid_length: float = _units("m", "Pipe on the seabed beyond the touchdown point, to the pinned end B",
                                 default=50.0, gt=0.0, le=1.0e5)
     element_length: float | None = _units("m", "Target element length (default: set by the method; or give "
@@ -241,11 +247,14 @@ def expand_templates(data: dict, key: str, adapter: TypeAdapter, expand_one) -> 
         out = dict(data)
         out.pop(key)
         return out
+    from .load import arithmetic_error
     try:
         templates = adapter.validate_python(raw)
     except ValidationError as exc:
         from .load import validation_errors
         raise ScenarioError(validation_errors(exc, prefix=(key,))) from None
+    except ArithmeticError as exc:
+        raise ScenarioError([arithmetic_error(exc, key, ((key,), raw))]) from None
     env = _environment(data)
     out = copy.deepcopy(data)
     del out[key]
@@ -257,6 +266,13 @@ def expand_templates(data: dict, key: str, adapter: TypeAdapter, expand_one) -> 
             expand_one(out, name, tpl, raw[name], env)
         except FieldError as exc:
             errors.append((f"{key}.{name}.{exc.field}" if exc.field else f"{key}.{name}", exc.reason))
+        except ScenarioError:
+            raise
+        except (ArithmeticError, ValueError) as exc:
+            # a safety net: arithmetic on absurd numbers (an overflow, a root finder without a
+            # root) names the template and the number far out of range, never a traceback
+            errors.append(arithmetic_error(exc, f"{key}.{name}", ((key, name), raw[name]),
+                                           (("environment",), data.get("environment"))))
     if errors:
         raise ScenarioError(errors)
     return out
@@ -266,7 +282,7 @@ def _environment(data: dict):
     from .schema import Environment
     try:
         return Environment.model_validate(data.get("environment") or {})
-    except (ValidationError, ValueError):
+    except (ValidationError, ValueError, ArithmeticError):
         return None
 
 
@@ -486,7 +502,13 @@ def _s_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
         hi = 0.5 * math.pi
         if height(hi) <= 0.0:              # the arc reaches the seabed first
             hi = math.acos(1.0 - (height(0.0) - 1e-6) / Rp)
-        theta = brentq(lambda th: departure(th) - th, 1e-9, hi, xtol=1e-12)
+        lo = 1e-9
+        if not (departure(lo) - lo) * (departure(hi) - hi) <= 0.0:       # no sign change (or nan)
+            raise FieldError("tension", f"{H:.6g} N on a pipe of submerged weight {w:.4g} N/m (H/w = {a:.4g} m): no "
+                                        f"stinger tip angle matches the catenary's departure angle (between "
+                                        f"{math.degrees(lo):.3g} and {math.degrees(hi):.3g} deg); give "
+                                        f"stinger.length, or a smaller tension or a heavier pipe")
+        theta = brentq(lambda th: departure(th) - th, lo, hi, xtol=1e-12)
     length_stinger = st.radius * theta
     if length_stinger < st.spacing:
         raise FieldError("stinger.spacing", f"{st.spacing} m is longer than the stinger ({length_stinger:.4g} m "

@@ -31,9 +31,32 @@ class FieldError(ValueError):
         super().__init__(f"{field}: {reason}")
 
 
-def _units(u: str, description: str, **kw):
-    """A pydantic Field with its SI unit in the JSON Schema."""
-    return Field(description=f"{description} [{u}]", json_schema_extra={"units": u}, **kw)
+def _units(u: str, description: str, limit: str | None = None, **kw):
+    """A pydantic Field with its SI unit in the JSON Schema; ``limit`` is the reason for its
+    upper bound (``le``/``lt``), added to the message when a value exceeds it
+    (rfesim.scenario.load._reason)."""
+    extra = {"units": u} if limit is None else {"units": u, "limit": limit}
+    return Field(description=f"{description} [{u}]", json_schema_extra=extra, **kw)
+
+
+def yaml_bool_hint(value: bool) -> str:
+    """Why a boolean may stand where text was meant: YAML 1.1 (PyYAML) reads the unquoted
+    words yes/no/on/off/true/false as booleans."""
+    words = "yes, on and true" if value else "no, off and false"
+    example = "on" if value else "off"
+    return (f"YAML reads the unquoted words {words} as the boolean {'true' if value else 'false'}: "
+            f"quote the word (e.g. \"{example}\") to give it as text")
+
+
+WAVE_PERIODS = (0.1, 3600.0)      # s, ocean gravity waves: ripples of a few cm to tsunamis
+
+
+def _wave_period(value: float, what: str) -> float:
+    lo, hi = WAVE_PERIODS
+    if not lo <= value <= hi:
+        raise ValueError(f"{value:.6g} s is outside the periods of ocean gravity waves ({lo:g} s to {hi:g} s): "
+                         f"check the units of the {what} (seconds)")
+    return value
 
 
 def _allows_bool(annotation) -> bool:
@@ -74,7 +97,7 @@ class _Strict(BaseModel):
                 word = "true" if value else "false"
                 if _is_numeric(field.annotation):
                     raise FieldError(name, f"must be a number, not the boolean {word}")
-                raise FieldError(name, f"the boolean {word} is not allowed here")
+                raise FieldError(name, f"the boolean {word} is not allowed here ({yaml_bool_hint(value)})")
         return data
 
 
@@ -183,6 +206,11 @@ class AiryWaves(_Waves):
     phase_deg: float = _units("deg", "Phase: eta = H/2*cos(2*pi*t/period - k*(x*cos(b) + y*sin(b)) + phase)",
                               default=0.0)
 
+    @field_validator("period")
+    @classmethod
+    def _period(cls, value):
+        return _wave_period(value, "wave period")
+
 
 class Stokes5Waves(_Waves):
     """A regular Stokes 5th-order wave (Fenton 1985): height crest to trough, period, zero
@@ -197,6 +225,11 @@ class Stokes5Waves(_Waves):
         "none", description="Stokes kinematics hold up to the actual surface: none (default) evaluates them "
                             "there; the other methods as for airy")
 
+    @field_validator("period")
+    @classmethod
+    def _period(cls, value):
+        return _wave_period(value, "wave period")
+
 
 class _SpectrumWaves(_Waves):
     hs: float = _units("m", "Significant wave height (4 sqrt(m0))", gt=0.0)
@@ -210,6 +243,22 @@ class _SpectrumWaves(_Waves):
                                  "frequency inside it")
     omega_min: float | None = _units("rad/s", "Lowest frequency (default 0.5*2*pi/tp)", default=None, gt=0.0)
     omega_max: float | None = _units("rad/s", "Highest frequency (default 10*2*pi/tp)", default=None, gt=0.0)
+
+    @field_validator("tp")
+    @classmethod
+    def _tp(cls, value):
+        return _wave_period(value, "peak period")
+
+    @field_validator("omega_min", "omega_max")
+    @classmethod
+    def _omega(cls, value):
+        # the default range, 0.5 to 10 times the peak frequency, at the longest and shortest tp
+        lo, hi = 0.5 * 2.0 * math.pi / WAVE_PERIODS[1], 10.0 * 2.0 * math.pi / WAVE_PERIODS[0]
+        if value is not None and not lo <= value <= hi:
+            raise ValueError(f"{value:.6g} rad/s is outside the frequencies of ocean gravity waves ({lo:.3g} to "
+                             f"{hi:.3g} rad/s: periods of {2.0 * math.pi / hi:.3g} s to {2.0 * math.pi / lo:.4g} s): "
+                             f"check the units (rad/s)")
+        return value
 
     @model_validator(mode="after")
     def _range(self):
@@ -272,7 +321,8 @@ class Water(_Strict):
 
     density: float = _units("kg/m^3", "Mass density of sea water", default=1025.0, gt=0.0)
     depth: float | None = _units("m", "Water depth below the still surface (seabed at surface_level - depth)",
-                                 default=None, gt=0.0)
+                                 default=None, gt=0.0, le=1.0e5,
+                                 limit="no sea is deeper than about 11 km (check the units, metres)")
     surface_level: float = _units("m", "z of the still water surface", default=0.0)
     current: Current | None = Field(None, description="Current profile; omit for none")
     waves: Waves | None = Field(None, description="Waves: kind airy, stokes5, jonswap, pierson-moskowitz or time-series; "
@@ -401,10 +451,18 @@ class Environment(_Strict):
         if depth is None and not waves.deep_water:
             raise FieldError("water.depth", "waves need the water depth (give water.depth or a seabed), or set "
                                             "water.waves.deep_water: true for deep-water waves")
-        if self.gravity <= 0.0:
-            raise FieldError("gravity", "waves need gravity (> 0)")
+        if self.gravity < 0.1:
+            raise FieldError("gravity", f"waves need gravity: at least 0.1 m/s^2, got {self.gravity:.6g} m/s^2")
+        try:
+            self._check_wave_steepness(waves, None if waves.deep_water else depth)
+        except (ArithmeticError, RuntimeError) as exc:
+            # e.g. a dispersion relation that does not converge: the field, not a traceback
+            raise FieldError("water.waves", f"the waves cannot be computed for this period, depth and gravity "
+                                            f"({exc}): check their sizes and units") from None
+        return self
+
+    def _check_wave_steepness(self, waves, h: float | None) -> None:
         from ..sea.waves import breaking_steepness, sea_state_steepness_limit, wavelength
-        h = None if waves.deep_water else depth
         if waves.kind == "airy":
             length = wavelength(waves.period, h, self.gravity)
             limit = breaking_steepness(waves.period, h, self.gravity)
@@ -425,7 +483,6 @@ class Environment(_Strict):
                 raise FieldError("water.waves.hs",
                                  f"{waves.hs} m at tp = {waves.tp} s is steeper (2*pi*hs/(g*tp^2) = {steepness:.4g}) "
                                  f"than a sea state can be (DNV-RP-C205 limit {limit:.4g}): lower hs or raise tp")
-        return self
 
     def seabed_z(self) -> float | None:
         """The z of the seabed plane, or None without a seabed."""
@@ -764,7 +821,9 @@ class LineType(_Strict):
     density) or direct section properties (EA, EIy, EIz, GJ, mass_per_length, GA)."""
 
     outer_diameter: float | None = _units("m", "Outer diameter (hydrodynamic, buoyancy and contact diameter)",
-                                          default=None, gt=0.0)
+                                          default=None, gt=0.0, le=100.0,
+                                          limit="a line is a slender rod, pipe or cable: 100 m across is not "
+                                                "slender (check the units, metres)")
     wall_thickness: float | None = _units("m", "Wall thickness of a pipe", default=None, gt=0.0)
     youngs_modulus: float | None = _units("Pa", "Young's modulus", default=None, gt=0.0)
     poisson_ratio: float = Field(0.3, gt=-1.0, lt=0.5, description="Poisson's ratio [-]")
@@ -1051,6 +1110,9 @@ class Line(_Strict):
                 raise FieldError("length", f"{self.length} m is too short (at least {MIN_SEGMENT} m)")
             raise FieldError("elements", f"{self.elements} elements on {self.length} m make segments of "
                                          f"{dx:.3g} m, shorter than {MIN_SEGMENT} m: use fewer elements")
+        if self.dofs is not None and self.formulation == "absolute":
+            raise FieldError("dofs", "is for the classical and modified formulations only: every coordinate of "
+                                     "an absolute-formulation line is free (drop dofs, or set formulation)")
         if self.end_a.attach == "free" and self.end_b.attach == "free":
             pass  # a free-floating line is allowed in dynamics (statics will be singular and says so)
         # an end on a chain link ("<chain>.<link>", checked by scenario.chains) may omit its position
@@ -1359,7 +1421,10 @@ class DynamicsSettings(_Strict):
     duration: float = _units("s", "Simulated time", default=0.0, ge=0.0, le=1.0e7)
     integrator: Integrator = Field(default_factory=lambda: GeneralizedAlphaSettings(kind="generalized-alpha"))
     output_interval: float | None = _units("s", "Interval between stored results (default: every step for "
-                                           "fixed-step integrators, duration/1000 for adaptive)",
+                                           "fixed-step integrators, every few steps beyond 10000 outputs, "
+                                           "duration/1000 for adaptive; made to divide the duration). A fixed "
+                                           "step is shortened to divide it; an interval that does not divide "
+                                           "the duration runs on to the next output time after it",
                                            default=None, gt=0.0)
 
 

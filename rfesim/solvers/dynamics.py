@@ -8,6 +8,7 @@ block-tridiagonal Jacobian; a step whose Newton iteration fails is retried in ha
 from __future__ import annotations
 
 import logging
+import os
 import math
 import time as _time
 
@@ -606,12 +607,13 @@ class Counters(dict):
             self[name] = self.get(name, 0) + int(stats[k])
 
 
-def _raise(system: System, fail: np.ndarray, status: int, make_results, what: str = ""):
+def _raise(system: System, fail: np.ndarray, status: int, make_results, what: str = "", hint: str | None = None):
     t = float(fail[0])
     elem = int(fail[1])
     where = system.model.describe_rfe(elem) if elem >= 0 else None
     quantity = QUANTITY.get(int(fail[2]), "failure")
-    hint = _slack_hint(system) if int(fail[2]) == Q_NEWTON else None
+    if int(fail[2]) == Q_NEWTON:
+        hint = _slack_hint(system)
     res = make_results(status=1, message=f"{what}{quantity} at t = {t:.6g} s" + (f" in {where}" if where else "")
                        + (f"; {hint}" if hint else ""))
     raise SolverError(f"the run diverged: {quantity}", time=t, element=where, quantity=quantity, results=res,
@@ -658,6 +660,71 @@ def _check_motor_rates(km, out_dt: float) -> None:
                                   f"turn less than 90 deg in one (give at most {0.5 * math.pi / rate:.3g} s)")])
 
 
+def _whole_intervals(T: float, dt: float) -> int:
+    """Number of intervals dt that cover the duration T (at least one for T > 0), the last
+    one ending at or after T; a quotient within rounding of a whole number counts as whole."""
+    if T <= 0.0:
+        return 0
+    x = T / dt
+    return max(1, int(math.ceil(x - 1e-9 * max(1.0, x))))
+
+
+def output_size(system: System, nt: int) -> float:
+    """Bytes of the result arrays of nt output times (an estimate from above: every SDE and
+    RFE channel of the Recorder, in float64)."""
+    model = system.model
+    nl = max(1, len(model.lines))
+    npts = sum(li.elements + 2 for li in model.lines)
+    per_time = 11 * model.nsde + 7 * model.n + 3 * npts + 40 * nl + 6 * len(model.scenario.vessels) + 16
+    return 8.0 * per_time * nt
+
+
+def _memory_bytes() -> float:
+    try:
+        return float(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
+    except (AttributeError, ValueError, OSError):     # pragma: no cover - not a POSIX system
+        return math.inf
+
+
+def _check_output_size(system: System, nt: int) -> None:
+    """A clear error, before anything is allocated, when the results would take more than
+    half of this machine's memory."""
+    need = output_size(system, nt)
+    have = _memory_bytes()
+    if need > 0.5 * have:
+        raise ScenarioError([("analysis.dynamics.output_interval",
+                              f"{nt} output times would store about {need / 2**30:.3g} GiB of results, more than "
+                              f"half of this machine's memory ({have / 2**30:.3g} GiB): give a longer output "
+                              f"interval or a shorter duration")])
+
+
+def output_schedule(T: float, h: float, output_interval: float | None, adaptive: bool = False):
+    """(output interval, number of output intervals, time step) of a run of duration T.
+
+    The last output is at the duration or, for an output interval that does not divide it,
+    at the next output time after it (the run covers the whole duration, and says so in a
+    warning). Without an output interval: every step, or every few steps of a long run (at
+    most about 10000 outputs; duration/1000 for the adaptive integrator), adjusted to divide
+    the duration. A fixed step is then shortened, never lengthened, to divide the output
+    interval, so outputs land exactly on their times (a step longer than the duration
+    becomes the duration)."""
+    if output_interval is not None:
+        out_dt = float(output_interval)
+        n_out = _whole_intervals(T, out_dt)
+        if n_out * out_dt > T * (1.0 + 1e-9):
+            log.warning("analysis.dynamics.duration (%g s) is not a whole number of output intervals (%g s): "
+                        "the run goes on to the next output time, t = %g s", T, out_dt, n_out * out_dt)
+    else:
+        out_dt = T / 1000.0 if adaptive else h * max(1, math.ceil(T / h / 10000.0))
+        n_out = _whole_intervals(T, out_dt)
+        if n_out:
+            out_dt = T / n_out
+    if not adaptive:
+        per_out = max(1, int(math.ceil(out_dt / h - 1e-9)))
+        h = out_dt / per_out
+    return out_dt, n_out, h
+
+
 def run_dynamics(system: System, state: State, settings, progress=None, recorder: Recorder | None = None,
                  counters: Counters | None = None) -> tuple[State, Recorder, Counters]:
     """Integrate from state.t over settings.duration, recording at output times."""
@@ -677,31 +744,37 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
     controllers = getattr(system, "controllers", None)
     for c in controllers or ():
         c.start(st)                 # winches: tension and sheave position at the start
+    rk4_hint = None
     if integ.kind == "generalized-alpha":
         h = float(integ.time_step)
     elif integ.kind == "rk4":
         h = float(integ.time_step) if integ.time_step else stable_rk4_step(system, st, integ.safety)
+        if integ.time_step:
+            # an explicit step beyond the stability limit grows without bound: say so now, and
+            # name the limit if the run then diverges
+            limit = stable_rk4_step(system, st, 1.0)
+            if h > limit:
+                rk4_hint = (f"the RK4 step {h:.3g} s is longer than its stability limit, about {limit:.3g} s "
+                            f"(2.8 / the highest natural frequency): give "
+                            f"analysis.dynamics.integrator.time_step below it, leave it out (the default is "
+                            f"{integ.safety:g} x the limit) or use the implicit generalized-alpha")
+                log.warning(rk4_hint)
     else:
         h = float(integ.first_step) if integ.first_step else min(stable_rk4_step(system, st, 0.5), T / 10 or 1.0)
     counters["time_step"] = h
     # output times
-    if settings.output_interval is not None:
-        out_dt = float(settings.output_interval)
-    elif integ.kind == "adaptive":
-        out_dt = T / 1000.0
-    else:
-        out_dt = h * max(1, math.ceil(T / h / 10000.0))
-    if integ.kind != "adaptive":
-        # the step divides the output interval: outputs land exactly on the requested times
-        # (a requested step that does not divide it is shortened, never lengthened)
-        per_out = max(1, int(math.ceil(out_dt / h - 1e-9)))
-        h = out_dt / per_out
-        counters["time_step"] = h
-    n_out = int(math.floor(T / out_dt + 1e-9))
+    out_dt, n_out, h = output_schedule(T, h, settings.output_interval, integ.kind == "adaptive")
+    counters["time_step"] = h
     if km.has_motors:
         _check_motor_rates(km, out_dt)
     if recorder is None:
-        recorder = Recorder(system, n_out + 2)
+        _check_output_size(system, n_out + 2)
+        try:
+            recorder = Recorder(system, n_out + 2)
+        except MemoryError:
+            raise ScenarioError([("analysis.dynamics.output_interval",
+                                  f"{n_out + 2} output times do not fit in this machine's memory: give a longer "
+                                  f"output interval or a shorter duration")]) from None
     if recorder.k == 0 or recorder.time[recorder.k - 1] < st.t:
         recorder.record(st, st.qdd)
     stats = np.zeros(4, np.int64)
@@ -896,7 +969,7 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
             stats[:] = 0
             if status != 0:
                 st.t = float(fail[0])
-                _raise(system, fail, status, make_results, "RK4: ")
+                _raise(system, fail, status, make_results, "RK4: ", rk4_hint)
             st.t = t_target
             recorder.record(st, st.qdd)
             check_slip()

@@ -329,3 +329,20 @@ def test_numba_cache_folder_only_moves_for_installed_packages(monkeypatch, tmp_p
         assert os.environ["NUMBA_CACHE_DIR"] == "/mine"
     finally:
         rfesim._numba_cache_dir.__globals__["__file__"] = real_abspath(rfesim.__path__[0] + "/__init__.py")
+
+
+def test_yaml_numbers_in_exponent_form_are_numbers():
+    # YAML 1.1 (PyYAML's safe loader) reads 2.1e11 and 1e5 as text; a scenario reads them as
+    # numbers, as JSON and YAML 1.2 do; quoted they stay text
+    from rfesim.scenario import parse_text
+
+    text = "a: 2.1e11\nb: 1e5\nc: -3E-2\nd: '2e5'\ne: .5e3\nf: 2.5\ng: 12\nh: e5\n"
+    assert yaml.safe_load(text)["a"] == "2.1e11"
+    assert parse_text(text, "yaml") == {"a": 2.1e11, "b": 1e5, "c": -0.03, "d": "2e5", "e": 500.0, "f": 2.5,
+                                        "g": 12, "h": "e5"}
+    doc = ("name: exponent\nline_types:\n  steel:\n    EA: 2.1e9\n    EIy: 1e5\n    mass_per_length: 5e1\n"
+           "lines:\n  pipe:\n    type: steel\n    length: 1e1\n    elements: 10\n"
+           "    end_a: {attach: fixed, position: [0, 0, 0], direction: [1, 0, 0], connection: clamped}\n"
+           "    end_b: {attach: free}\n")
+    sc = rfesim.load_scenario(doc)
+    assert sc.line_types["steel"].EA == 2.1e9 and sc.lines["pipe"].length == 10.0
