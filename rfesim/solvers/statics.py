@@ -7,11 +7,14 @@ rolled into a full circle never meet the Euler-angle singularity.
 
 Load ramping scales the applied loads (gravity, buoyancy, point loads) from a fraction to
 1; a failed increment is halved. Lines with both ends placed start from the elastic
-catenary (``rfesim.catenary``) and take the full load at once.
+catenary (``rfesim.catenary``) and take the full load at once. Ropes (tension-only SDEs)
+whose elements start compressed go through the equilibrium with compression allowed
+(``_solve_with_ropes``; docs/theory.md, 'Slack ropes in statics').
 """
 from __future__ import annotations
 
 import logging
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 import numpy as np
@@ -205,7 +208,7 @@ def solve_statics(system: System, state: State | None = None, *, tolerance: floa
         ws.tens_time[:] = st0.t
         ws.reel_time[:] = st0.t
     try:
-        st, info = _solve(system, state, tolerance, max_iterations, load_steps, progress)
+        st, info = _solve_with_ropes(system, state, tolerance, max_iterations, load_steps, progress)
         if model.km.has_friction or model.km.has_plastic or model.km.has_tensioners or model.km.has_reels:
             # history of the final state: plastic state of the SDEs, friction anchors at the
             # mobilised forces or none (set at first touch)
@@ -219,8 +222,91 @@ def solve_statics(system: System, state: State | None = None, *, tolerance: floa
     return st, info
 
 
+@contextmanager
+def _ropes_elastic(km):
+    """The tension-only SDEs (ropes, rfesim.loads.tension_only) as ordinary elastic SDEs
+    (compression allowed) within the block: their flags are cleared and restored."""
+    saved = km.sde_tension_only.copy()
+    km.sde_tension_only[:] = 0
+    try:
+        yield
+    finally:
+        km.sde_tension_only[:] = saved
+
+
+def _compressed_ropes(system: System, state: State) -> int:
+    """Number of tension-only SDEs whose elastic axial force is compressive (below the force
+    resolution) at the state: the ones the tension-only correction would leave slack."""
+    km = system.km
+    st = state.copy()
+    st.qd[:] = 0.0
+    with _ropes_elastic(km):
+        system.evaluate(st)
+    sigma_x = system.ws.sigma[:, 0]
+    return int(np.count_nonzero((km.sde_tension_only == 1) & (sigma_x < -system.roundoff_force(st))))
+
+
+def _solve_with_ropes(system: System, state: State | None, tolerance: float, max_iterations: int,
+                      load_steps: int, progress) -> tuple[State, StaticsInfo]:
+    """``_solve``, for scenes with ropes (tension-only SDEs) through their elastic equilibrium.
+
+    A slack rope element has no axial force and no axial stiffness, so Newton does not see
+    it go taut: from a start with compressed rope elements (a straight start, or the chord
+    chain of a strongly curved catenary, which is longer than the curve and closes only
+    compressed) the Jacobian has a free axial direction at every slack element and Newton
+    fails, and even 1 um of noise on the converged catenary costs it 53 iterations (docs/
+    theory.md, 'Slack ropes in statics'). Every equilibrium with the ropes taut is also an
+    equilibrium of the same scene with the ropes elastic in compression, whose Newton is
+    smooth. So: first the equilibrium with compression allowed, then, from it and at the
+    full load, Newton with the ropes tension-only again (0 iterations when they are taut
+    everywhere, a few where they go slack). A start without compressed rope elements keeps
+    the direct solve; whichever of the two comes first, the other is the fallback."""
+    km = system.km
+    if not km.has_tension_only:
+        return _solve(system, state, tolerance, max_iterations, load_steps, progress)
+    start = (state or system.model.initial)
+    slack = _compressed_ropes(system, start)
+    order = ("elastic first", "direct") if slack else ("direct", "elastic first")
+    first_error: SolverError | None = None
+    for how in order:
+        try:
+            if how == "direct":
+                return _solve(system, state, tolerance, max_iterations, load_steps, progress)
+            return _solve_elastic_first(system, state, tolerance, max_iterations, load_steps, progress)
+        except SolverError as exc:
+            log.info("statics with ropes (%d compressed rope elements at the start), %s: %s", slack, how, exc)
+            if first_error is None:
+                first_error = exc
+    assert first_error is not None
+    raise first_error
+
+
+def _solve_elastic_first(system: System, state: State | None, tolerance: float, max_iterations: int,
+                         load_steps: int, progress) -> tuple[State, StaticsInfo]:
+    """The equilibrium with the ropes elastic in compression, then with them tension-only:
+    from there the elements that stay slack are those compressed in the elastic equilibrium
+    (a stiff rope's U bottom carried in bending), which Newton finds on their exact tangent
+    (zero axial stiffness) where the central differences, whose step straddles the kink,
+    stall (docs/theory.md, 'Slack ropes in statics')."""
+    def part(lo, hi):
+        return None if progress is None else (lambda frac, t: progress(lo + (hi - lo) * frac, t))
+
+    with _ropes_elastic(system.km):
+        st1, info1 = _solve(system, state, tolerance, max_iterations, load_steps, part(0.0, 0.9))
+    # from the elastic equilibrium at the full load (no ramp: a ramp would unload it)
+    st2, info2 = _solve(system, st1, tolerance, max(max_iterations - info1.iterations, 1), 1, part(0.9, 1.0),
+                        rope_tangent=True)
+    its = info1.iterations + info2.iterations
+    steps = info1.load_steps + info2.load_steps
+    return st2, StaticsInfo(iterations=its, load_steps=steps, residual=info2.residual, converged=True,
+                            message=f"converged in {its} Newton iterations, {steps} load steps (ropes: "
+                                    f"compression allowed first, then {info2.iterations} tension-only)")
+
+
 def _solve(system: System, state: State | None, tolerance: float, max_iterations: int, load_steps: int,
-           progress) -> tuple[State, StaticsInfo]:
+           progress, rope_tangent: bool = False) -> tuple[State, StaticsInfo]:
+    """Newton with load ramping. ``rope_tangent``: the exact tangent of slack rope elements
+    (``System.static_jacobian_ropes``) instead of the central differences."""
     model = system.model
     st = (state or model.initial).copy()
     st.qd[:] = 0.0
@@ -246,6 +332,9 @@ def _solve(system: System, state: State | None, tolerance: float, max_iterations
     # a closing join (rfesim.model.joins) couples RFEs that are not neighbours: the coloured
     # differences would mix its blocks into the band (System.static_jacobian_closed)
     closed = bool(system.km.has_closures)
+    # ropes (tension-only SDEs) from their elastic equilibrium: their exact tangent
+    # (System.static_jacobian_ropes)
+    ropes = bool(rope_tangent and system.km.has_tension_only and np.any(system.km.sde_tension_only == 1))
     lam_done = 0.0
     dlam = 1.0 / max(1, load_steps)
     q_good = st.q.copy()
@@ -271,6 +360,8 @@ def _solve(system: System, state: State | None, tolerance: float, max_iterations
             total_its += 1
             if slipping:
                 J = system.static_jacobian_analytic(st.q, st.ref, lam)
+            elif ropes:
+                J = system.static_jacobian_ropes(st.q, st.ref, lam, closed)
             elif closed:
                 J = system.static_jacobian_closed(st.q, st.ref, lam)
             else:

@@ -126,6 +126,30 @@ class System:
         self.J[:] = J
         return self.J
 
+    def static_jacobian_ropes(self, q: np.ndarray, ref, scale: float = 1.0, closed: bool = False) -> np.ndarray:
+        """Static Jacobian of a scene with ropes (tension-only SDEs, rfesim.loads.tension_only)
+        on their exact tangent: the central differences of ``static_jacobian_accurate``
+        (``static_jacobian_closed`` with ``closed``) with the ropes elastic in compression too,
+        plus the change of the analytic tangent when they are tension-only again (nothing for
+        a taut element; for a slack one its axial stiffness and the geometric stiffness of
+        its compressive force come off). The differences alone straddle the kink of
+        max(0, C eps): their step (1e-5 of an element length) is larger than a light rope's
+        whole stretch (1e-6 m for 100 N on EA = 1e8 N), so a rope element near the kink looks
+        half as stiff, slack or taut (docs/theory.md, 'Slack ropes in statics')."""
+        km = self.km
+        saved = km.sde_tension_only.copy()
+        km.sde_tension_only[:] = 0
+        try:
+            J = (self.static_jacobian_closed(q, ref, scale) if closed
+                 else self.static_jacobian_accurate(q, ref, scale)).copy()
+            elastic = self.static_jacobian_analytic(q, ref, scale).copy()
+        finally:
+            km.sde_tension_only[:] = saved
+        # the tension-only tangent last: with closing joins ws.cl_J keeps its off-band blocks
+        J += self.static_jacobian_analytic(q, ref, scale) - elastic
+        self.J[:] = J
+        return self.J
+
     def static_jacobian_accurate(self, q: np.ndarray, ref, scale: float = 1.0) -> np.ndarray:
         """Central-difference static Jacobian (statics and modal analysis). Central
         differences cancel the second-order change of stiff (axial) springs under lateral
