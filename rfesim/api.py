@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import logging
+import math
 import time as _time
 
 from . import __version__
@@ -37,20 +38,59 @@ def _unsupported_lines(sc: Scenario) -> list[str]:
             if line.end_a.attach == "free" and line.end_b.attach == "free" and name not in used]
 
 
+def _slack_on_seabed(sc: Scenario) -> list[tuple[str, float, float]]:
+    """Lines fixed at both ends on the seabed and longer than the distance between them:
+    (name, length, distance). Their slack has no unique static shape there (with no lateral
+    stiffness it could snake either way), and the catenary start bunches it up in one place."""
+    env = sc.environment
+    if env.seabed is None:
+        return []
+    out = []
+    for name, line in sc.lines.items():
+        ends = (line.end_a, line.end_b)
+        if any(e.attach != "fixed" or e.position is None for e in ends):
+            continue
+        lt = sc.line_types.get(line.type)
+        reach = 0.5 * float(getattr(lt, "outer_diameter", None) or 0.0) + 0.05
+        grounded = True
+        for e in ends:
+            zb = env.seabed_z_at(e.position[0], e.position[1])
+            grounded = grounded and zb is not None and e.position[2] - zb <= reach
+        span = math.dist(line.end_a.position, line.end_b.position)
+        if grounded and line.length > span * (1.0 + 1e-3):
+            out.append((name, line.length, span))
+    return out
+
+
+def _statics_hint(sc: Scenario) -> str | None:
+    """Why a statics that failed could not succeed, where the scene shows it: lines without
+    support, or slack lying on the seabed."""
+    free = _unsupported_lines(sc)
+    if free:
+        names = ", ".join(f"'{n}'" for n in free)
+        return (f"line{'s' if len(free) > 1 else ''} {names} {'have' if len(free) > 1 else 'has'} no support "
+                f"(both ends free): unless the seabed, rollers or buoyancy hold it there is no static "
+                f"equilibrium; attach an end, or set analysis.statics.enabled to false and start the dynamics "
+                f"from the given shape")
+    slack = _slack_on_seabed(sc)
+    if slack:
+        name, length, span = slack[0]
+        return (f"line '{name}' has both ends on the seabed and {length - span:.4g} m of slack ({length:.6g} m "
+                f"between points {span:.6g} m apart): slack lying on the seabed has no unique static shape; "
+                f"make the line as long as the distance between its ends, lift an end off the seabed, or set "
+                f"analysis.statics.enabled to false")
+    return None
+
+
 def _static_state(system: System, sc: Scenario, progress=None):
     s = sc.analysis.statics
     try:
         state, info = solve_statics(system, tolerance=s.tolerance, max_iterations=s.max_iterations,
                                     load_steps=s.load_steps, progress=progress, seabed_friction=s.seabed_friction)
     except SolverError as exc:
-        free = _unsupported_lines(sc)
-        if not free or exc.hint:
+        hint = None if exc.hint else _statics_hint(sc)
+        if hint is None:
             raise
-        names = ", ".join(f"'{n}'" for n in free)
-        hint = (f"line{'s' if len(free) > 1 else ''} {names} {'have' if len(free) > 1 else 'has'} no support "
-                f"(both ends free): unless the seabed, rollers or buoyancy hold it there is no static "
-                f"equilibrium; attach an end, or set analysis.statics.enabled to false and start the dynamics "
-                f"from the given shape")
         raise SolverError(exc.message, time=exc.time,
                           element=exc.element, quantity=exc.quantity, results=exc.results, hint=hint) from None
     if system.km.has_reels:

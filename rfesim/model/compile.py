@@ -206,6 +206,9 @@ class _Curve:
             while seg < X.shape[0] - 1:
                 p0, p1 = X[seg], X[seg + 1]
                 d = p1 - p0
+                if not d @ d > 0.0:
+                    seg += 1              # a repeated point (a curve with its slack bunched up)
+                    continue
                 if np.linalg.norm(p1 - c) >= ell:
                     # solve |p0 + u d - c| = ell for the largest u in [0, 1]
                     f = p0 - c
@@ -218,10 +221,16 @@ class _Curve:
                     break
                 seg += 1
             if found is None:          # past the end of the curve: continue straight
-                d = X[-1] - X[-2]
-                found = c + ell * d / np.linalg.norm(d)
+                found = c + ell * self._last_direction()
             pts[i + 1] = found
         return pts
+
+    def _last_direction(self) -> np.ndarray:
+        """Unit direction of the curve's last segment of nonzero length."""
+        d = np.diff(self.X, axis=0)
+        n = np.linalg.norm(d, axis=1)
+        k = np.nonzero(n > 0.0)[0]
+        return d[k[-1]] / n[k[-1]] if k.size else np.array([1.0, 0.0, 0.0])
 
     def joints(self, lengths: np.ndarray, end_b: np.ndarray | None) -> np.ndarray:
         """Points A = J0, J1, ..., J_{n+1} with |J_{i+1} - J_i| = lengths_i (1 + e_i + e),

@@ -1,0 +1,73 @@
+"""A statics that cannot succeed says why, where the scene shows it (rfesim.api._statics_hint):
+a line with no support, slack lying on the seabed; and the start shape of such slack has no
+NaN in it (rfesim.model.compile._Curve with repeated points)."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import rfesim
+from rfesim.model.compile import _Curve, compile_scenario
+
+
+def cantilever(end_a: dict) -> dict:
+    return {
+        "name": "hint cantilever",
+        "environment": {"gravity": 9.81},
+        "line_types": {"beam": {"EA": 1.0e8, "EIy": 1.0e5, "mass_per_length": 50.0}},
+        "lines": {"pipe": {"type": "beam", "length": 10.0, "elements": 10, "end_a": end_a,
+                           "end_b": {"attach": "free"}}},
+        "analysis": {"statics": {"enabled": True}},
+    }
+
+
+def rope_on_seabed(length: float, z_end: float = -99.97) -> dict:
+    """A rope between two points 5 m apart lying on a seabed at z = -100 m."""
+    return {
+        "name": "rope on the seabed",
+        "environment": {"gravity": 9.81, "water": {"depth": 100.0},
+                        "seabed": {"normal_stiffness": 1e5, "friction": 0.0}},
+        "line_types": {"rope": {"EA": 1e8, "EIy": 10.0, "mass_per_length": 10.0, "outer_diameter": 0.05,
+                                "tension_only": True}},
+        "lines": {"r": {"type": "rope", "length": length, "elements": 20,
+                        "end_a": {"attach": "fixed", "position": [0.0, 0.0, z_end]},
+                        "end_b": {"attach": "fixed", "position": [5.0, 0.0, z_end]}}},
+        "analysis": {"statics": {"enabled": True}},
+    }
+
+
+def test_line_without_support_is_named_when_statics_fails():
+    data = cantilever({"attach": "free", "position": [0.0, 0.0, 0.0], "direction": [1.0, 0.0, 0.0]})
+    with pytest.raises(rfesim.SolverError) as err:
+        rfesim.statics(rfesim.load_scenario(data))
+    assert "line 'pipe' has no support (both ends free)" in str(err.value)
+    assert err.value.message.startswith("static equilibrium not found")
+    assert "analysis.statics.enabled" in err.value.hint
+
+
+def test_slack_on_the_seabed_is_named_when_statics_fails():
+    with pytest.raises(rfesim.SolverError) as err:
+        rfesim.statics(rfesim.load_scenario(rope_on_seabed(20.0)))
+    text = str(err.value)
+    assert "line 'r' has both ends on the seabed and 15 m of slack (20 m between points 5 m apart)" in text
+    assert "nan" not in err.value.message.lower()          # the start shape is finite
+
+
+def test_start_of_slack_on_the_seabed_is_finite():
+    model = compile_scenario(rfesim.load_scenario(rope_on_seabed(20.0)))
+    assert np.isfinite(model.initial.q).all()
+    # a curve whose slack is bunched up at its end (repeated points): the chain marches past
+    # them along the last real direction, each joint at its straight distance
+    curve = _Curve(np.array([0.0, 1.0, 2.0, 3.0]),
+                   np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 0.0, 0.0]]))
+    pts = curve._march(np.zeros(3), np.full(3, 0.75))
+    assert np.isfinite(pts).all()
+    assert np.allclose(np.linalg.norm(np.diff(pts, axis=0), axis=1), 0.75)
+    assert np.allclose(pts[:, 1:], 0.0) and np.all(np.diff(pts[:, 0]) > 0)
+
+
+def test_no_hint_for_a_line_as_long_as_its_span():
+    """A taut rope on the seabed has a static shape: no slack hint, and statics converges."""
+    res = rfesim.statics(rfesim.load_scenario(rope_on_seabed(5.0)))
+    assert res.status == 0
+    assert np.isfinite(res.line("r").tension[0]).all()
