@@ -282,6 +282,8 @@ class WinchController:
         self.z0 = None
         self.tension = 0.0
         self.accel = 0.0        # m/s^2, drum payout acceleration (drum mode)
+        self.chord_rate = 0.0   # m/s, rate of the rope's chord (end A to end B) at the last accepted step
+        self.chord_accel = 0.0  # m/s^2, its mean second derivative over that step (_measure_chord)
         # a rope led over its sheave to a vessel point slips over the sheave as the run changes
         # (rfesim.loads.reeving.slip_arms); the slip is handed to the hanging rope's length
         # whenever it passes half the rope's first RFE (``_hand_over``)
@@ -291,7 +293,7 @@ class WinchController:
 
     # ------------------------------------------------------------------ state
     _FIELDS = ("t", "D", "v", "D_mode", "v_mode", "D_c", "v_c", "e_int", "e_prev", "e_cur", "zeta", "zeta_dot",
-               "zeta_dot_prev", "tension", "accel", "slipped", "rv_len")
+               "zeta_dot_prev", "tension", "accel", "slipped", "rv_len", "chord_rate", "chord_accel")
 
     def save(self) -> tuple:
         return tuple(getattr(self, f) for f in self._FIELDS)
@@ -329,6 +331,8 @@ class WinchController:
         self.e_prev = self.e_cur = self.zeta - self.D_c
         if self.mode.kind == "drum":
             self.accel = self._drum_accel(self.t, self.v_mode)
+            self.chord_rate = 0.0
+            self._measure_chord()
         elif self.mode.kind == "speed":
             self.v_mode = speed_at(self.mode.rows, self.t)
 
@@ -391,19 +395,40 @@ class WinchController:
         damp = 1.0 / float(np.sum(1.0 / c)) if np.all(c > 0.0) else 0.0
         return stiff, damp
 
-    def _stretch_rate(self) -> float:
-        """Rate (m/s) at which the rope's chord lengthens beyond its payout: the relative
-        velocity of its end points along the chord, less the payout speed."""
+    def _measure_chord(self, h: float = 0.0) -> None:
+        """Rate of the rope's chord length (end A to end B) at an accepted step (the
+        workspace evaluated there) and, over a step of h s, its mean second derivative, the
+        change of that rate over the step / h (0 at the start). Kept with the controller's
+        state: a retried step restores them (the workspace then holds the failed attempt's
+        last iterate, from which the predictor of the retry once paid out 229 m to 82 km in
+        25 ms). The end point of a free end RFE rides on its arm, which grows with the payout
+        (the nodes stay at fixed fractions of the rope): its velocity includes arm v / L for
+        the payout speed v and the hanging length L (without it the chord rate of a rope
+        paying out at v read v Delta / (2 L) short: 0.17 m/s at 7 m/s in the free-drum check,
+        h k times that, 42 kN, in the predicted tension). The mean over the step, not the
+        end RFEs' accelerations: light end RFEs on a stiff rope ring (a start state moved by
+        1e-8 m gave them 1000 m/s^2)."""
         ws, km, info = self.system.ws, self.system.km, self.info
-        ends = []
+        hang = info.length0 + info.payout
+        grow = info.speed / hang if hang > 0.0 else 0.0
+        pos, vel = [], []
         for i, sign in ((info.rfe_lo, -1.0), (info.rfe_hi - 1, 1.0)):
             arm = ws.R[i][:, 0] * (0.5 * sign * float(km.rfe_length[i]))
-            ends.append((ws.r[i] + arm, ws.v[i] + np.cross(ws.w[i], arm)))
-        chord = ends[1][0] - ends[0][0]
+            pos.append(ws.r[i] + arm)
+            v = ws.v[i] + np.cross(ws.w[i], arm)
+            if km.rfe_kind[i] == KIND_FREE:
+                v = v + grow * arm          # an attached end RFE ends at its attachment point
+            vel.append(v)
+        chord = pos[1] - pos[0]
         size = float(np.linalg.norm(chord))
-        if size <= 0.0:
-            return 0.0
-        return float((ends[1][1] - ends[0][1]) @ chord) / size - self.v_mode
+        rate = float((vel[1] - vel[0]) @ chord) / size if size > 0.0 else 0.0
+        self.chord_accel = (rate - self.chord_rate) / h if h > 0.0 else 0.0
+        self.chord_rate = rate
+
+    def _stretch_rate(self) -> float:
+        """Rate (m/s) at which the rope's chord lengthens beyond its payout at the last
+        accepted step: the chord's rate (_measure_chord) less the payout speed."""
+        return self.chord_rate - self.v_mode
 
     def _drum_implicit(self, t: float, h: float) -> float:
         """Drum payout acceleration (m/s^2) at t = t_{n+1}, implicit in the rope's stretch.
@@ -411,17 +436,25 @@ class WinchController:
         With m = J / r^2 the drum's inertia at the rope, k the rope's axial stiffness and
         the drum on the average-acceleration rule D_{n+1} = D_n + h v_n + h^2/4 (a_n + a),
         v_{n+1} = v_n + h/2 (a_n + a), and c the rope's axial damping, the tension at t_{n+1}
-        is T_n + h dT/dt - (k h^2/4 + c h/2) (a_n + a) (dT/dt = k times the stretch rate at
-        t_n), so m a = T_{n+1} - tau / r gives a = (T_n + h dT/dt - b a_n - tau / r) / (m + b)
-        with b = k h^2/4 + c h/2: the drum-rope mode is integrated implicitly. A slack rope (T <= 0) has no stiffness: the drum runs free.
-        The brake acts as in _drum_accel on that net force."""
+        is T_n + h dT/dt + 2 b A_n - b (a_n + a), b = k h^2/4 + c h/2, where dT/dt is k times
+        the stretch rate at t_n and A_n the chord's mean acceleration over the last step
+        (_measure_chord; the far end keeps it over this one: h^2/4 (A_n + A_{n+1}) of
+        stretch, h/2 (A_n + A_{n+1}) of stretch rate), so m a = T_{n+1} - tau / r gives
+        a = (T_n + h dT/dt + 2 b A_n - b a_n - tau / r) / (m + b): the drum-rope mode is
+        integrated implicitly, and a drum and payload accelerating together (A = a) are
+        predicted to the linearised tension (6.85 against 6.96 m/s^2 at 50 ms steps).
+        Without A_n (a payload held still over the step) the prediction in the free-drum
+        check at 50 ms steps was -6 m/s^2 against +7, a trial payout 9 mm off a rope
+        stretched 0.6 mm, which slackened or overloaded the rope in the step's Newton
+        iterations (docs/theory.md, 'Winches and rope payout'). A slack rope (T <= 0) has no
+        stiffness: the drum runs free. The brake acts as in _drum_accel on that net force."""
         m = self.mode
         r = self._radius()
         meq = self._inertia() / (r * r)
         k, c = self._rope_axial() if self.tension > 0.0 else (0.0, 0.0)
         kh = 0.25 * k * h * h + 0.5 * c * h
-        net = self.tension + h * k * self._stretch_rate() - kh * self.accel - _table(m.torque, t) / r \
-            - meq * self._spool_term(self.v_mode, r)
+        net = self.tension + h * k * self._stretch_rate() + 2.0 * kh * self.chord_accel - kh * self.accel \
+            - _table(m.torque, t) / r - meq * self._spool_term(self.v_mode, r)
         if m.brake_torque > 0.0:
             fb = m.brake_torque / r
             if abs(self.v_mode) < 1e-12:
@@ -496,7 +529,9 @@ class WinchController:
         step reached, m a = T_{n+1} - tau / r (m = J / r^2), against the acceleration a the
         payout was set with (D_{n+1} = D_n + h v_n + h^2/4 (a_n + a)). When they disagree,
         one Newton update of a on the rope's axial stiffness k and damping c,
-        da = -(m a - T + tau / r) / (m + k h^2/4 + c h/2), resets the payout and returns True:
+        da = -(m a - T + tau / r) / (m + k h^2/4 + c h/2) (or the last step's secant slope at
+        this h, which sees the payload move within the step; then secants), resets the
+        payout and returns True:
         the step is redone from its start (rfesim.solvers.controlled). Strongly coupled: the
         drum-rope mode is implicit at any step. A brake acts against the motion (a drum at
         rest at the step's end, held or stopped by its brake, is taken as it is). False when
@@ -517,13 +552,22 @@ class WinchController:
         res = meq * (a - self._drum_accel(t_next, v_mode, T, D))
         if abs(res) <= self.COUPLING_TOLERANCE * (abs(T) + meq * max(float(km.gravity), 1.0)):
             return False
+        k, c = self._rope_axial() if T > 0.0 else (0.0, 0.0)
+        rigid = meq + 0.25 * k * h * h + 0.5 * c * h          # the far end held still over the step
         prev = getattr(self, "_secant", None)
-        if prev is not None and prev[0] == t_next and prev[1] != a and prev[2] != res:
-            slope = (res - prev[2]) / (a - prev[1])           # the secant of the last two tries
+        if prev is not None and prev[:2] == (t_next, h) and prev[2] != a and prev[3] != res:
+            slope = (res - prev[3]) / (a - prev[2])           # the secant of the last two tries
+            if meq <= slope <= rigid:
+                self._slope = (h, slope)                      # the first guess of the next step
         else:
-            k, c = self._rope_axial() if T > 0.0 else (0.0, 0.0)
-            slope = meq + 0.25 * k * h * h + 0.5 * c * h
-        self._secant = (t_next, a, res)
+            # the last step's secant where it had one at this step size: the payload moves with
+            # the rope within the step, so the tension yields less than the rigid k h^2/4 + c h/2
+            # (about a quarter of it for the free-drum check at 50 ms steps)
+            last = getattr(self, "_slope", None)
+            slope = rigid
+            if last is not None and last[0] == h and T > 0.0 and meq <= last[1] <= rigid:
+                slope = last[1]
+        self._secant = (t_next, h, a, res)
         a -= res / slope
         v_mode = self.v_mode + 0.5 * h * (self.accel + a)
         if m.brake_torque > 0.0 and self.v_mode != 0.0 and v_mode * self.v_mode < 0.0:
@@ -551,13 +595,13 @@ class WinchController:
         if abs(res) <= self.SPEED_TOLERANCE * m.max_speed:
             return False
         prev = getattr(self, "_secant", None)
-        if prev is not None and prev[0] == t_next and prev[1] != v_mode and prev[2] != res:
-            slope = (res - prev[2]) / (v_mode - prev[1])
+        if prev is not None and prev[:2] == (t_next, h) and prev[2] != v_mode and prev[3] != res:
+            slope = (res - prev[3]) / (v_mode - prev[2])
         else:
             k = self._rope_axial()[0] if T > 0.0 else 0.0
             outside = abs(T - m.tension) > m.dead_band and abs(self._tension_speed(T)) < m.max_speed
             slope = 1.0 + (k * h / m.gain if outside else 0.0)
-        self._secant = (t_next, v_mode, res)
+        self._secant = (t_next, h, v_mode, res)
         v_mode -= res / slope
         self._repay(km, t_next, self.D_mode + h * v_mode, v_mode, D_c, v_c)
         return True
@@ -582,6 +626,8 @@ class WinchController:
             D_c, v_c
         self.v = v_mode + v_c
         self.info.speed = self.v
+        if self.mode.kind == "drum":
+            self._measure_chord(h)
         if self.lead is not None:
             self._hand_over(km, state)
 

@@ -10,6 +10,8 @@ compiled loop of ``solvers.dynamics.run_dynamics``.
 """
 from __future__ import annotations
 
+from ..errors import SolverError
+
 MAX_HALVINGS = 6          # a failing step is retried down to h / 2^6
 COUPLING_ITERATIONS = 8   # steps redone while a drum winch moves its payout (WinchController.correct)
 
@@ -30,6 +32,7 @@ def advance_controlled(system, st, t_target: float, h: float, step, flags, count
         saved_ctrl = [c.save() for c in controllers]
         status = 0
         for level in range(MAX_HALVINGS + 1):
+            unbalanced = None       # end of a sub-step whose drum coupling did not balance
             sub = 2 ** level
             hh = h / sub
             if level > 0:
@@ -58,6 +61,12 @@ def advance_controlled(system, st, t_target: float, h: float, step, flags, count
                     st = start.copy()
                     system.set_history(start_history)
                     flags[2] = 0
+                    if _it == COUPLING_ITERATIONS - 1:
+                        # still unbalanced after the last try: the step fails and is halved
+                        # (it used to go on from its start, the state just restored)
+                        status = 1
+                        unbalanced = ta + hh
+                        break
                 if status != 0:
                     break
                 st.t = ta + hh
@@ -68,6 +77,11 @@ def advance_controlled(system, st, t_target: float, h: float, step, flags, count
                     counters["step_halvings"] = counters.get("step_halvings", 0) + 1
                     flags[0] = 0
                 break
+        if status != 0 and unbalanced is not None:
+            raise SolverError(f"the winches' coupling to their ropes (drum balance, constant-tension "
+                              f"speed) did not settle within {COUPLING_ITERATIONS} tries of a step at "
+                              f"h/{2 ** MAX_HALVINGS}",
+                              time=unbalanced, quantity="winch drum coupling")
         if status != 0:
             st = saved
             system.set_history(saved_history)
