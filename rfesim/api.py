@@ -42,20 +42,17 @@ def _slack_on_seabed(sc: Scenario) -> list[tuple[str, float, float]]:
     """Lines fixed at both ends on the seabed and longer than the distance between them:
     (name, length, distance). Their slack has no unique static shape there (with no lateral
     stiffness it could snake either way), and the catenary start bunches it up in one place."""
-    env = sc.environment
-    if env.seabed is None:
-        return []
+    from .scenario.load import seabed_contact
+
     out = []
     for name, line in sc.lines.items():
         ends = (line.end_a, line.end_b)
-        if any(e.attach != "fixed" or e.position is None for e in ends):
-            continue
         lt = sc.line_types.get(line.type)
-        reach = 0.5 * float(getattr(lt, "outer_diameter", None) or 0.0) + 0.05
-        grounded = True
-        for e in ends:
-            zb = env.seabed_z_at(e.position[0], e.position[1])
-            grounded = grounded and zb is not None and e.position[2] - zb <= reach
+        if lt is None or any(e.attach != "fixed" or e.position is None for e in ends):
+            continue
+        # an end rests on the seabed when it is no higher above it than a resting line sinks in
+        contacts = [seabed_contact(sc, lt, e.position) for e in ends]
+        grounded = all(c is not None and -c[1] <= c[2] for c in contacts)
         span = math.dist(line.end_a.position, line.end_b.position)
         if grounded and line.length > span * (1.0 + 1e-3):
             out.append((name, line.length, span))

@@ -262,13 +262,13 @@ def _rest_position(sc: Scenario, end) -> list[float] | None:
 SEABED_TOLERANCE = 0.05     # m an end may lie in the seabed beyond its radius and its static sinkage
 
 
-def _below_seabed(sc: Scenario, lt, attach: str, p: list[float]) -> str | None:
-    """Why a placed line end (global rest position ``p``) lies too deep in the seabed, or None.
-
-    An end may rest on the seabed and sit in it by its contact radius (outer_diameter/2),
-    the static sinkage of its submerged weight on the seabed spring (w/k, as a laid line
-    rests, rfesim.model.compile) and SEABED_TOLERANCE; the seabed height is taken under the
-    end (flat, sloped or profile seabed)."""
+def seabed_contact(sc: Scenario, lt, p: list[float]) -> tuple[float, float, float, float, float] | None:
+    """How a point ``p`` of a line of type ``lt`` sits on the seabed: (seabed z under it,
+    depth of p below that z, the depth a resting line reaches, its contact radius, its static
+    sinkage), or None without a seabed there. A line rests on the seabed in it by its contact
+    radius (outer_diameter/2), the static sinkage of its submerged weight on the seabed spring
+    (w/k, as a laid line rests, rfesim.model.compile) and SEABED_TOLERANCE; the seabed height
+    is taken under the point (flat, sloped or profile seabed)."""
     env = sc.environment
     if env.seabed is None:
         return None
@@ -282,8 +282,16 @@ def _below_seabed(sc: Scenario, lt, attach: str, p: list[float]) -> str | None:
     if env.water is not None:
         w -= env.water.density * env.gravity * sec.displaced_area
     sink = max(w, 0.0) / env.seabed.normal_stiffness
-    allowed = radius + sink + SEABED_TOLERANCE
-    depth = zb - p[2]
+    return zb, zb - p[2], radius + sink + SEABED_TOLERANCE, radius, sink
+
+
+def _below_seabed(sc: Scenario, lt, attach: str, p: list[float]) -> str | None:
+    """Why a placed line end (global rest position ``p``) lies too deep in the seabed, or None
+    (``seabed_contact``)."""
+    contact = seabed_contact(sc, lt, p)
+    if contact is None:
+        return None
+    zb, depth, allowed, radius, sink = contact
     if not depth > allowed:
         return None
     frame = "" if attach == "fixed" else f" (global, with vessel '{attach}' at rest)"
