@@ -34,107 +34,18 @@ def _scenario_errors(exc, suffix: str = "") -> Invalid:
     return Invalid([(_loc(f), r + suffix) for f, r in exc.errors])
 
 
-# YAML anchors and aliases (&name, *name) make a document a graph: a 400-byte "billion
-# laughs" body expands to 9**8 nodes when constructed. What aliases may add, beyond what the
-# document writes out, is capped (checked on the composed graph, before any construction).
-YAML_ALIAS_MAX_NODES = 100_000
-YAML_ALIAS_MAX_CHARS = 1_000_000
-_SATURATE = 10**15
-
-
 def parse_body(body: bytes, content_type: str | None) -> Any:
-    """JSON (or YAML when the content type says so) -> plain data; Invalid if not."""
+    """JSON (or YAML when the content type says so) -> plain data; Invalid if not.
+
+    YAML alias expansion is capped by :func:`rfesim.scenario.parse_text` itself."""
     from rfesim import ScenarioError
     from rfesim.scenario import parse_text
 
     fmt = "yaml" if content_type and "yaml" in content_type.lower() else "json"
-    if fmt == "yaml" and b"&" in body and b"*" in body:      # no anchor, no alias: nothing to expand
-        check_yaml_expansion(body)
     try:
         return parse_text(body, fmt)
     except ScenarioError as exc:
         raise Invalid([(["body"], r) for _, r in exc.errors]) from None
-
-
-def check_yaml_expansion(body: bytes | str) -> tuple[int, int]:
-    """Invalid when the YAML document's aliases expand it too much (or make it recursive);
-    else (expanded nodes, expanded scalar characters).
-
-    Only composes the document (a graph where an alias is the node it names, linear in the
-    text) and sums the sizes bottom-up, each node once. A document that does not compose is
-    left to :func:`rfesim.scenario.parse_text`, which reports the error."""
-    import yaml
-
-    try:
-        text = body.decode("utf-8-sig") if isinstance(body, bytes) else body
-        root = yaml.compose(text, Loader=yaml.SafeLoader)   # pure Python: no C-stack overflow when deep
-    except (UnicodeDecodeError, yaml.YAMLError, RecursionError):
-        return 0, 0
-    if root is None:
-        return 0, 0
-    size: dict[int, tuple[int, int]] = {}      # id(node) -> (nodes, characters) once expanded
-    open_: set[int] = set()                    # nodes whose children are being summed (the DFS path)
-    stack: list[tuple[Any, bool]] = [(root, False)]
-    while stack:
-        node, children_done = stack.pop()
-        key = id(node)
-        kids = _yaml_children(node)
-        if children_done:
-            nodes, chars = 1, 0
-            for kid in kids:
-                n, c = size[id(kid)]
-                nodes, chars = nodes + n, chars + c
-            size[key] = (min(nodes, _SATURATE), min(chars, _SATURATE))
-            open_.discard(key)
-        elif key in open_:
-            mark = node.start_mark
-            raise Invalid([(["body"], f"invalid YAML at line {mark.line + 1} column {mark.column + 1}: an alias "
-                                      f"refers to a node that contains it (a recursive structure)")])
-        elif key not in size:
-            if isinstance(node, yaml.ScalarNode):
-                size[key] = (1, len(node.value))
-                continue
-            open_.add(key)
-            stack.append((node, True))
-            stack.extend((kid, False) for kid in kids if id(kid) not in size)
-    written_nodes = len(size)
-    written_chars = sum(len(n.value) for n in _iter_scalars(root))
-    nodes, chars = size[id(root)]
-    if nodes - written_nodes > YAML_ALIAS_MAX_NODES or chars - written_chars > YAML_ALIAS_MAX_CHARS:
-        def shown(n: int) -> str:
-            return f"{n}" if n < _SATURATE else f"more than {_SATURATE:.0e}"
-
-        raise Invalid([(["body"], f"YAML aliases (*name) expand this document to {shown(nodes)} nodes and "
-                                  f"{shown(chars)} characters of values, from {written_nodes} nodes written out; "
-                                  f"this service accepts at most {YAML_ALIAS_MAX_NODES} nodes and {YAML_ALIAS_MAX_CHARS} "
-                                  f"characters added by aliases: write the repeated parts out instead")])
-    return nodes, chars
-
-
-def _yaml_children(node) -> list:
-    import yaml
-
-    if isinstance(node, yaml.SequenceNode):
-        return list(node.value)
-    if isinstance(node, yaml.MappingNode):
-        return [n for pair in node.value for n in pair]
-    return []
-
-
-def _iter_scalars(root):
-    """Every distinct scalar node of a composed YAML graph, once."""
-    import yaml
-
-    seen, stack = set(), [root]
-    while stack:
-        node = stack.pop()
-        if id(node) in seen:
-            continue
-        seen.add(id(node))
-        if isinstance(node, yaml.ScalarNode):
-            yield node
-        else:
-            stack.extend(_yaml_children(node))
 
 
 def bundled(name: str, scenarios_dir: Path | None) -> tuple[dict, frozenset[Path]]:

@@ -9,6 +9,7 @@ from pathlib import Path
 
 import pytest
 
+from rfesim.scenario.load import yaml_expansion
 from service import validate
 from service.settings import Settings
 from service_helpers import SCENARIOS, riser
@@ -133,8 +134,8 @@ def test_yaml_with_a_few_aliases_still_parses():
     assert data["line_types"]["copy"] == data["line_types"]["pipe"] == doc["line_types"]["pipe"]
     written_out = text.replace("*pipe", text.split("&pipe ")[1].split("\n")[0])
     assert "*" not in written_out
-    assert validate.check_yaml_expansion(text.encode()) == validate.check_yaml_expansion(written_out)
-    assert validate.check_yaml_expansion(text.encode())[0] == 31
+    assert yaml_expansion(text) == yaml_expansion(written_out)
+    assert yaml_expansion(text)[0] == 31
 
 
 # --------------------------------------------------------------------------- through a server
@@ -157,6 +158,18 @@ def test_post_bundled_scenarios_with_data_files_by_name(api):
     assert r.status_code == 422
     assert r.json()["detail"][0]["loc"] == ["vessels", "barge", "motion", "file"]
     assert "data directory" in r.json()["detail"][0]["msg"]
+
+
+def test_library_refuses_the_alias_bomb_in_a_local_file(tmp_path):
+    """rfesim.load_scenario (and so `rfesim check|run`) of a local YAML file is capped too."""
+    import rfesim
+
+    path = tmp_path / "bomb.yaml"
+    path.write_bytes(yaml_bomb())
+    start = time.process_time()
+    with pytest.raises(rfesim.ScenarioError, match="rfesim accepts at most 100000 nodes"):
+        rfesim.load_scenario(path)
+    assert time.process_time() - start < 0.5
 
 
 def test_post_yaml_alias_bomb_is_answered_quickly(api):
