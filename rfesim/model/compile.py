@@ -27,6 +27,7 @@ from .bodies import append_body, body_arrays, body_pose, deck_arrays
 from .joins import JoinInfo, drive_rows, hinge_frame, joint_rows
 from .arrays import append_sde, joint_arrays
 from ..scenario.joins import join_parent, join_strings
+from ..scenario.load import NOTHING_TO_SIMULATE
 
 log = logging.getLogger("rfesim")
 
@@ -694,7 +695,7 @@ def compile_scenario(sc, start: str | None = None) -> Model:
     if problems:
         raise ScenarioError(problems)
     if n_total == 0:
-        raise ScenarioError([("lines", "the scenario has no lines to simulate")])
+        raise ScenarioError([NOTHING_TO_SIMULATE])
 
     f = lambda key, shape, dt=float: (np.asarray(rfe[key], dtype=dt).reshape(shape))  # noqa: E731
     n = n_total

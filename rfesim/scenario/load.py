@@ -300,11 +300,14 @@ def _below_seabed(sc: Scenario, lt, attach: str, p: list[float]) -> str | None:
             f"sinkage of its weight {sink:.3g} m + {SEABED_TOLERANCE} m)")
 
 
+NOTHING_TO_SIMULATE = ("lines", "the scenario has no lines to simulate")
+
+
 def check_runnable(sc: Scenario) -> list[tuple[str, str]]:
     """What a run refuses in a scenario that is otherwise valid (shared by ``rfesim check``
     with rfesim.model.compile.compile_scenario): a scene with nothing to simulate."""
     if not sc.lines and not sc.chains:
-        return [("lines", "the scenario has no lines to simulate")]
+        return [NOTHING_TO_SIMULATE]
     return []
 
 

@@ -197,14 +197,10 @@ class _Waves(_Strict):
         json_schema_extra={"units": "1"})
 
 
-class AiryWaves(_Waves):
-    """A regular linear wave: eta = H/2 cos(omega t - k (x cos b + y sin b) + phase)."""
+class _RegularWaves(_Waves):
+    """What the regular waves (airy, stokes5) share: a period within ocean gravity waves."""
 
-    kind: Literal["airy"]
-    height: float = _units("m", "Wave height H, crest to trough (amplitude H/2)", gt=0.0)
     period: float = _units("s", "Wave period", gt=0.0)
-    phase_deg: float = _units("deg", "Phase: eta = H/2*cos(2*pi*t/period - k*(x*cos(b) + y*sin(b)) + phase)",
-                              default=0.0)
 
     @field_validator("period")
     @classmethod
@@ -212,23 +208,26 @@ class AiryWaves(_Waves):
         return _wave_period(value, "wave period")
 
 
-class Stokes5Waves(_Waves):
+class AiryWaves(_RegularWaves):
+    """A regular linear wave: eta = H/2 cos(omega t - k (x cos b + y sin b) + phase)."""
+
+    kind: Literal["airy"]
+    height: float = _units("m", "Wave height H, crest to trough (amplitude H/2)", gt=0.0)
+    phase_deg: float = _units("deg", "Phase: eta = H/2*cos(2*pi*t/period - k*(x*cos(b) + y*sin(b)) + phase)",
+                              default=0.0)
+
+
+class Stokes5Waves(_RegularWaves):
     """A regular Stokes 5th-order wave (Fenton 1985): height crest to trough, period, zero
     Eulerian mean current; five harmonics (rfesim.sea.stokes5). Refused beyond the breaking
     limit and in shallow water (Ursell number > 40)."""
 
     kind: Literal["stokes5"]
     height: float = _units("m", "Wave height H, crest to trough", gt=0.0)
-    period: float = _units("s", "Wave period", gt=0.0)
     phase_deg: float = _units("deg", "Phase of the fundamental (harmonic j has j times it)", default=0.0)
     stretching: Literal["wheeler", "none", "vertical", "linear"] = Field(
         "none", description="Stokes kinematics hold up to the actual surface: none (default) evaluates them "
                             "there; the other methods as for airy")
-
-    @field_validator("period")
-    @classmethod
-    def _period(cls, value):
-        return _wave_period(value, "wave period")
 
 
 class _SpectrumWaves(_Waves):
