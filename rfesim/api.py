@@ -9,6 +9,7 @@ from . import __version__
 from .errors import CancelledError, SolverError
 from .model.compile import compile_scenario
 from .scenario import Scenario, load_scenario
+from .solvers.buckling import buckling_warnings
 from .solvers.dynamics import Counters, Recorder, run_dynamics
 from .solvers.modal import ModalResults, modal_analysis
 from .solvers.statics import solve_statics
@@ -79,17 +80,50 @@ def _statics_hint(sc: Scenario) -> str | None:
     return None
 
 
+EXCESS_LENGTH = 1e-3   # a line longer than the distance between its ends by this fraction has slack
+
+
+def _excess_length(model) -> list[tuple[str, float, float]]:
+    """Lines with both ends placed and longer than the distance between them: (name, length,
+    distance). A straight start (analysis.statics.start) shortens each of their elements to
+    span the chord: a column compressed by EA (1 - d / L), which buckles."""
+    return [(li.name, li.length, li.chord) for li in model.lines
+            if li.chord is not None and li.length > li.chord * (1.0 + EXCESS_LENGTH)]
+
+
+def _straight_start_hint(excess: list[tuple[str, float, float]]) -> str:
+    name, length, span = excess[0]
+    more = f" (and {len(excess) - 1} more)" if len(excess) > 1 else ""
+    return (f"line '{name}'{more} is {length:.6g} m long between ends {span:.6g} m apart, and a straight start "
+            f"compresses it into a straight column of that length, which buckles; the catenary start failed "
+            f"too: set analysis.statics.start to catenary (or auto) and look at the scene, or give more load "
+            f"steps (analysis.statics.load_steps)")
+
+
 def _static_state(system: System, sc: Scenario, progress=None):
+    """Statics of the scene -> (state, info). A straight start (analysis.statics.start) that
+    fails on lines with slack is retried from the catenary start shape, and info.message
+    says so; info.warnings holds the free compressed stretches beyond their Euler load
+    (rfesim.solvers.buckling), also logged."""
     s = sc.analysis.statics
+
+    def solve(start=None):
+        return solve_statics(system, start, tolerance=s.tolerance, max_iterations=s.max_iterations,
+                             load_steps=s.load_steps, progress=progress, seabed_friction=s.seabed_friction)
+
+    saved = system.history()
     try:
-        state, info = solve_statics(system, tolerance=s.tolerance, max_iterations=s.max_iterations,
-                                    load_steps=s.load_steps, progress=progress, seabed_friction=s.seabed_friction)
+        state, info = solve()
     except SolverError as exc:
-        hint = None if exc.hint else _statics_hint(sc)
-        if hint is None:
-            raise
-        raise SolverError(exc.message, time=exc.time,
-                          element=exc.element, quantity=exc.quantity, results=exc.results, hint=hint) from None
+        excess = _excess_length(system.model) if s.start == "straight" else []
+        if excess:
+            state, info = _catenary_retry(system, sc, exc, excess, saved, solve)
+        else:
+            hint = None if exc.hint else _statics_hint(sc)
+            if hint is None:
+                raise
+            raise SolverError(exc.message, time=exc.time,
+                              element=exc.element, quantity=exc.quantity, results=exc.results, hint=hint) from None
     if system.km.has_reels:
         # reels that hold a back tension: turn the drums until they do (rfesim.solvers.reel_statics)
         from .solvers.reel_statics import settle_back_tension
@@ -97,7 +131,35 @@ def _static_state(system: System, sc: Scenario, progress=None):
             system, sc, state, info,
             lambda st: solve_statics(system, st, tolerance=s.tolerance, max_iterations=s.max_iterations,
                                      seabed_friction=s.seabed_friction))
+    info.warnings = buckling_warnings(system, state)
+    for w in info.warnings:
+        log.warning(w)
     return state, info
+
+
+def _catenary_retry(system: System, sc: Scenario, exc: SolverError, excess, saved, solve):
+    """Statics from the catenary start shape after the straight start failed on lines with
+    slack: the same model (the straight start still sets what it sets, e.g. the direction of
+    a clamped end given without one), another first iterate (docs/theory.md, section 6)."""
+    system.set_history(saved)       # the failed solve's tensioner, reel and friction anchors
+    start = compile_scenario(sc, start="catenary").initial
+    try:
+        state, info = solve(start)
+    except SolverError:
+        raise SolverError(exc.message, time=exc.time, element=exc.element, quantity=exc.quantity,
+                          results=exc.results, hint=_straight_start_hint(excess)) from None
+    name, length, span = excess[0]
+    note = (f"the straight start failed (it compresses the {length:.6g} m of line '{name}' between ends "
+            f"{span:.6g} m apart into a column, which buckles), so statics started from the catenary")
+    log.warning("statics: %s", note)
+    info.message = f"{info.message} ({note})"
+    return state, info
+
+
+def _with_warnings(message: str, info) -> str:
+    """The results' message with the statics warnings (rfesim.solvers.buckling) after it."""
+    warnings = info.warnings if info is not None else []
+    return "".join([message] + [f"; statics warning: {w}" for w in warnings])
 
 
 def statics(scenario, *, progress=None):
@@ -113,8 +175,8 @@ def statics(scenario, *, progress=None):
     rec.record(state, state.qdd)
     counters = {"newton_iterations": info.iterations, "load_steps": info.load_steps,
                 "wall_time": _time.perf_counter() - wall0}
-    return rec.results(status=0, message=info.message, counters=counters, scenario_json=sc.model_dump_json(),
-                       version=__version__, kind="statics")
+    return rec.results(status=0, message=_with_warnings(info.message, info), counters=counters,
+                       scenario_json=sc.model_dump_json(), version=__version__, kind="statics")
 
 
 def simulate(scenario, *, progress=None):
@@ -134,6 +196,7 @@ def simulate(scenario, *, progress=None):
     meta = dict(scenario_json=sc.model_dump_json(), version=__version__)
     counters = Counters()
     state = model.initial
+    info = None
     if an.statics.enabled:
         state, info = _static_state(system, sc)
         counters["statics_iterations"] = info.iterations
@@ -141,7 +204,8 @@ def simulate(scenario, *, progress=None):
     if not (dyn.enabled and dyn.duration > 0):
         rec = Recorder(system, 1)
         rec.record(state, state.qdd)
-        return rec.results(status=0, message="statics only", counters=dict(counters), kind="statics", **meta)
+        return rec.results(status=0, message=_with_warnings("statics only", info), counters=dict(counters),
+                           kind="statics", **meta)
     try:
         state, rec, counters = run_dynamics(system, state, dyn, progress=progress, counters=counters)
     except SolverError as exc:
@@ -151,8 +215,8 @@ def simulate(scenario, *, progress=None):
         raise
     except CancelledError:
         raise
-    return rec.results(status=0, message=f"finished: {counters.get('steps', 0)} steps", counters=dict(counters),
-                       **meta)
+    return rec.results(status=0, message=_with_warnings(f"finished: {counters.get('steps', 0)} steps", info),
+                       counters=dict(counters), **meta)
 
 
 def modes(scenario, n: int | None = None) -> ModalResults:

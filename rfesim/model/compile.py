@@ -50,6 +50,7 @@ class LineInfo:
     shear_model: str
     end_a: object      # the scenario LineEnd
     end_b: object
+    chord: float | None = None   # m, distance between the ends at t = 0 when both are placed
 
     @property
     def nrfe(self) -> int:
@@ -462,9 +463,10 @@ def compile_scenario(sc, start: str | None = None) -> Model:
             else:
                 dA = end_b_of[parent]["frame"][:, 0].copy()
         curve = None
+        end_distance = None
         if A is not None and B is not None:
             chord = B - A
-            d = float(np.linalg.norm(chord))
+            d = end_distance = float(np.linalg.norm(chord))
             if d < 1e-9 * L:
                 problems.append((f"{base}.end_b.position", "end B coincides with end A"))
                 continue
@@ -647,7 +649,7 @@ def compile_scenario(sc, start: str | None = None) -> Model:
         R0_blocks.append(frames)
         lines.append(LineInfo(name=lname, rfe_start=n_total, rfe_stop=n_total + nseg + 1, sde_start=nsde_total,
                               sde_stop=nsde_total + nseg, length=L, elements=nseg, dx=dx, section=sec,
-                              shear_model=shear_model, end_a=line.end_a, end_b=line.end_b))
+                              shear_model=shear_model, end_a=line.end_a, end_b=line.end_b, chord=end_distance))
         end_b_of[lname] = dict(rfe=n_total + nseg, point=centres[-1] + 0.5 * lengths[-1] * frames[-1][:, 0],
                                frame=frames[-1].copy(), dx=dx, length=lengths[-1], section=sec,
                                shear_model=shear_model, damping=lt.damping, mass=masses[-1], inertia=inertia[-1])

@@ -1377,7 +1377,8 @@ class StaticsSettings(_Strict):
                             "length pointing towards end A (the line was pulled towards end B as it was laid)")
     start: Literal["auto", "straight", "catenary"] = Field(
         "auto", description="Initial shape: auto = catenary for lines with both ends placed and slack, "
-                            "straight otherwise")
+                            "straight otherwise; a straight start that fails on lines with slack goes on from "
+                            "the catenary (and says so)")
 
 
 class RK4Settings(_Strict):

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import logging
 from contextlib import contextmanager
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -37,6 +37,7 @@ class StaticsInfo:
     residual: float
     converged: bool
     message: str
+    warnings: list[str] = field(default_factory=list)   # what the user should know about the equilibrium
 
 
 def _norm(r: np.ndarray, mask: np.ndarray, length_scale: np.ndarray, force_ref: float) -> float:

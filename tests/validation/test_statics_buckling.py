@@ -1,0 +1,173 @@
+"""Statics says when its equilibrium buckles, and a straight start with slack goes on from the
+catenary (rfesim.solvers.buckling, rfesim.api._static_state; docs/theory.md, section 6).
+
+Without gravity the catenary riser starts straight, every element shortened to span the
+chord, and that straight column is in equilibrium at once (0 Newton iterations) at a
+compression EA (1 - d / L) far beyond its Euler load pi^2 EI / L^2: true, and unstable. A
+straight start (analysis.statics.start) of a line longer than the distance between its ends
+is the same column with gravity on, and Newton fails there.
+"""
+from __future__ import annotations
+
+import logging
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import rfesim
+from rfesim import api
+from rfesim.errors import SolverError
+from rfesim.model.compile import compile_scenario
+from rfesim.solvers.buckling import compressed_stretches
+from rfesim.solvers.system import System
+
+from test_tension_only_statics import EA, LENGTH, rope
+
+RISER = Path(__file__).resolve().parents[2] / "scenarios" / "catenary_riser.json"
+
+
+def statics_with_stretches(sc):
+    """(state, info, compressed stretches) of a scenario's statics, as rfesim.statics runs it."""
+    system = System(compile_scenario(sc))
+    state, info = api._static_state(system, sc)
+    return state, info, compressed_stretches(system, state)
+
+
+def pipe_section(sc, name: str) -> tuple[float, float]:
+    """(EA, EI) of a pipe line type from its diameter, wall and Young's modulus."""
+    lt = sc.line_types[name]
+    d_out, d_in = lt.outer_diameter, lt.outer_diameter - 2.0 * lt.wall_thickness
+    E = lt.youngs_modulus
+    return E * math.pi / 4.0 * (d_out ** 2 - d_in ** 2), E * math.pi / 64.0 * (d_out ** 4 - d_in ** 4)
+
+
+def test_weightless_riser_is_a_buckled_column_and_says_so(caplog):
+    sc = rfesim.load_scenario(RISER, overrides={"environment.gravity": 0.0})
+    line = sc.lines["riser"]
+    EA_pipe, EI = pipe_section(sc, line.type)
+    # end B on the vessel at the origin, heading 180 deg: the point (0, 0, -15) stays where it is
+    span = math.dist(line.end_a.position, line.end_b.position)
+    compression = EA_pipe * (1.0 - span / line.length)          # every element shortened to span the chord
+    euler = math.pi ** 2 * EI / line.length ** 2
+    with caplog.at_level(logging.WARNING, logger="rfesim"):
+        res = rfesim.statics(sc)
+    assert res.counters["newton_iterations"] == 0
+    assert np.asarray(res.line("riser").tension[0]) == pytest.approx(-compression, rel=1e-9)
+    _, info, stretches = statics_with_stretches(sc)
+    assert len(stretches) == 1
+    c = stretches[0]
+    assert (c.line, c.start, c.length) == ("riser", 0.0, pytest.approx(line.length, rel=1e-12))
+    assert c.compression == pytest.approx(compression, rel=1e-9)
+    assert c.euler_load == pytest.approx(euler, rel=1e-12)
+    assert compression > 1e5 * euler                            # 180 MN against 1.04 kN
+    for text in (res.message, caplog.text):
+        assert "line 'riser'" in text and "free stretch of 600 m" in text
+        assert f"{compression / 1e3:.4g} kN of compression" in text
+        assert f"Euler load pi^2 EI / L^2 = {euler / 1e3:.4g} kN" in text
+        assert "unstable (buckling)" in text and "give the line tension" in text
+    assert info.warnings and info.warnings[0] in res.message
+
+
+def test_riser_with_gravity_does_not_warn(caplog):
+    sc = rfesim.load_scenario(RISER)
+    with caplog.at_level(logging.WARNING, logger="rfesim"):
+        res = rfesim.statics(sc)
+    assert "warning" not in res.message
+    assert not [r for r in caplog.records if r.levelno >= logging.WARNING]
+    _, info, stretches = statics_with_stretches(sc)
+    assert info.warnings == [] and not any(c.buckles for c in stretches)
+
+
+def test_ropes_carry_no_compression():
+    """Without gravity, the rope of 20 m between points 5 m apart stays slack (no warning); the
+    same line elastic in compression is a column at EA (1 - 5/20) and warns."""
+    res = rfesim.statics(rope(5.0, gravity=0.0, EI=10.0))
+    assert "warning" not in res.message
+    sc = rfesim.load_scenario(rope(5.0, gravity=0.0, EI=10.0, tension_only=False))
+    _, info, stretches = statics_with_stretches(sc)
+    assert len(info.warnings) == 1 and "line 'r'" in info.warnings[0]
+    assert stretches[0].compression == pytest.approx(EA * (1.0 - 5.0 / LENGTH), rel=1e-9)
+    assert stretches[0].euler_load == pytest.approx(math.pi ** 2 * 10.0 / LENGTH ** 2, rel=1e-12)
+
+
+PUSHED_EULER = math.pi ** 2 * 1e4 / 20.0 ** 2      # N, pinned Euler load of the pushed beam
+
+
+def pushed_beam(gravity: float, seabed: bool) -> dict:
+    """A beam of 20 m clamped at end A, horizontal, pushed at its free end B by ten times its
+    (pinned) Euler load; with gravity it lies on a seabed 0.1 m below its axis."""
+    env = {"gravity": gravity}
+    if seabed:
+        env["seabed"] = {"z": -10.0, "normal_stiffness": 1e6}
+    return {"name": "pushed beam", "environment": env,
+            "line_types": {"beam": {"EA": 1e8, "EIy": 1e4, "mass_per_length": 50.0, "outer_diameter": 0.2}},
+            "lines": {"b": {"type": "beam", "length": 20.0, "elements": 20,
+                            "end_a": {"attach": "fixed", "position": [0.0, 0.0, -9.9], "connection": "clamped",
+                                      "direction": [1.0, 0.0, 0.0]},
+                            "end_b": {"attach": "free"},
+                            "loads": [{"at": "end_b", "force": [-10.0 * PUSHED_EULER, 0.0, 0.0]}]}},
+            "analysis": {"statics": {"enabled": True}}}
+
+
+def test_compressed_line_on_the_seabed_is_supported():
+    """Lying on the seabed the pushed beam is held along its length: no free stretch, no
+    warning. Weightless and off the seabed it is a free column of 20 m and warns."""
+    _, info, stretches = statics_with_stretches(rfesim.load_scenario(pushed_beam(9.81, seabed=True)))
+    assert info.warnings == [] and stretches == []
+    _, info, stretches = statics_with_stretches(rfesim.load_scenario(pushed_beam(0.0, seabed=False)))
+    assert len(info.warnings) == 1 and len(stretches) == 1
+    assert stretches[0].length == pytest.approx(20.0, rel=1e-12)
+    assert stretches[0].compression == pytest.approx(10.0 * PUSHED_EULER, rel=1e-6)
+    assert stretches[0].euler_load == pytest.approx(PUSHED_EULER, rel=1e-12)
+
+
+def with_start(data, start: str):
+    return rfesim.load_scenario(data, overrides={"analysis.statics.start": start})
+
+
+STRAIGHT_CASES = {
+    "rope": lambda: rope(5.0),
+    "line elastic in compression": lambda: rope(5.0, tension_only=False),
+    "catenary riser": lambda: RISER,
+}
+
+
+@pytest.mark.parametrize("case", list(STRAIGHT_CASES))
+def test_straight_start_with_slack_goes_on_from_the_catenary(case, caplog):
+    """The straight start of a line much longer than the distance between its ends is a
+    column that buckles, and Newton failed from it; statics now goes on from the catenary
+    start, says so, and finds the equilibrium of the default (catenary) start."""
+    data = STRAIGHT_CASES[case]()
+    name = "riser" if case == "catenary riser" else "r"
+    with caplog.at_level(logging.WARNING, logger="rfesim"):
+        res = rfesim.statics(with_start(data, "straight"))
+    assert "so statics started from the catenary" in res.message and f"line '{name}'" in res.message
+    assert "straight start failed" in caplog.text
+    ref = rfesim.statics(with_start(data, "auto"))
+    for attr in ("end_a_force", "end_b_force"):
+        got, want = np.asarray(getattr(res.line(name), attr)[0]), np.asarray(getattr(ref.line(name), attr)[0])
+        assert np.abs(got - want).max() <= 1e-6 * np.abs(want).max()
+
+
+def test_straight_start_that_cannot_be_rescued_says_why(monkeypatch):
+    """When the catenary start fails too, the error says why the straight start could not
+    work and what to do; a start other than straight is not retried."""
+    calls = []
+
+    def failing(system, state=None, **kw):
+        calls.append(state)
+        raise SolverError("static equilibrium not found: Newton did not converge")
+
+    monkeypatch.setattr(api, "solve_statics", failing)
+    with pytest.raises(SolverError) as err:
+        rfesim.statics(with_start(rope(5.0), "straight"))
+    assert len(calls) == 2 and calls[0] is None and calls[1] is not None
+    assert err.value.message.startswith("static equilibrium not found")
+    assert "line 'r' is 20 m long between ends 5 m apart" in err.value.hint
+    assert "set analysis.statics.start to catenary" in err.value.hint
+    calls.clear()
+    with pytest.raises(SolverError) as err:
+        rfesim.statics(with_start(rope(5.0), "catenary"))
+    assert len(calls) == 1 and not err.value.hint
