@@ -22,7 +22,9 @@ from typing import Annotated
 
 from pydantic import Field, model_validator
 
-from .schema import FieldError, Vector3, _Strict, _units
+from .schema import (COEFFICIENT_LIMIT, INERTIA_LIMIT, LENGTH_LIMIT, MASS_LIMIT, MAX_COEFFICIENT, MAX_INERTIA,
+                     MAX_LENGTH, MAX_MASS, MAX_STIFFNESS, STIFFNESS_LIMIT, FieldError, Vector3, _Strict, _units,
+                     upper_bound)
 
 NumberOr3 = float | Vector3
 
@@ -43,6 +45,19 @@ def _check_non_negative(value, name: str) -> None:
             raise FieldError(where, f"must not be negative, got {v}")
 
 
+def _check_at_most(value, name: str, limit: float, unit: str, why: str) -> None:
+    """A number or [x, y, z] at most ``limit`` on every axis (schema.upper_bound)."""
+    for k, v in enumerate(per_axis(value)):
+        reason = upper_bound(v, limit, unit, why)
+        if reason:
+            raise FieldError(name if isinstance(value, (int, float)) else f"{name}.{k}", reason)
+
+
+MAX_ADDED_MASS_COEFFICIENT = 1.0e4      # [-] on the displaced mass rho*volume
+ADDED_MASS_COEFFICIENT_LIMIT = ("on the displaced mass rho*volume, even a thin plate's added mass is a few hundred "
+                                "times it (for a plate, give the added mass itself: mass)")
+
+
 class BodyDrag(_Strict):
     """Quadratic drag per body axis: F_k = 1/2 rho cd_k area_k |u_k| u_k (u: water velocity
     relative to the body at its centre of buoyancy, in body axes), times the submerged fraction."""
@@ -55,6 +70,7 @@ class BodyDrag(_Strict):
     def _signs(self):
         _check_non_negative(self.cd, "cd")
         _check_non_negative(self.area, "area")
+        _check_at_most(self.cd, "cd", MAX_COEFFICIENT, "1", COEFFICIENT_LIMIT)
         return self
 
 
@@ -77,6 +93,11 @@ class BodyAddedMass(_Strict):
         for name in ("ca", "mass", "inertia"):
             if getattr(self, name) is not None:
                 _check_non_negative(getattr(self, name), name)
+        if self.ca is not None:
+            _check_at_most(self.ca, "ca", MAX_ADDED_MASS_COEFFICIENT, "1", ADDED_MASS_COEFFICIENT_LIMIT)
+        if self.mass is not None:
+            _check_at_most(self.mass, "mass", MAX_MASS, "kg", MASS_LIMIT)
+        _check_at_most(self.inertia, "inertia", MAX_INERTIA, "kg*m^2", INERTIA_LIMIT)
         return self
 
 
@@ -89,7 +110,7 @@ class BodyDeck(_Strict):
                         "`vessels`)")
     height: float = _units("m", "Deck level: z of the deck plane in the vessel frame")
     stiffness: float | None = _units("N/m", "Contact stiffness (default: the body's weight over 5 mm)",
-                                     default=None, gt=0.0)
+                                     default=None, gt=0.0, le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
     damping_ratio: float = Field(0.5, ge=0.0, le=5.0, description="Contact damping as a fraction of critical "
                                  "on the body's mass [-]")
     friction: float = Field(0.3, ge=0.0, le=2.0, description="Coulomb friction coefficient between body and "
@@ -110,7 +131,7 @@ class BodyDeck(_Strict):
 class Body(_Strict):
     """A rigid body on the end B of a line (see the module text)."""
 
-    mass: float = _units("kg", "Mass", gt=0.0)
+    mass: float = _units("kg", "Mass", gt=0.0, le=MAX_MASS, limit=MASS_LIMIT)
     inertia: Vector3 | None = _units("kg*m^2", "Principal moments of inertia about the centre of mass, body "
                                      "axes [Ixx, Iyy, Izz]", default=None)
     radius_of_gyration: NumberOr3 | None = _units("m", "Radius of gyration, one value or [x, y, z] (instead of "
@@ -149,11 +170,13 @@ class Body(_Strict):
                     where = "radius_of_gyration" if isinstance(self.radius_of_gyration, (int, float)) \
                         else f"radius_of_gyration.{k}"
                     raise FieldError(where, f"must be greater than 0 m, got {r}")
+            _check_at_most(self.radius_of_gyration, "radius_of_gyration", MAX_LENGTH, "m", LENGTH_LIMIT)
         else:
             I = self.inertia
             for k, v in enumerate(I):
                 if v <= 0.0:
                     raise FieldError(f"inertia.{k}", f"must be greater than 0 kg*m^2, got {v}")
+            _check_at_most(I, "inertia", MAX_INERTIA, "kg*m^2", INERTIA_LIMIT)
             for k in range(3):
                 if I[k] > 1.000001 * (I[(k + 1) % 3] + I[(k + 2) % 3]):
                     raise FieldError("inertia", f"I{'xyz'[k]}{'xyz'[k]} = {I[k]:.6g} kg*m^2 exceeds the sum of the "

@@ -32,7 +32,8 @@ from typing import Annotated, Literal, Union
 
 from pydantic import Field, model_validator
 
-from .schema import FieldError, PointLoad, Vector3, _Strict, _units
+from .schema import (DAMPING_LIMIT, INERTIA_LIMIT, MASS_LIMIT, MAX_DAMPING, MAX_INERTIA, MAX_MASS, MAX_STIFFNESS,
+                     STIFFNESS_LIMIT, FieldError, PointLoad, Vector3, _Strict, _units, upper_bound)
 
 # --------------------------------------------------------------------------- drive motions
 
@@ -115,7 +116,7 @@ class ChainLink(_Strict):
     dofs: list[str] | None = Field(None, description="Free RFE coordinates of a flexible link (classical: x, y, "
                                                      "z, rx, ry, rz; modified: rx, ry, rz); default all")
     mass: float | None = _units("kg", "Mass of a rigid link (default: mass_per_length of its type times length)",
-                                default=None, gt=0.0)
+                                default=None, gt=0.0, le=MAX_MASS, limit=MASS_LIMIT)
     centre: Vector3 | None = _units("m", "Centre of mass of a rigid link in its axes (default: mid-length)",
                                     default=None)
     inertia: Vector3 | None = _units("kg*m^2", "Principal moments of inertia of a rigid link about its centre "
@@ -133,6 +134,10 @@ class ChainLink(_Strict):
                 raise FieldError("mass", "a rigid link needs its mass (or a line type for mass_per_length)")
             if self.inertia is not None and any(v < 0.0 for v in self.inertia):
                 raise FieldError("inertia", "principal moments of inertia must be >= 0")
+            for k, v in enumerate(self.inertia or []):
+                why = upper_bound(v, MAX_INERTIA, "kg*m^2", INERTIA_LIMIT)
+                if why:
+                    raise FieldError(f"inertia.{k}", why)
         else:
             if self.type is None:
                 raise FieldError("type", "a flexible link needs a line type (or set rigid: true)")
@@ -168,8 +173,10 @@ class ChainJoint(_Strict):
                                "parent's axes")
     axis: Vector3 | None = Field(None, description="Joint axis of a revolute or prismatic joint, parent's axes")
     drive: Drive = Field(default_factory=lambda: FreeDrive(kind="free"))
-    stiffness: float = _units("N/m or N*m/rad", "Spring on the joint coordinates", default=0.0, ge=0.0)
-    damping: float = _units("N*s/m or N*m*s/rad", "Damper on the joint coordinates", default=0.0, ge=0.0)
+    stiffness: float = _units("N/m or N*m/rad", "Spring on the joint coordinates", default=0.0, ge=0.0,
+                              le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
+    damping: float = _units("N*s/m or N*m*s/rad", "Damper on the joint coordinates", default=0.0, ge=0.0,
+                            le=MAX_DAMPING, limit=DAMPING_LIMIT)
     rest: float = _units("m or rad", "Unloaded value of the joint spring", default=0.0)
     initial: float | list[float] = _units("m or rad", "Initial joint coordinate(s) (spherical: 3 ZYX angles)",
                                           default=0.0)

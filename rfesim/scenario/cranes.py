@@ -48,7 +48,10 @@ from pydantic import Field, TypeAdapter, ValidationError, model_validator
 
 from .bodies import Body
 from .pipelay import STEEL_DENSITY, STEEL_E, _add, _to_global, _vessel_pose, expand_templates
-from .schema import FieldError, Vector3, Vessel, _Strict, _units
+from .schema import (COEFFICIENT, DAMPING_LIMIT, DENSITY_LIMIT, FORCE_LIMIT, MASS_LIMIT, MASS_PER_LENGTH_LIMIT,
+                     MAX_COEFFICIENT, MAX_DAMPING, MAX_DENSITY, MAX_FORCE, MAX_MASS, MAX_MASS_PER_LENGTH, MAX_MODULUS,
+                     MAX_SECTION_STIFFNESS, MAX_STIFFNESS, MODULUS_LIMIT, SECTION_STIFFNESS_LIMIT, STIFFNESS_LIMIT,
+                     FieldError, Vector3, Vessel, _Strict, _units)
 from .tuggers import TuggerElastic, TuggerTension
 
 # A rope's bending stiffness against a solid bar of its diameter: the strands bend nearly on
@@ -114,12 +117,18 @@ class MemberSpec(_Strict):
                                           limit="a crane member is a slender tube, at most a few metres across "
                                                 "(check the units, metres)")
     wall_thickness: float | None = _units("m", "Tube wall thickness", default=None, gt=0.0)
-    youngs_modulus: float = _units("Pa", "Young's modulus", default=STEEL_E, gt=0.0)
-    density: float = _units("kg/m^3", "Density of the steel", default=STEEL_DENSITY, gt=0.0)
-    EA: float | None = _units("N", "Axial stiffness (instead of a tube)", default=None, gt=0.0)
-    EI: float | None = _units("N*m^2", "Bending stiffness (instead of a tube)", default=None, gt=0.0)
-    GJ: float | None = _units("N*m^2", "Torsional stiffness (default EI/1.3)", default=None, gt=0.0)
-    mass_per_length: float | None = _units("kg/m", "Mass per length (instead of a tube)", default=None, gt=0.0)
+    youngs_modulus: float = _units("Pa", "Young's modulus", default=STEEL_E, gt=0.0,
+                                   le=MAX_MODULUS, limit=MODULUS_LIMIT)
+    density: float = _units("kg/m^3", "Density of the steel", default=STEEL_DENSITY, gt=0.0,
+                            le=MAX_DENSITY, limit=DENSITY_LIMIT)
+    EA: float | None = _units("N", "Axial stiffness (instead of a tube)", default=None, gt=0.0,
+                              le=MAX_SECTION_STIFFNESS, limit=SECTION_STIFFNESS_LIMIT)
+    EI: float | None = _units("N*m^2", "Bending stiffness (instead of a tube)", default=None, gt=0.0,
+                              le=MAX_SECTION_STIFFNESS, limit=SECTION_STIFFNESS_LIMIT)
+    GJ: float | None = _units("N*m^2", "Torsional stiffness (default EI/1.3)", default=None, gt=0.0,
+                              le=MAX_SECTION_STIFFNESS, limit=SECTION_STIFFNESS_LIMIT)
+    mass_per_length: float | None = _units("kg/m", "Mass per length (instead of a tube)", default=None, gt=0.0,
+                                           le=MAX_MASS_PER_LENGTH, limit=MASS_PER_LENGTH_LIMIT)
     damping_ratio: float = Field(0.02, ge=0.0, le=2.0, description="Structural damping ratio of the element "
                                  "modes [-]")
 
@@ -168,15 +177,18 @@ class RopeSpec(_Strict):
                                  "least 10, at most 100)")
     diameter: float = _units("m", "Nominal rope diameter (drag, buoyancy)", default=0.04, gt=0.0, le=0.5)
     EA: float | None = _units("N", "Axial stiffness (default: a steel wire rope, 0.58 of the nominal area at "
-                              "100 GPa)", default=None, gt=0.0)
+                              "100 GPa)", default=None, gt=0.0, le=MAX_SECTION_STIFFNESS, limit=SECTION_STIFFNESS_LIMIT)
     mass_per_length: float | None = _units("kg/m", "Mass per length (default: 4000 d^2, a steel wire rope)",
-                                           default=None, gt=0.0)
+                                           default=None, gt=0.0, le=MAX_MASS_PER_LENGTH, limit=MASS_PER_LENGTH_LIMIT)
     bending_stiffness: float | None = _units("N*m^2", "Bending stiffness (default: 6 % of a solid steel bar of "
-                                             "the rope's diameter, a stranded rope)", default=None, ge=0.0)
+                                             "the rope's diameter, a stranded rope)", default=None, ge=0.0,
+                                             le=MAX_SECTION_STIFFNESS, limit=SECTION_STIFFNESS_LIMIT)
     damping_ratio: float = Field(0.2, ge=0.0, le=2.0, description="Damping ratio of the rope's axial element "
                                  "modes [-]")
-    drag_normal: float = Field(1.2, ge=0.0, le=10.0, description="Normal drag coefficient [-]")
-    added_mass_normal: float = Field(1.0, ge=0.0, le=10.0, description="Normal added-mass coefficient [-]")
+    drag_normal: float = Field(1.2, ge=0.0, le=MAX_COEFFICIENT, description="Normal drag coefficient [-]",
+                               json_schema_extra=COEFFICIENT)
+    added_mass_normal: float = Field(1.0, ge=0.0, le=MAX_COEFFICIENT, description="Normal added-mass coefficient "
+                                     "[-]", json_schema_extra=COEFFICIENT)
 
     def count(self) -> int:
         return self.elements if self.elements is not None else min(100, max(10, int(math.ceil(self.length))))
@@ -212,7 +224,7 @@ class CylinderSpec(_Strict):
     length_max: float | None = _units("m", "With force: the cylinder's longest length, an end stop (default: none)",
                                       default=None, gt=0.0)
     stop_stiffness: float = _units("N/m", "With force: stiffness of each cylinder's end stops", default=1.0e9,
-                                   gt=0.0)
+                                   gt=0.0, le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
 
 
 class CraneTugger(_Strict):
@@ -268,11 +280,13 @@ class SlewingMotor(_Strict):
     it follows ``slewing_deg`` through the servo gains and never gives more than
     ``max_torque``; the pedestal's top TURRET_LENGTH is then a turret on the slewing ring."""
 
-    max_torque: float = _units("N*m", "Largest slewing torque (both directions)", gt=0.0)
+    max_torque: float = _units("N*m", "Largest slewing torque (both directions)", gt=0.0,
+                               le=MAX_FORCE, limit=FORCE_LIMIT)
     stiffness: float | None = _units("N*m/rad", "Servo gain on the angle error (default: the crane's inertia "
-                                     "about the pedestal axis times (2 pi 0.5 Hz)^2)", default=None, gt=0.0)
+                                     "about the pedestal axis times (2 pi 0.5 Hz)^2)", default=None, gt=0.0,
+                                     le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
     damping: float | None = _units("N*m*s/rad", "Servo gain on the rate error (default: critical for that "
-                                   "stiffness and inertia)", default=None, ge=0.0)
+                                   "stiffness and inertia)", default=None, ge=0.0, le=MAX_DAMPING, limit=DAMPING_LIMIT)
 
 
 TURRET_LENGTH = 1.0         # m, top of the pedestal turned by a slewing motor (at most a quarter of the pedestal)
@@ -313,7 +327,8 @@ class AFrame(_Crane):
     type: Literal["a-frame"]
     legs: MemberSpec
     leg_spacing: float = _units("m", "Distance between the two legs (across the vessel)", default=6.0, gt=0.0)
-    crossbeam_mass: float = _units("kg", "Mass of the crossbeam and sheave block", default=0.0, ge=0.0)
+    crossbeam_mass: float = _units("kg", "Mass of the crossbeam and sheave block", default=0.0, ge=0.0,
+                                   le=MAX_MASS, limit=MASS_LIMIT)
     outboard_deg: float = _units("deg", "Direction of the outboard side in the vessel frame (180: over the "
                                  "stern, -x)", default=180.0, ge=-360.0, le=360.0)
     tilt_deg: AngleProfile | None = Field(None, description="Leg angle from the vertical, positive outboard "

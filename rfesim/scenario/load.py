@@ -20,7 +20,7 @@ import yaml
 from pydantic import BaseModel, TypeAdapter, ValidationError
 
 from ..errors import ScenarioError
-from .schema import FieldError, Scenario, yaml_bool_hint
+from .schema import FieldError, Scenario, bound_text, yaml_bool_hint
 
 RESERVED_ATTACH = ("fixed", "free")
 
@@ -74,6 +74,13 @@ def _resolve(loc) -> tuple[list[str], type | None, Any]:
     while i < len(items):
         p = items[i]
         if isinstance(p, str) and p.startswith("function-"):
+            # a model with a validator, named by pydantic "function-after[_check(), Body]": in a
+            # union (a crane's payload, a name or a Body) it is the member the path goes on in
+            t = _unwrap(tp) if tp is not None else None
+            if t is not None and typing.get_origin(t) in (Union, types.UnionType):
+                member = _union_member(t, p.rstrip("]").rsplit(", ", 1)[-1])
+                if member is not None:
+                    tp = member
             i += 1
             continue
         if p == "[key]":                      # a dict key that is not a string
@@ -182,6 +189,9 @@ def _reason(err: dict, owner: type | None = None, key: Any = None, tp: Any = Non
         return "", f"must be a finite number, got {_show(got)}"
     if typ in ("greater_than", "greater_than_equal", "less_than", "less_than_equal"):
         bound = msg.lower().replace("input should be", "must be")
+        limit = next((ctx[k] for k in ("le", "lt", "ge", "gt") if k in ctx), None)
+        if isinstance(limit, (int, float)) and abs(limit) >= 1e12:       # 1e+20, not its 21 digits
+            bound = f"{bound.rsplit(' ', 1)[0]} {bound_text(limit)}"
         why, unit = _limit_reason(owner, key) if typ.startswith("less") else (None, None)
         if why and unit and unit != "1":
             bound += f" {unit}"
@@ -244,19 +254,25 @@ def validation_errors(exc: ValidationError, prefix: tuple = ()) -> list[tuple[st
     return [(path, "; or ".join(reasons)) for path, reasons in by_path.items()]
 
 
+def _rest_point(sc: Scenario, attach: str, local) -> list[float] | None:
+    """Global position of a point given in the frame of ``attach`` ("fixed", "free": global; a
+    vessel: its frame at rest), or None for any other attachment."""
+    if attach in ("fixed", "free"):
+        return list(local)
+    vessel = sc.vessels.get(attach)
+    if vessel is None:
+        return None
+    h = math.radians(vessel.heading_deg)
+    x, y, z = local
+    c, s = math.cos(h), math.sin(h)
+    return [vessel.position[0] + c * x - s * y, vessel.position[1] + s * x + c * y, vessel.position[2] + z]
+
+
 def _rest_position(sc: Scenario, end) -> list[float] | None:
     """Global position of a line end with its vessel at rest (None if not placed)."""
     if end.position is None:
         return None
-    if end.attach in ("fixed", "free"):
-        return list(end.position)
-    vessel = sc.vessels.get(end.attach)
-    if vessel is None:
-        return None
-    h = math.radians(vessel.heading_deg)
-    x, y, z = end.position
-    c, s = math.cos(h), math.sin(h)
-    return [vessel.position[0] + c * x - s * y, vessel.position[1] + s * x + c * y, vessel.position[2] + z]
+    return _rest_point(sc, end.attach, end.position)
 
 
 SEABED_TOLERANCE = 0.05     # m an end may lie in the seabed beyond its radius and its static sinkage
@@ -285,19 +301,94 @@ def seabed_contact(sc: Scenario, lt, p: list[float]) -> tuple[float, float, floa
     return zb, zb - p[2], radius + sink + SEABED_TOLERANCE, radius, sink
 
 
-def _below_seabed(sc: Scenario, lt, attach: str, p: list[float]) -> str | None:
+def _at_rest(attach: str) -> str:
+    return "" if attach == "fixed" else f" (global, with vessel '{attach}' at rest)"
+
+
+def _below_seabed(sc: Scenario, lt, attach: str, p: list[float], what: str = "an end") -> str | None:
     """Why a placed line end (global rest position ``p``) lies too deep in the seabed, or None
-    (``seabed_contact``)."""
+    (``seabed_contact``); without a seabed, too deep below the water depth
+    (``_below_water_depth``). ``what`` names the point in the reason."""
     contact = seabed_contact(sc, lt, p)
     if contact is None:
-        return None
+        return _below_water_depth(sc, lt, attach, p, what)
     zb, depth, allowed, radius, sink = contact
     if not depth > allowed:
         return None
-    frame = "" if attach == "fixed" else f" (global, with vessel '{attach}' at rest)"
-    return (f"z = {p[2]:.6g} m{frame} is {depth:.4g} m below the seabed (z = {zb:.6g} m under this end): an end "
-            f"may rest on the seabed and lie at most {allowed:.3g} m in it (its radius {radius:.3g} m + the "
+    under = "this end" if what == "an end" else "it"
+    return (f"z = {p[2]:.6g} m{_at_rest(attach)} is {depth:.4g} m below the seabed (z = {zb:.6g} m under {under}): "
+            f"{what} may rest on the seabed and lie at most {allowed:.3g} m in it (its radius {radius:.3g} m + the "
             f"sinkage of its weight {sink:.3g} m + {SEABED_TOLERANCE} m)")
+
+
+def _below_water_depth(sc: Scenario, lt, attach: str, p: list[float], what: str = "an end") -> str | None:
+    """Why a placed line end (global rest position ``p``) lies below the sea floor of a scene
+    with a water depth but no seabed section, or None. The water ends at surface_level -
+    depth there (the wave kinematics below it are those at it, rfesim.sea.kernel): an end may
+    lie on that floor by its radius and SEABED_TOLERANCE (no seabed spring: no sinkage).
+    Without a water depth the sea has no floor and nothing is checked; with a seabed,
+    ``seabed_contact``."""
+    env = sc.environment
+    water = env.water
+    if env.seabed is not None or water is None or water.depth is None:
+        return None
+    from ..model.sections import section_from_type
+    floor = water.surface_level - water.depth
+    radius = 0.5 * section_from_type(lt).outer_diameter
+    allowed = radius + SEABED_TOLERANCE
+    depth = floor - p[2]
+    if not depth > allowed:
+        return None
+    return (f"z = {p[2]:.6g} m{_at_rest(attach)} is below the sea floor at the water depth {water.depth:.6g} m "
+            f"(z = {floor:.6g} m) by {depth:.4g} m: the water ends there, with or without a seabed section, and "
+            f"{what} may lie at most {allowed:.3g} m below it (its radius {radius:.3g} m + {SEABED_TOLERANCE} m); "
+            f"check its z and environment.water.depth")
+
+
+def _unit(v) -> list[float]:
+    n = math.sqrt(sum(c * c for c in v))
+    return [c / n for c in v]
+
+
+def _held_points(sup) -> list[tuple[str, str, list[float]]]:
+    """(field, point, position in the support's frame) of the points where a support holds
+    its line on a prescribed path at the start: a tensioner's track (entry and exit), a
+    straightener's straight line (first and last rollers) and a reel's take-off point.
+    Rollers and stingers carry the line only where it touches them: none."""
+    if sup.kind == "tensioner":
+        e = _unit(sup.axis)
+        return [("entry", "the track's entry", list(sup.entry)),
+                ("length", "the track's exit (entry + length along the axis)",
+                 [x + sup.length * u for x, u in zip(sup.entry, e)])]
+    if sup.kind == "straightener":
+        e = _unit(sup.axis)
+        return [("entry", "the first roller's pipe axis", list(sup.entry)),
+                ("span", "the last roller's pipe axis (entry + span along the axis)",
+                 [x + sup.span * u for x, u in zip(sup.entry, e)])]
+    if sup.kind == "reel":
+        a, d = _unit(sup.axis), _unit(sup.direction)
+        out = [a[1] * d[2] - a[2] * d[1], a[2] * d[0] - a[0] * d[2], a[0] * d[1] - a[1] * d[0]]
+        return [("centre", "the take-off point (centre + radius * (axis x direction))",
+                 [c + sup.radius * o for c, o in zip(sup.centre, out)])]
+    return []
+
+
+def _support_below_floor(sc: Scenario, sname: str, sup) -> list[tuple[str, str]]:
+    """Errors for the points where a support holds its line (``_held_points``) below the
+    seabed or the water depth, by the rule of a line end."""
+    line = sc.lines.get(sup.line)
+    lt = sc.line_types.get(line.type) if line is not None else None
+    if lt is None:
+        return []
+    errors = []
+    for field, point, local in _held_points(sup):
+        p = _rest_point(sc, sup.attach, local)
+        if p is None or not all(math.isfinite(c) for c in p):
+            continue
+        why = _below_seabed(sc, lt, sup.attach, p, f"the line '{sup.line}' held there")
+        if why:
+            errors.append((f"supports.{sname}.{field}", f"{point}: {why}"))
+    return errors
 
 
 NOTHING_TO_SIMULATE = ("lines", "the scenario has no lines to simulate")
@@ -386,6 +477,8 @@ def check_references(sc: Scenario) -> list[tuple[str, str]]:
         if sup.attach != "fixed" and sup.attach not in vessel_names:
             known = ", ".join(["fixed"] + sorted(vessel_names))
             errors.append((f"{base}.attach", f"unknown attachment '{sup.attach}' (use one of: {known})"))
+        else:
+            errors.extend(_support_below_floor(sc, sname, sup))
     from .bodies import check_body_references
     errors.extend(check_body_references(sc))
     from .winches import check_winch_references

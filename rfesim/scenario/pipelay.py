@@ -28,8 +28,9 @@ from typing import Annotated, Literal, Union
 
 from pydantic import Field, TypeAdapter, ValidationError, model_validator
 
-from .schema import (FieldError, PayoutConstantTension, PayoutTable, Vector3, Vessel, _Strict,
-                     _units)
+from .schema import (COEFFICIENT, DAMPING_LIMIT, DENSITY_LIMIT, FORCE_LIMIT, MAX_COEFFICIENT, MAX_DAMPING,
+                     MAX_DENSITY, MAX_FORCE, MAX_MODULUS, MAX_STIFFNESS, MODULUS_LIMIT, STIFFNESS_LIMIT, FieldError,
+                     PayoutConstantTension, PayoutTable, Vector3, Vessel, _Strict, _units)
 
 # API 5L specified minimum yield strength (Pa)
 GRADE_YIELD = {"X52": 359e6, "X56": 386e6, "X60": 414e6, "X65": 448e6, "X70": 483e6, "X80": 552e6}
@@ -51,17 +52,23 @@ class PipeSpec(_Strict):
                           "Default: elastoplastic for reel-lay, elastic otherwise")
     hardening_ratio: float = Field(0.01, ge=0.0, lt=1.0, description="Bilinear hardening E_t/E of an "
                                    "elastoplastic pipe [-]", json_schema_extra={"units": "1"})
-    youngs_modulus: float = _units("Pa", "Young's modulus of the steel", default=STEEL_E, gt=0.0)
-    density: float = _units("kg/m^3", "Steel density", default=STEEL_DENSITY, gt=0.0)
+    youngs_modulus: float = _units("Pa", "Young's modulus of the steel", default=STEEL_E, gt=0.0,
+                                   le=MAX_MODULUS, limit=MODULUS_LIMIT)
+    density: float = _units("kg/m^3", "Steel density", default=STEEL_DENSITY, gt=0.0,
+                            le=MAX_DENSITY, limit=DENSITY_LIMIT)
     coating_thickness: float = _units("m", "Coating thickness (concrete, insulation); the hydrodynamic and "
                                       "contact diameter is outer_diameter + 2 coating_thickness", default=0.0,
                                       ge=0.0)
     coating_density: float | None = _units("kg/m^3", "Coating density (needed with a coating)", default=None,
-                                           gt=0.0)
-    contents_density: float = _units("kg/m^3", "Density of the pipe contents", default=0.0, ge=0.0)
-    drag_normal: float = Field(1.0, ge=0.0, le=10.0, description="Normal drag coefficient [-]")
-    drag_axial: float = Field(0.008, ge=0.0, le=10.0, description="Axial drag coefficient [-]")
-    added_mass_normal: float = Field(1.0, ge=0.0, le=10.0, description="Normal added-mass coefficient [-]")
+                                           gt=0.0, le=MAX_DENSITY, limit=DENSITY_LIMIT)
+    contents_density: float = _units("kg/m^3", "Density of the pipe contents", default=0.0, ge=0.0,
+                                     le=MAX_DENSITY, limit=DENSITY_LIMIT)
+    drag_normal: float = Field(1.0, ge=0.0, le=MAX_COEFFICIENT, description="Normal drag coefficient [-]",
+                               json_schema_extra=COEFFICIENT)
+    drag_axial: float = Field(0.008, ge=0.0, le=MAX_COEFFICIENT, description="Axial drag coefficient [-]",
+                              json_schema_extra=COEFFICIENT)
+    added_mass_normal: float = Field(1.0, ge=0.0, le=MAX_COEFFICIENT, description="Normal added-mass coefficient "
+                                     "[-]", json_schema_extra=COEFFICIENT)
     damping_ratio: float = Field(0.05, ge=0.0, le=2.0, description="Structural damping ratio of the axial and "
                                  "bending element modes [-]")
 
@@ -82,10 +89,12 @@ class TensionerSpec(_Strict):
     length: float | None = _units("m", "Track length (default: 10 m, at least three elements)", default=None,
                                   gt=0.0)
     capacity: float | None = _units("N", "Largest axial force the track holds (default: three times the top "
-                                    "tension of the natural catenary, at least 1 MN)", default=None, gt=0.0)
+                                    "tension of the natural catenary, at least 1 MN)", default=None, gt=0.0,
+                                    le=MAX_FORCE, limit=FORCE_LIMIT)
     lateral_stiffness: float = _units("N/m/m", "Pad stiffness holding the pipe on the axis", default=1.0e7,
-                                      gt=0.0)
-    grip_stiffness: float = _units("N/m/m", "Axial grip stiffness", default=1.0e7, gt=0.0)
+                                      gt=0.0, le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
+    grip_stiffness: float = _units("N/m/m", "Axial grip stiffness", default=1.0e7, gt=0.0,
+                                   le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
     payout: Annotated[Union[PayoutTable, PayoutConstantTension], Field(discriminator="kind")] | None = Field(
         None, description="Payout: a table, or the constant-tension characteristic (default: holds the pipe)")
 
@@ -104,8 +113,10 @@ class StingerSpec(_Strict):
     roller_width: float = _units("m", "Contact length of each roller", default=0.6, gt=0.0)
     v_angle_deg: float = _units("deg", "Rise of each half of the V-rollers (0: flat rollers)", default=30.0,
                                 ge=0.0, lt=80.0)
-    stiffness: float = _units("N/m", "Contact stiffness of each roller", default=1.0e7, gt=0.0)
-    damping: float = _units("N*s/m", "Contact damping of each roller", default=1.0e4, ge=0.0)
+    stiffness: float = _units("N/m", "Contact stiffness of each roller", default=1.0e7, gt=0.0,
+                              le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
+    damping: float = _units("N*s/m", "Contact damping of each roller", default=1.0e4, ge=0.0,
+                            le=MAX_DAMPING, limit=DAMPING_LIMIT)
     friction: float = Field(0.1, ge=0.0, le=10.0, description="Roller friction across the pipe [-]")
 
 
@@ -126,7 +137,7 @@ class _Template(_Strict):
     elements: int | None = Field(None, ge=4, le=100000, description="Number of elements of the line (instead "
                                  "of element_length)")
     seabed_stiffness: float = _units("N/m/m", "Seabed normal stiffness, used when the scene has no seabed",
-                                     default=1.0e6, gt=0.0)
+                                     default=1.0e6, gt=0.0, le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
     tensioner: TensionerSpec = Field(default_factory=TensionerSpec)
 
     @model_validator(mode="after")
@@ -181,12 +192,12 @@ class ReelSpec(_Strict):
                            "the pipe leaving its top horizontally", default=8.0, gt=0.0)
     back_tension: float | None = _units("N", "Back tension the reel holds on the pipe at the start (statics "
                                         "turns the drum until it does). Default: 10 % of the catenary's top "
-                                        "tension", default=None, gt=0.0)
+                                        "tension", default=None, gt=0.0, le=MAX_FORCE, limit=FORCE_LIMIT)
     grip_stiffness: float = _units("N/m/m", "Tangential stiffness per unit length with which the drum holds the "
                                    "pipe: the compliance of the reel drive (hydraulic motors, torque control), "
                                    "much softer than the steel pipe so that the reel and the tensioner, both "
                                    "paying out by the same law, do not fight over millimetres of path length",
-                                   default=1.0e5, gt=0.0)
+                                   default=1.0e5, gt=0.0, le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
 
 
 class ReelLayTemplate(_Template):

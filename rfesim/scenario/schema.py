@@ -39,6 +39,66 @@ def _units(u: str, description: str, limit: str | None = None, **kw):
     return Field(description=f"{description} [{u}]", json_schema_extra=extra, **kw)
 
 
+# Upper bounds of physical magnitudes, with the reasons given when a value exceeds them (the
+# ``limit`` of _units): beyond any real engineering input, with room for "rigid" or "unlimited"
+# stand-ins (a modulus of 1e15 Pa and a stiffness of 1e15 N/m pass), and far below the sizes at
+# which the arithmetic with them overflows (float64 ends at 1.8e308; the SDE stiffness grows as
+# E I / dx^3 with dx down to MIN_SEGMENT = 1e-6 m): a number past them has the wrong units.
+MAX_MODULUS = 1.0e20                # Pa
+MODULUS_LIMIT = ("1e8 times the stiffest material (diamond, 1.2e12 Pa), room enough for a 'rigid' stand-in (1e15 Pa "
+                 "passes), and the element stiffness E*I/dx^3 stays far from overflow (check the units, Pa)")
+MAX_SECTION_STIFFNESS = 1.0e22      # N (EA, GA), N*m^2 (EI, GJ)
+SECTION_STIFFNESS_LIMIT = ("a 60 in steel pipe has EA = 5e10 N and EI = 1.3e10 N*m^2, so this leaves room for a "
+                           "'rigid' stand-in, and the element stiffness stays far from overflow (check the units)")
+MAX_STIFFNESS = 1.0e20              # N/m, N/m/m, N*m/rad
+STIFFNESS_LIMIT = ("real contacts, pads and springs are below 1e12, so this leaves room for a 'rigid' stand-in "
+                   "(1e15 passes), and the forces stay far from overflow (check the units)")
+MAX_DAMPING = 1.0e20                # N*s/m, N*s, N*m^2*s, N*m*s/rad
+DAMPING_LIMIT = ("critical damping of 1e12 kg on a 1e15 N/m spring is 6e13 N*s/m, so this leaves room for any "
+                 "damper or 'locked' stand-in, and the forces stay far from overflow (check the units)")
+MAX_DENSITY = 1.0e6                 # kg/m^3
+DENSITY_LIMIT = ("the densest material (osmium) has 22,600 kg/m^3, so this leaves room for equivalent densities "
+                 "that lump coatings or attachments (check the units, kg/m^3)")
+MAX_MASS = 1.0e12                   # kg
+MASS_LIMIT = ("20,000 times the heaviest offshore lift (about 50,000 t, 5e7 kg), room enough for an immovable "
+              "stand-in (check the units, kg)")
+MAX_MASS_PER_LENGTH = 1.0e8         # kg/m
+MASS_PER_LENGTH_LIMIT = ("a solid steel bar 10 m across has 6.2e5 kg/m, so this leaves room for any line or member "
+                         "(check the units, kg/m)")
+MAX_INERTIA = 1.0e18                # kg*m^2
+INERTIA_LIMIT = ("the largest mass (1e12 kg) at a radius of gyration of 1 km, room enough for any body, drum or "
+                 "stand-in (check the units, kg*m^2)")
+MAX_FORCE = 1.0e15                  # N, N*m
+FORCE_LIMIT = ("a million times the weight of the heaviest offshore lift (5e8 N), room enough for any load, holding "
+               "capacity or brake, and the forces stay far from overflow (check the units)")
+MAX_LENGTH = 1.0e7                  # m
+LENGTH_LIMIT = "10,000 km, longer than any line, rope or structure (check the units, metres)"
+MAX_COEFFICIENT = 10.0              # drag and added-mass coefficients of a line [-]
+COEFFICIENT_LIMIT = ("the coefficients of slender and bluff shapes lie between 0 and about 2 (a coefficient, "
+                     "not a force or a mass)")
+COEFFICIENT = {"units": "1", "limit": COEFFICIENT_LIMIT}      # the json_schema_extra of a coefficient
+
+
+def bound_text(limit: float) -> str:
+    """A bound as the messages show it: integers and whole numbers below 1e12 in full, as
+    pydantic writes them (100000), other numbers in exponent form (1e+20, not its 21 digits)."""
+    if isinstance(limit, int) or (abs(limit) < 1e12 and float(limit).is_integer()):
+        return str(int(limit))
+    return f"{limit:.6g}"
+
+
+def upper_bound(value: float, limit: float, unit: str, why: str, signed: bool = False) -> str | None:
+    """The reason ``value`` exceeds ``limit`` (its size, if ``signed``), worded as for a field's
+    ``le`` (rfesim.scenario.load._reason), or None: for the numbers of lists and of number-or-list
+    fields, which cannot carry ``le``."""
+    if (abs(value) if signed else value) <= limit:
+        return None
+    unit = f" {unit}" if unit != "1" else ""
+    bound = f"lie between {bound_text(-limit)} and {bound_text(limit)}" if signed else \
+        f"be less than or equal to {bound_text(limit)}"
+    return f"must {bound}{unit} (got {value!r}): {why}"
+
+
 def yaml_bool_hint(value: bool) -> str:
     """Why a boolean may stand where text was meant: YAML 1.1 (PyYAML) reads the unquoted
     words yes/no/on/off/true/false as booleans."""
@@ -318,7 +378,8 @@ Waves = Annotated[Union[AiryWaves, Stokes5Waves, JonswapWaves, PiersonMoskowitzW
 class Water(_Strict):
     """Sea water: density, depth, still-water level, current and waves."""
 
-    density: float = _units("kg/m^3", "Mass density of sea water", default=1025.0, gt=0.0)
+    density: float = _units("kg/m^3", "Mass density of sea water", default=1025.0, gt=0.0,
+                            le=MAX_DENSITY, limit=DENSITY_LIMIT)
     depth: float | None = _units("m", "Water depth below the still surface (seabed at surface_level - depth)",
                                  default=None, gt=0.0, le=1.0e5,
                                  limit="no sea is deeper than about 11 km (check the units, metres)")
@@ -358,7 +419,7 @@ class Seabed(_Strict):
     profile_direction_deg: float = _units("deg", "Direction of the profile's distance axis (from global x)",
                                           default=0.0)
     normal_stiffness: float = _units("N/m/m", "Normal contact stiffness per unit length of line",
-                                     default=1.0e5, gt=0.0)
+                                     default=1.0e5, gt=0.0, le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
     damping_ratio: float = Field(0.2, ge=0.0, le=10.0,
                                  description="Normal contact damping as a fraction of critical for the line's "
                                              "mass per length on the seabed spring [-]",
@@ -377,7 +438,7 @@ class Seabed(_Strict):
                  "friction_force / (stiffness * length) before it slides, its mobilisation displacement "
                  "(default: 0.1 * normal_stiffness; a stiffer spring holds the line closer but makes the "
                  "implicit integrator's Newton iterations work harder at stick/slip changes)",
-        default=None, gt=0.0)
+        default=None, gt=0.0, le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
 
     @model_validator(mode="after")
     def _geometry(self):
@@ -801,10 +862,14 @@ class StructuralDamping(_Strict):
                                       "element modes [-]")
     bending_ratio: float | None = Field(None, ge=0.0, le=2.0, description="Damping ratio of the bending and "
                                         "torsion element modes [-]")
-    axial: float | None = _units("N*s", "Axial damping coefficient (stress-rate analogue of EA)", default=None, ge=0.0)
-    shear: float | None = _units("N*s", "Shear damping coefficient", default=None, ge=0.0)
-    bending: float | None = _units("N*m^2*s", "Bending damping coefficient (analogue of EI)", default=None, ge=0.0)
-    torsion: float | None = _units("N*m^2*s", "Torsion damping coefficient (analogue of GJ)", default=None, ge=0.0)
+    axial: float | None = _units("N*s", "Axial damping coefficient (stress-rate analogue of EA)", default=None, ge=0.0,
+                                 le=MAX_DAMPING, limit=DAMPING_LIMIT)
+    shear: float | None = _units("N*s", "Shear damping coefficient", default=None, ge=0.0,
+                                 le=MAX_DAMPING, limit=DAMPING_LIMIT)
+    bending: float | None = _units("N*m^2*s", "Bending damping coefficient (analogue of EI)", default=None, ge=0.0,
+                                   le=MAX_DAMPING, limit=DAMPING_LIMIT)
+    torsion: float | None = _units("N*m^2*s", "Torsion damping coefficient (analogue of GJ)", default=None, ge=0.0,
+                                   le=MAX_DAMPING, limit=DAMPING_LIMIT)
 
     @model_validator(mode="after")
     def _one_way(self):
@@ -824,25 +889,37 @@ class LineType(_Strict):
                                           limit="a line is a slender rod, pipe or cable: 100 m across is not "
                                                 "slender (check the units, metres)")
     wall_thickness: float | None = _units("m", "Wall thickness of a pipe", default=None, gt=0.0)
-    youngs_modulus: float | None = _units("Pa", "Young's modulus", default=None, gt=0.0)
+    youngs_modulus: float | None = _units("Pa", "Young's modulus", default=None, gt=0.0,
+                                          le=MAX_MODULUS, limit=MODULUS_LIMIT)
     poisson_ratio: float = Field(0.3, gt=-1.0, lt=0.5, description="Poisson's ratio [-]")
-    density: float | None = _units("kg/m^3", "Material density of the pipe wall", default=None, gt=0.0)
-    contents_density: float = _units("kg/m^3", "Density of the pipe contents (internal fluid)", default=0.0, ge=0.0)
+    density: float | None = _units("kg/m^3", "Material density of the pipe wall", default=None, gt=0.0,
+                                   le=MAX_DENSITY, limit=DENSITY_LIMIT)
+    contents_density: float = _units("kg/m^3", "Density of the pipe contents (internal fluid)", default=0.0, ge=0.0,
+                                     le=MAX_DENSITY, limit=DENSITY_LIMIT)
 
-    EA: float | None = _units("N", "Axial stiffness", default=None, gt=0.0)
-    EIy: float | None = _units("N*m^2", "Bending stiffness about the local y axis", default=None, ge=0.0)
-    EIz: float | None = _units("N*m^2", "Bending stiffness about the local z axis", default=None, ge=0.0)
-    GJ: float | None = _units("N*m^2", "Torsional stiffness", default=None, ge=0.0)
-    GA: float | None = _units("N", "Effective shear stiffness (kappa already applied)", default=None, gt=0.0)
+    EA: float | None = _units("N", "Axial stiffness", default=None, gt=0.0,
+                              le=MAX_SECTION_STIFFNESS, limit=SECTION_STIFFNESS_LIMIT)
+    EIy: float | None = _units("N*m^2", "Bending stiffness about the local y axis", default=None, ge=0.0,
+                               le=MAX_SECTION_STIFFNESS, limit=SECTION_STIFFNESS_LIMIT)
+    EIz: float | None = _units("N*m^2", "Bending stiffness about the local z axis", default=None, ge=0.0,
+                               le=MAX_SECTION_STIFFNESS, limit=SECTION_STIFFNESS_LIMIT)
+    GJ: float | None = _units("N*m^2", "Torsional stiffness", default=None, ge=0.0,
+                              le=MAX_SECTION_STIFFNESS, limit=SECTION_STIFFNESS_LIMIT)
+    GA: float | None = _units("N", "Effective shear stiffness (kappa already applied)", default=None, gt=0.0,
+                              le=MAX_SECTION_STIFFNESS, limit=SECTION_STIFFNESS_LIMIT)
     mass_per_length: float | None = _units("kg/m", "Mass per unit length (structure and contents)",
-                                           default=None, gt=0.0)
+                                           default=None, gt=0.0, le=MAX_MASS_PER_LENGTH, limit=MASS_PER_LENGTH_LIMIT)
     rotary_inertia: float | None = _units("kg*m", "Mass moment of inertia of the section about a transverse "
                                           "axis per unit length (polar: twice this)", default=None, ge=0.0)
 
-    drag_normal: float = Field(0.0, ge=0.0, le=10.0, description="Normal drag coefficient (on outer_diameter) [-]")
-    drag_axial: float = Field(0.0, ge=0.0, le=10.0, description="Axial drag coefficient (on pi*outer_diameter) [-]")
-    added_mass_normal: float = Field(0.0, ge=0.0, le=10.0, description="Normal added-mass coefficient [-]")
-    added_mass_axial: float = Field(0.0, ge=0.0, le=10.0, description="Axial added-mass coefficient [-]")
+    drag_normal: float = Field(0.0, ge=0.0, le=MAX_COEFFICIENT, description="Normal drag coefficient (on "
+                               "outer_diameter) [-]", json_schema_extra=COEFFICIENT)
+    drag_axial: float = Field(0.0, ge=0.0, le=MAX_COEFFICIENT, description="Axial drag coefficient (on "
+                              "pi*outer_diameter) [-]", json_schema_extra=COEFFICIENT)
+    added_mass_normal: float = Field(0.0, ge=0.0, le=MAX_COEFFICIENT, description="Normal added-mass coefficient "
+                                     "[-]", json_schema_extra=COEFFICIENT)
+    added_mass_axial: float = Field(0.0, ge=0.0, le=MAX_COEFFICIENT, description="Axial added-mass coefficient [-]",
+                                    json_schema_extra=COEFFICIENT)
     material: Material = Field(default_factory=ElasticMaterial)
     tension_only: bool = Field(False, description="A rope: the axial SDE force is max(0, EA eps + damping), "
                                                   "never compressive (slack); keep the bending stiffness small")
@@ -950,10 +1027,12 @@ class Motor(_Strict):
     angle: list[DriveAngleRow] = Field(..., min_length=1, description="Set angle rows [t (s), angle (deg)]: "
                                        "monotone cubic (PCHIP) between rows, held beyond the ends; the join "
                                        "turns by angle(t) - angle(0)", json_schema_extra={"units": "s, deg"})
-    max_torque: float = _units("N*m", "Largest torque the motor gives (both directions)", gt=0.0)
-    stiffness: float = _units("N*m/rad", "Servo gain on the angle error (the joint's torsional stiffness)", gt=0.0)
+    max_torque: float = _units("N*m", "Largest torque the motor gives (both directions)", gt=0.0,
+                               le=MAX_FORCE, limit=FORCE_LIMIT)
+    stiffness: float = _units("N*m/rad", "Servo gain on the angle error (the joint's torsional stiffness)", gt=0.0,
+                              le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
     damping: float = _units("N*m*s/rad", "Servo gain on the rate error (the joint's torsional damping)",
-                            default=0.0, ge=0.0)
+                            default=0.0, ge=0.0, le=MAX_DAMPING, limit=DAMPING_LIMIT)
 
     @model_validator(mode="after")
     def _check(self):
@@ -1080,13 +1159,22 @@ class PointLoad(_Strict):
             return value
         raise ValueError(f"must be 'end_a', 'end_b' or an arc length from end A in m, got {_show(value)}")
 
+    @model_validator(mode="after")
+    def _size(self):
+        for name, unit in (("force", "N"), ("moment", "N*m")):
+            for k, v in enumerate(getattr(self, name)):
+                why = upper_bound(v, MAX_FORCE, unit, FORCE_LIMIT, signed=True)
+                if why:
+                    raise FieldError(f"{name}.{k}", why)
+        return self
+
 
 MIN_SEGMENT = 1.0e-6      # m, shortest SDE spacing length/elements (the SDE stiffness goes as 1/dx^3)
 
 
 class Line(_Strict):
     type: str = Field(..., description="Name of a line type")
-    length: float = _units("m", "Unstretched length", gt=0.0, le=1.0e7)
+    length: float = _units("m", "Unstretched length", gt=0.0, le=MAX_LENGTH, limit=LENGTH_LIMIT)
     elements: int = Field(..., ge=1, le=100000, description="Number of SDEs (primary division into equal segments)")
     formulation: Literal["absolute", "classical", "classical-linear", "modified", "planar"] = Field(
         "absolute", description="RFE formulation: absolute coordinates (section 8.4, sea loads, seabed), "
@@ -1157,13 +1245,15 @@ class Roller(_Strict):
 class _Support(_Strict):
     attach: str = Field("fixed", description='"fixed" (global frame) or a vessel name: the rollers move with it')
     line: str = Field(..., description="Name of the line that runs over the rollers")
-    stiffness: float = _units("N/m", "Contact stiffness of each roller", gt=0.0)
+    stiffness: float = _units("N/m", "Contact stiffness of each roller", gt=0.0,
+                              le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
     damping: float = _units("N*s/m", "Contact damping of each roller (acts only while pressed)", default=0.0,
-                            ge=0.0)
+                            ge=0.0, le=MAX_DAMPING, limit=DAMPING_LIMIT)
     friction: float = Field(0.0, ge=0.0, le=10.0, description="Coulomb friction coefficient along the roller "
                             "axes (the rollers turn freely along the pipe); dynamics only [-]")
     friction_stiffness: float | None = _units("N/m", "Stick-spring stiffness of the friction (default: the "
-                                              "contact stiffness)", default=None, gt=0.0)
+                                              "contact stiffness)", default=None, gt=0.0,
+                                              le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
     contact_onset: float | None = _units("m", "Penetration over which the contact force comes in smoothly "
                                          "(quadratic, then linear with the stiffness; rfesim.loads.rollers). "
                                          "Default 0.005 x (pipe + roller radius); 0: a sharp onset",
@@ -1237,9 +1327,10 @@ class PayoutConstantTension(_Strict):
     at most max_speed."""
 
     kind: Literal["constant-tension"]
-    tension: float = _units("N", "Set tension", gt=0.0)
-    dead_band: float = _units("N", "Dead band around the set tension", default=0.0, ge=0.0)
-    gain: float = _units("N*s/m", "Tension excess per unit payout speed", gt=0.0)
+    tension: float = _units("N", "Set tension", gt=0.0, le=MAX_FORCE, limit=FORCE_LIMIT)
+    dead_band: float = _units("N", "Dead band around the set tension", default=0.0, ge=0.0,
+                              le=MAX_FORCE, limit=FORCE_LIMIT)
+    gain: float = _units("N*s/m", "Tension excess per unit payout speed", gt=0.0, le=MAX_DAMPING, limit=DAMPING_LIMIT)
     max_speed: float = _units("m/s", "Largest payout or reel-in speed", gt=0.0)
 
 
@@ -1255,11 +1346,13 @@ class TensionerSupport(_Strict):
     entry: Vector3 = _units("m", "Entry point of the track (attachment frame)")
     axis: Vector3 = Field(..., description="Direction of payout along the track (attachment frame) [-]",
                           json_schema_extra={"units": "1"})
-    length: float = _units("m", "Track length", gt=0.0)
+    length: float = _units("m", "Track length", gt=0.0, le=MAX_LENGTH, limit=LENGTH_LIMIT)
     lateral_stiffness: float = _units("N/m/m", "Pad stiffness holding the line on the axis, per unit length",
-                                      default=1.0e7, gt=0.0)
-    grip_stiffness: float = _units("N/m/m", "Axial grip stiffness per unit length", default=1.0e7, gt=0.0)
-    capacity: float = _units("N", "Largest axial force the pads hold before the line slips", gt=0.0)
+                                      default=1.0e7, gt=0.0, le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
+    grip_stiffness: float = _units("N/m/m", "Axial grip stiffness per unit length", default=1.0e7, gt=0.0,
+                                   le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
+    capacity: float = _units("N", "Largest axial force the pads hold before the line slips", gt=0.0,
+                             le=MAX_FORCE, limit=FORCE_LIMIT)
     payout: Annotated[Union[PayoutTable, PayoutConstantTension], Field(discriminator="kind")] = Field(
         default_factory=lambda: PayoutTable(kind="table", rows=[[0.0, 0.0]]),
         description="Prescribed payout, or driven by the tension characteristic (default: holds the line)")
@@ -1286,19 +1379,23 @@ class ReelSupport(_Strict):
                           "centre + radius * (axis x direction) [-]", json_schema_extra={"units": "1"})
     direction: Vector3 = Field(..., description="Direction in which the pipe leaves the drum at the take-off "
                                "point, normal to the axis (attachment frame) [-]", json_schema_extra={"units": "1"})
-    radius: float = _units("m", "Radius of the pipe axis on the drum (drum radius + pipe outer radius)", gt=0.0)
+    radius: float = _units("m", "Radius of the pipe axis on the drum (drum radius + pipe outer radius)", gt=0.0,
+                           le=MAX_LENGTH, limit=LENGTH_LIMIT)
     wrap_deg: float = _units("deg", "Wrap window: the angle back from the take-off point over which the drum "
                              "holds the pipe", default=180.0, gt=0.0, le=270.0)
     stored_length: float = _units("m", "Length of the line from end A wrapped on the drum at the start", ge=0.0)
     contact_stiffness: float = _units("N/m/m", "Radial contact stiffness of the drum per unit length",
-                                      default=1.0e7, gt=0.0)
+                                      default=1.0e7, gt=0.0, le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
     lateral_stiffness: float = _units("N/m/m", "Stiffness holding the pipe in the drum plane, per unit length",
-                                      default=1.0e7, gt=0.0)
-    grip_stiffness: float = _units("N/m/m", "Tangential grip stiffness per unit length", default=1.0e7, gt=0.0)
-    capacity: float = _units("N", "Largest tangential force the drum holds before the pipe slips", gt=0.0)
+                                      default=1.0e7, gt=0.0, le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
+    grip_stiffness: float = _units("N/m/m", "Tangential grip stiffness per unit length", default=1.0e7, gt=0.0,
+                                   le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
+    capacity: float = _units("N", "Largest tangential force the drum holds before the pipe slips", gt=0.0,
+                             le=MAX_FORCE, limit=FORCE_LIMIT)
     back_tension: float | None = _units("N", "Back tension the drum holds on the line at the start: statics turns "
                                         "the drum (shifts its payout) until its tangential force equals it "
-                                        "(default: the drum grips the line where it starts)", default=None, gt=0.0)
+                                        "(default: the drum grips the line where it starts)", default=None, gt=0.0,
+                                        le=MAX_FORCE, limit=FORCE_LIMIT)
     payout: Annotated[Union[PayoutTable, PayoutConstantTension], Field(discriminator="kind")] = Field(
         default_factory=lambda: PayoutTable(kind="table", rows=[[0.0, 0.0]]),
         description="Paid-out length (radius times the drum rotation) prescribed, or driven by the tension "

@@ -34,7 +34,8 @@ from typing import Annotated, Literal, Union
 
 from pydantic import Field, model_validator
 
-from .schema import FieldError, Vector3, _fixed_length_numbers, _Strict, _units
+from .schema import (DAMPING_LIMIT, FORCE_LIMIT, LENGTH_LIMIT, MAX_DAMPING, MAX_FORCE, MAX_LENGTH, MAX_STIFFNESS,
+                     STIFFNESS_LIMIT, FieldError, Vector3, _fixed_length_numbers, _Strict, _units, upper_bound)
 
 TensionRow = Annotated[list[float], _fixed_length_numbers(2, "[t, tension]"), Field(min_length=2, max_length=2)]
 
@@ -55,6 +56,16 @@ def _check_table(value, field: str, symbol: str, ok, why: str) -> None:
             raise FieldError(f"{field}.{i}.1", f"{v} N: {why}")
 
 
+def _check_size(value, field: str) -> None:
+    """A set force (N) or the forces of a table's rows within +-MAX_FORCE (schema.upper_bound)."""
+    rows = [(field, value)] if isinstance(value, (int, float)) else \
+        [(f"{field}.{i}.1", v) for i, (_, v) in enumerate(value)]
+    for where, v in rows:
+        why = upper_bound(v, MAX_FORCE, "N", FORCE_LIMIT, signed=True)
+        if why:
+            raise FieldError(where, why)
+
+
 def _rows(value) -> list[list[float]]:
     """[[t, value], ...] of a set value (one row at t = 0) or a table."""
     if isinstance(value, (int, float)):
@@ -73,6 +84,7 @@ class TuggerTension(_Strict):
     @model_validator(mode="after")
     def _table(self):
         _check_table(self.tension, "tension", "T", lambda T: T >= 0.0, "a tugger pulls (tension >= 0)")
+        _check_size(self.tension, "tension")
         return self
 
     def rows(self) -> list[list[float]]:
@@ -88,13 +100,17 @@ class TuggerForce(_Strict):
                                                   "[t (s), P (N)], linear between rows, held beyond them",
                                                   json_schema_extra={"units": "N (s, N)"})
 
-    length_min: float | None = _units("m", "End stop: the shortest length (default: none)", default=None, gt=0.0)
-    length_max: float | None = _units("m", "End stop: the longest length (default: none)", default=None, gt=0.0)
-    stop_stiffness: float = _units("N/m", "Stiffness of the end stops", default=1.0e9, gt=0.0)
+    length_min: float | None = _units("m", "End stop: the shortest length (default: none)", default=None, gt=0.0,
+                                      le=MAX_LENGTH, limit=LENGTH_LIMIT)
+    length_max: float | None = _units("m", "End stop: the longest length (default: none)", default=None, gt=0.0,
+                                      le=MAX_LENGTH, limit=LENGTH_LIMIT)
+    stop_stiffness: float = _units("N/m", "Stiffness of the end stops", default=1.0e9, gt=0.0,
+                                   le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
 
     @model_validator(mode="after")
     def _table(self):
         _check_table(self.force, "force", "P", math.isfinite, "must be a finite force")
+        _check_size(self.force, "force")
         if self.length_min is not None and self.length_max is not None and not self.length_min < self.length_max:
             raise FieldError("length_max", f"{self.length_max} m is not longer than length_min {self.length_min} m")
         return self
@@ -107,11 +123,13 @@ class TuggerElastic(_Strict):
     """A braked tugger winch: a tension-only spring-damper line."""
 
     kind: Literal["elastic"]
-    stiffness: float = _units("N/m", "Axial stiffness of the line (EA over its length)", gt=0.0)
-    damping: float = _units("N*s/m", "Axial damping", default=0.0, ge=0.0)
+    stiffness: float = _units("N/m", "Axial stiffness of the line (EA over its length)", gt=0.0,
+                              le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
+    damping: float = _units("N*s/m", "Axial damping", default=0.0, ge=0.0, le=MAX_DAMPING, limit=DAMPING_LIMIT)
     pretension: float = _units("N", "Tension at the scenario's initial positions (sets the unstretched length)",
-                               default=0.0, ge=0.0)
-    length: float | None = _units("m", "Unstretched length (instead of pretension)", default=None, gt=0.0)
+                               default=0.0, ge=0.0, le=MAX_FORCE, limit=FORCE_LIMIT)
+    length: float | None = _units("m", "Unstretched length (instead of pretension)", default=None, gt=0.0,
+                                  le=MAX_LENGTH, limit=LENGTH_LIMIT)
 
     @model_validator(mode="after")
     def _one(self):

@@ -35,7 +35,9 @@ from typing import Annotated, Literal, Union
 
 from pydantic import Field, model_validator
 
-from .schema import FieldError, _fixed_length_numbers, _Strict, _units
+from .schema import (DAMPING_LIMIT, FORCE_LIMIT, INERTIA_LIMIT, LENGTH_LIMIT, MAX_DAMPING, MAX_FORCE, MAX_INERTIA,
+                     MAX_LENGTH, MAX_STIFFNESS, STIFFNESS_LIMIT, FieldError, _fixed_length_numbers, _Strict, _units,
+                     upper_bound)
 
 DEFAULT_STORED = 1000.0     # m of rope on the drum at the start
 
@@ -103,15 +105,17 @@ class WinchDrum(_Strict):
     """Drum dynamics J omega' = r T - tau (omega > 0 pays out), motor torque table, brake."""
 
     kind: Literal["drum"]
-    radius: float = _units("m", "Drum radius (rope layer; with layers: the first layer's turn centres)", gt=0.0)
+    radius: float = _units("m", "Drum radius (rope layer; with layers: the first layer's turn centres)", gt=0.0,
+                           le=MAX_LENGTH, limit=LENGTH_LIMIT)
     layers: DrumLayers | None = Field(None, description="Level-wound layers: the radius grows with the rope on "
                                       "the drum, r = sqrt(radius^2 + L d^2 / (pi width)) (default: one radius)")
-    inertia: float = _units("kg*m^2", "Rotational inertia of the drum and the drive about the drum axis", gt=0.0)
+    inertia: float = _units("kg*m^2", "Rotational inertia of the drum and the drive about the drum axis", gt=0.0,
+                            le=MAX_INERTIA, limit=INERTIA_LIMIT)
     torque: list[TorqueRow] = Field([[0.0, 0.0]], min_length=1, description="Motor torque rows [t (s), "
                                     "torque (N*m)], positive hauls in, linear between rows [s, N*m]",
                                     json_schema_extra={"units": "s, N*m"})
     brake_torque: float = _units("N*m", "Brake: holds the drum while the net torque stays below it (0: none)",
-                                 default=0.0, ge=0.0)
+                                 default=0.0, ge=0.0, le=MAX_FORCE, limit=FORCE_LIMIT)
     rope_inertia: bool = Field(True, description="Add the inertia of the rope on the drum, mass_per_length times "
                                "the integral of r^2 over it, to ``inertia`` (it falls as the rope pays out); false "
                                "when ``inertia`` already holds it")
@@ -119,6 +123,10 @@ class WinchDrum(_Strict):
     @model_validator(mode="after")
     def _times(self):
         _increasing(self.torque, "torque")
+        for i, (_, tau) in enumerate(self.torque):
+            why = upper_bound(tau, MAX_FORCE, "N*m", FORCE_LIMIT, signed=True)
+            if why:
+                raise FieldError(f"torque.{i}.1", why)
         if self.layers is not None and self.layers.rope_diameter >= 2.0 * self.radius:
             raise FieldError("layers.rope_diameter", f"{self.layers.rope_diameter} m does not fit a first layer "
                                                      f"whose turns' centres are at radius {self.radius} m")
@@ -132,9 +140,10 @@ class WinchTension(_Strict):
     """Constant tension: payout speed (T - tension -+ dead_band) / gain outside the band."""
 
     kind: Literal["tension"]
-    tension: float = _units("N", "Set tension", gt=0.0)
-    dead_band: float = _units("N", "Dead band around the set tension", default=0.0, ge=0.0)
-    gain: float = _units("N*s/m", "Tension excess per unit payout speed", gt=0.0)
+    tension: float = _units("N", "Set tension", gt=0.0, le=MAX_FORCE, limit=FORCE_LIMIT)
+    dead_band: float = _units("N", "Dead band around the set tension", default=0.0, ge=0.0,
+                              le=MAX_FORCE, limit=FORCE_LIMIT)
+    gain: float = _units("N*s/m", "Tension excess per unit payout speed", gt=0.0, le=MAX_DAMPING, limit=DAMPING_LIMIT)
     max_speed: float = _units("m/s", "Largest payout or haul-in speed", gt=0.0)
 
 
@@ -152,8 +161,8 @@ class HeaveCompensation(_Strict):
 class ShockAbsorber(_Strict):
     """A spring-damper in series with the rope at the winch."""
 
-    stiffness: float = _units("N/m", "Spring stiffness", gt=0.0)
-    damping: float = _units("N*s/m", "Damping", default=0.0, ge=0.0)
+    stiffness: float = _units("N/m", "Spring stiffness", gt=0.0, le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
+    damping: float = _units("N*s/m", "Damping", default=0.0, ge=0.0, le=MAX_DAMPING, limit=DAMPING_LIMIT)
 
 
 class Winch(_Strict):
@@ -161,7 +170,7 @@ class Winch(_Strict):
 
     line: str = Field(..., description="Name of the (absolute-coordinate) line the winch pays out")
     stored: float = _units("m", "Rope on the drum at the start (payout beyond it is refused)",
-                           default=DEFAULT_STORED, gt=0.0)
+                           default=DEFAULT_STORED, gt=0.0, le=MAX_LENGTH, limit=LENGTH_LIMIT)
     mode: Annotated[Union[WinchSpeed, WinchDrum, WinchTension], Field(discriminator="kind")] = Field(
         default_factory=lambda: WinchSpeed(kind="speed", rows=[[0.0, 0.0]]),
         description="speed profile, drum dynamics or constant tension (default: holds the rope)")

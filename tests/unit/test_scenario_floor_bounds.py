@@ -1,0 +1,276 @@
+"""Two validation gaps closed, each a ScenarioError naming the field (dotted path), the value
+and the reason:
+
+* the sea floor without a seabed section: a fixed end, a vessel end at rest, or a point where a
+  support holds its line (a tensioner's track, a straightener, a reel's take-off point) below
+  surface_level - water.depth; the same points below a seabed (rfesim.scenario.load);
+* huge finite numbers (1e200 Pa, 1e250 kg/m^3, a 1e300 kg payload): upper bounds with their
+  reasons on moduli, section stiffnesses, densities, masses, inertias, stiffnesses, damping,
+  forces, lengths and coefficients, generous enough for "rigid" stand-ins (1e15 Pa passes)
+  (rfesim.scenario.schema MAX_*).
+
+Every bundled scenario, as JSON and as YAML, still passes ``rfesim check``.
+"""
+from __future__ import annotations
+
+import copy
+import json
+from pathlib import Path
+
+import pytest
+import yaml
+
+import rfesim
+from rfesim import ScenarioError
+from rfesim.cli import main
+from rfesim.scenario.files import resolve_data_files
+from rfesim.scenario.templates import expand
+
+SCENARIOS = Path(__file__).resolve().parents[2] / "scenarios"
+BUNDLED = sorted([*SCENARIOS.glob("*.json"), *SCENARIOS.glob("*.yaml"), *SCENARIOS.glob("*.yml")])
+
+
+def example(name: str) -> dict:
+    return json.loads((SCENARIOS / f"{name}.json").read_text())
+
+
+def expanded(name: str) -> dict:
+    """A bundled scenario with its templates expanded (its supports as plain entries)."""
+    return expand(resolve_data_files(example(name), SCENARIOS))
+
+
+def errors_of(data: dict | str, overrides: dict) -> dict[str, str]:
+    with pytest.raises(ScenarioError) as info:
+        load(data, overrides)
+    return dict(info.value.errors)
+
+
+def load(data: dict | str, overrides: dict):
+    data = example(data) if isinstance(data, str) else data
+    return rfesim.load_scenario(data, overrides=overrides, base_dir=SCENARIOS)
+
+
+NO_SEABED = {"environment.seabed": None}          # catenary_riser: water 200 m deep, no seabed section
+
+CABLE_SCENE = {
+    "environment": {"water": {"depth": 100.0}},
+    "line_types": {"cable": {"EA": 1.0e8, "EIy": 1.0e3, "mass_per_length": 50.0}},
+    "lines": {"pipe": {"type": "cable", "length": 10.0, "elements": 10,
+                       "end_a": {"attach": "fixed", "position": [0.0, 0.0, -50.0]}}},
+    "analysis": {"dynamics": {"enabled": False}},
+}
+
+
+# ----------------------------------------------------------------------------- 1. the sea floor
+
+def test_anchor_below_the_water_depth_without_a_seabed_is_refused():
+    errors = errors_of("catenary_riser", {**NO_SEABED, "lines.riser.end_a.position": [-535.0, 0.0, -260.0]})
+    reason = errors["lines.riser.end_a.position"]
+    assert reason.startswith("z = -260 m is below the sea floor at the water depth 200 m (z = -200 m) by 60 m")
+    assert "may lie at most 0.212 m below it (its radius 0.162 m + 0.05 m)" in reason
+
+
+@pytest.mark.parametrize("z", [-199.838, -200.0, -200.2])
+def test_anchor_on_the_sea_floor_without_a_seabed_is_fine(z):
+    sc = load("catenary_riser", {**NO_SEABED, "lines.riser.end_a.position": [-535.0, 0.0, z]})
+    assert sc.environment.seabed is None and sc.lines["riser"].end_a.position[2] == z
+
+
+def test_anchor_just_beyond_the_radius_is_refused_without_a_seabed():
+    errors = errors_of("catenary_riser", {**NO_SEABED, "lines.riser.end_a.position": [-535.0, 0.0, -200.3]})
+    assert "by 0.3 m" in errors["lines.riser.end_a.position"]
+
+
+def test_the_sea_floor_follows_the_surface_level():
+    # still water at z = 10: the floor of 200 m deep water is at z = -190, above the anchor
+    errors = errors_of("catenary_riser", {**NO_SEABED, "environment.water.surface_level": 10.0})
+    assert "z = -199.838 m is below the sea floor at the water depth 200 m (z = -190 m) by 9.838 m" in \
+        errors["lines.riser.end_a.position"]
+
+
+def test_vessel_end_below_the_water_depth_is_refused():
+    errors = errors_of("catenary_riser", {**NO_SEABED, "vessels.fpso.position": [0.0, 0.0, -300.0]})
+    assert errors["lines.riser.end_b.position"].startswith(
+        "z = -315 m (global, with vessel 'fpso' at rest) is below the sea floor at the water depth 200 m")
+
+
+def test_shallower_water_without_a_seabed_puts_the_anchor_below_its_floor():
+    errors = errors_of("catenary_riser", {**NO_SEABED, "environment.water.depth": 100.0})
+    assert "below the sea floor at the water depth 100 m (z = -100 m) by 99.84 m" in \
+        errors["lines.riser.end_a.position"]
+
+
+def test_no_water_depth_no_floor():
+    # water without a depth (or no water at all) has no floor: a deep anchor is fine
+    data = copy.deepcopy(CABLE_SCENE)
+    data["lines"]["pipe"]["end_a"]["position"] = [0.0, 0.0, -5000.0]
+    assert load(data, {"environment.water.depth": None}).lines["pipe"].end_a.position[2] == -5000.0
+    assert load(data, {"environment.water": None}).lines["pipe"].end_a.position[2] == -5000.0
+
+
+def test_free_end_start_below_the_floor_is_not_refused():
+    # a free end's position is where the line starts; statics and dynamics move it (without a
+    # seabed it may hang below the floor): only ends held in place are checked
+    data = copy.deepcopy(CABLE_SCENE)
+    data["lines"]["pipe"]["end_a"]["position"] = [0.0, 0.0, -99.0]
+    data["lines"]["pipe"]["end_b"] = {"attach": "free", "position": [0.0, 0.0, -109.0]}
+    assert load(data, {}).lines["pipe"].end_b.position[2] == -109.0
+    data["lines"]["pipe"]["end_b"]["attach"] = "fixed"
+    assert "z = -109 m is below the sea floor" in errors_of(data, {})["lines.pipe.end_b.position"]
+
+
+def test_seabed_check_unchanged_with_a_seabed():
+    # with a seabed section its own rule applies (its sinkage allowance), not the water depth's
+    errors = errors_of("catenary_riser", {"lines.riser.end_a.position": [-535.0, 0.0, -260.0]})
+    assert "z = -260 m is 60 m below the seabed (z = -200 m under this end)" in errors["lines.riser.end_a.position"]
+
+
+def test_tensioner_track_below_the_seabed_is_refused():
+    data = expanded("j_lay")
+    errors = errors_of(data, {"supports.lay_collar.entry": [0.0, 0.0, -1300.0]})
+    assert errors["supports.lay_collar.entry"].startswith(
+        "the track's entry: z = -1300 m (global, with vessel 'lay_vessel' at rest) is 100 m below the seabed "
+        "(z = -1200 m under it): the line 'lay' held there may rest on the seabed")
+    errors = errors_of(data, {"supports.lay_collar.length": 2000.0})
+    assert list(errors) == ["supports.lay_collar.length"]
+    assert errors["supports.lay_collar.length"].startswith("the track's exit (entry + length along the axis): "
+                                                           "z = -1962.52 m")
+
+
+def test_tensioner_track_below_the_water_depth_is_refused():
+    errors = errors_of(expanded("j_lay"), {**NO_SEABED, "supports.lay_collar.entry": [0.0, 0.0, -1300.0]})
+    assert "the track's entry: z = -1300 m (global, with vessel 'lay_vessel' at rest) is below the sea floor at " \
+           "the water depth 1200 m (z = -1200 m) by 100 m" in errors["supports.lay_collar.entry"]
+
+
+def test_reel_and_straightener_below_the_seabed_are_refused():
+    data = expanded("reel_lay")
+    errors = errors_of(data, {"supports.lay_reel.centre": [-17.59, 0.0, -1300.0]})
+    assert errors["supports.lay_reel.centre"].startswith(
+        "the take-off point (centre + radius * (axis x direction)): z = -1291.84 m")
+    errors = errors_of(data, {"supports.lay_straightener.entry": [-6.15, 0.0, -1300.0]})
+    assert "the first roller's pipe axis: z = -1300 m" in errors["supports.lay_straightener.entry"]
+    assert "is 1000 m below the seabed" in errors["supports.lay_straightener.entry"]
+
+
+def test_stinger_rollers_are_not_checked():
+    # rollers carry the line only where it touches them: a stinger reaching into the seabed of
+    # shallow water is left to the contact (the pipe leaves it before the tip)
+    data = expanded("s_lay_template")
+    assert load(data, {"supports.lay_stinger.start": [0.0, 0.0, -200.0]}).supports["lay_stinger"]
+
+
+def test_below_the_water_depth_through_rfesim_check(tmp_path, capsys):
+    data = example("catenary_riser")
+    del data["environment"]["seabed"]
+    data["lines"]["riser"]["end_a"]["position"][2] = -260.0
+    path = tmp_path / "deep.yaml"
+    path.write_text(yaml.safe_dump(data))
+    assert main(["check", str(path)]) == 1
+    assert "lines.riser.end_a.position: z = -260 m is below the sea floor at the water depth 200 m" in \
+        capsys.readouterr().err
+
+
+@pytest.mark.parametrize("fmt", ["json", "yaml"])
+@pytest.mark.parametrize("path", BUNDLED, ids=[p.name for p in BUNDLED])
+def test_bundled_scenarios_pass_check(path, fmt, tmp_path, capsys):
+    text = path.read_text()
+    if fmt != path.suffix.lstrip("."):
+        converted = tmp_path / f"{path.stem}.{fmt}"
+        data = json.loads(text) if path.suffix == ".json" else yaml.safe_load(text)
+        converted.write_text(json.dumps(data) if fmt == "json" else yaml.safe_dump(data))
+        (tmp_path / "data").symlink_to(SCENARIOS / "data")      # relative data files (RAOs)
+        path = converted
+    assert main(["check", str(path)]) == 0, capsys.readouterr().err
+    assert capsys.readouterr().out.startswith("OK")
+
+
+# ----------------------------------------------------------------------------- 2. huge numbers
+
+TOO_LARGE = [
+    # (scenario, overrides, field, the bound, a word of the reason)
+    ("catenary_riser", {"line_types.pipe12.youngs_modulus": 1e200}, "line_types.pipe12.youngs_modulus",
+     "must be less than or equal to 1e+20 Pa (got 1e+200)", "stiffest material (diamond"),
+    ("catenary_riser", {"line_types.pipe12.density": 1e250}, "line_types.pipe12.density",
+     "must be less than or equal to 1000000 kg/m^3 (got 1e+250)", "densest material (osmium)"),
+    ("catenary_riser", {"line_types.pipe12.contents_density": 1e250}, "line_types.pipe12.contents_density",
+     "less than or equal to 1000000 kg/m^3", "osmium"),
+    ("catenary_riser", {"environment.water.density": 1e300}, "environment.water.density",
+     "less than or equal to 1000000 kg/m^3", "osmium"),
+    ("catenary_riser", {"environment.seabed.normal_stiffness": 1e300}, "environment.seabed.normal_stiffness",
+     "less than or equal to 1e+20 N/m/m (got 1e+300)", "'rigid' stand-in"),
+    ("catenary_riser", {"line_types.pipe12.drag_normal": 50.0}, "line_types.pipe12.drag_normal",
+     "less than or equal to 10 (got 50.0)", "a coefficient, not a force or a mass"),
+    ("catenary_riser", {"line_types.pipe12.damping": {"axial": 1e300}}, "line_types.pipe12.damping.axial",
+     "less than or equal to 1e+20 N*s (got 1e+300)", "critical damping"),
+    (CABLE_SCENE, {"line_types.cable.EA": 1e300}, "line_types.cable.EA",
+     "less than or equal to 1e+22 N (got 1e+300)", "60 in steel pipe"),
+    (CABLE_SCENE, {"line_types.cable.EIy": 1e300}, "line_types.cable.EIy",
+     "less than or equal to 1e+22 N*m^2", "60 in steel pipe"),
+    (CABLE_SCENE, {"line_types.cable.mass_per_length": 1e300}, "line_types.cable.mass_per_length",
+     "less than or equal to 100000000 kg/m", "solid steel bar"),
+    (CABLE_SCENE, {"lines.pipe.loads": [{"at": "end_b", "force": [0.0, 0.0, -1e300]}]}, "lines.pipe.loads.0.force.2",
+     "must lie between -1e+15 and 1e+15 N (got -1e+300)", "heaviest offshore lift"),
+    ("column_crane", {"cranes.crane.payload.mass": 1e300}, "cranes.crane.payload.mass",
+     "must be less than or equal to 1e+12 kg (got 1e+300)", "heaviest offshore lift"),
+    ("column_crane", {"cranes.crane.payload.added_mass.mass": 1e300}, "cranes.crane.payload.added_mass.mass",
+     "less than or equal to 1e+12 kg", "heaviest offshore lift"),
+    ("column_crane", {"cranes.crane.payload.drag.cd": [1.2, 50.0, 2.0]}, "cranes.crane.payload.drag.cd.1",
+     "less than or equal to 10 (got 50.0)", "a coefficient"),
+    ("column_crane", {"cranes.crane.payload.radius_of_gyration": None,
+                      "cranes.crane.payload.inertia": [1e300, 1e300, 1e300]}, "cranes.crane.payload.inertia.0",
+     "less than or equal to 1e+18 kg*m^2", "radius of gyration of 1 km"),
+    ("column_crane", {"cranes.crane.rope.EA": 1e300}, "cranes.crane.rope.EA", "less than or equal to 1e+22 N",
+     "'rigid' stand-in"),
+    ("column_crane", {"cranes.crane.boom.youngs_modulus": 1e300}, "cranes.crane.boom.youngs_modulus",
+     "less than or equal to 1e+20 Pa", "diamond"),
+    ("column_crane", {"cranes.crane.winch.stored": 1e300}, "winches.crane_winch.stored",
+     "less than or equal to 10000000 m", "longer than any line"),
+    ("column_crane", {"cranes.crane.winch.mode": {"kind": "tension", "tension": 1e300, "gain": 1e4, "max_speed": 1.0}},
+     "winches.crane_winch.mode.tension", "less than or equal to 1e+15 N", "holding capacity"),
+    ("column_crane", {"cranes.crane.tuggers": {"t1": {"deck_point": [0.0, 20.0, 2.0],
+                                                      "mode": {"kind": "elastic", "stiffness": 1e300}}}},
+     "cranes.crane.tuggers.t1.mode.stiffness", "less than or equal to 1e+20 N/m", "'rigid' stand-in"),
+    ("s_lay_template", {"pipelay.lay.pipe.youngs_modulus": 1e300}, "pipelay.lay.pipe.youngs_modulus",
+     "less than or equal to 1e+20 Pa", "diamond"),
+    ("s_lay_template", {"pipelay.lay.pipe.density": 1e300}, "pipelay.lay.pipe.density",
+     "less than or equal to 1000000 kg/m^3", "osmium"),
+    ("s_lay_template", {"pipelay.lay.tensioner.capacity": 1e300}, "pipelay.lay.tensioner.capacity",
+     "less than or equal to 1e+15 N", "holding capacity"),
+    ("s_lay", {"supports.stinger.stiffness": 1e300}, "supports.stinger.stiffness",
+     "less than or equal to 1e+20 N/m", "'rigid' stand-in"),
+    ("s_lay", {"supports.stinger.damping": 1e300}, "supports.stinger.damping",
+     "less than or equal to 1e+20 N*s/m", "critical damping"),
+]
+
+
+@pytest.mark.parametrize("data, overrides, field, bound, why", TOO_LARGE,
+                         ids=[f"{c[0] if isinstance(c[0], str) else 'cable'}:{c[2]}" for c in TOO_LARGE])
+def test_huge_number_is_refused_with_its_reason(data, overrides, field, bound, why):
+    errors = errors_of(copy.deepcopy(data), overrides)
+    assert field in errors, errors
+    assert bound in errors[field] and why in errors[field]
+
+
+RIGID_STAND_INS = [
+    ("catenary_riser", {"line_types.pipe12.youngs_modulus": 1e15}),
+    ("catenary_riser", {"environment.seabed.normal_stiffness": 1e15}),
+    (CABLE_SCENE, {"line_types.cable.EA": 1e20, "line_types.cable.EIy": 1e18}),
+    ("column_crane", {"cranes.crane.payload.mass": 5e7}),
+    ("s_lay_template", {"pipelay.lay.tensioner.capacity": 1e14}),
+    ("s_lay", {"supports.stinger.stiffness": 1e15, "supports.stinger.damping": 1e12}),
+]
+
+
+@pytest.mark.parametrize("data, overrides", RIGID_STAND_INS,
+                         ids=[next(iter(c[1])) for c in RIGID_STAND_INS])
+def test_rigid_stand_ins_and_the_heaviest_real_values_pass(data, overrides):
+    assert load(copy.deepcopy(data), overrides) is not None
+
+
+def test_json_schema_states_the_new_bounds():
+    defs = rfesim.Scenario.model_json_schema()["$defs"]
+    modulus = defs["LineType"]["properties"]["youngs_modulus"]
+    assert 1e20 in [modulus.get("maximum")] + [a.get("maximum") for a in modulus.get("anyOf", [])]
+    assert "diamond" in modulus["limit"]
+    assert defs["Body"]["properties"]["mass"]["maximum"] == 1e12
