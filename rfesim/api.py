@@ -5,6 +5,8 @@ import logging
 import math
 import time as _time
 
+import numpy as np
+
 from . import __version__
 from .errors import CancelledError, SolverError
 from .model.compile import compile_scenario
@@ -91,20 +93,27 @@ def _excess_length(model) -> list[tuple[str, float, float]]:
             if li.chord is not None and li.length > li.chord * (1.0 + EXCESS_LENGTH)]
 
 
-def _straight_start_hint(excess: list[tuple[str, float, float]]) -> str:
+def _straight_start_hint(excess: list[tuple[str, float, float]], why: str) -> str:
     name, length, span = excess[0]
     more = f" (and {len(excess) - 1} more)" if len(excess) > 1 else ""
     return (f"line '{name}'{more} is {length:.6g} m long between ends {span:.6g} m apart, and a straight start "
-            f"compresses it into a straight column of that length, which buckles; the catenary start failed "
-            f"too: set analysis.statics.start to catenary (or auto) and look at the scene, or give more load "
-            f"steps (analysis.statics.load_steps)")
+            f"compresses it into a straight column of that length, which buckles; {why}")
+
+
+def _start_dependent(system: System, model) -> list[str]:
+    """The kernel arrays of ``model`` (compiled from another start shape) that differ from
+    the system's: what the start shape fixes in the model (the orientation of a clamped end
+    given without a direction, the rest rotation of a join)."""
+    a, b = system.km, model.km
+    return [f for f in a._fields if isinstance(getattr(a, f), np.ndarray)
+            and (getattr(a, f).shape != getattr(b, f).shape or not np.array_equal(getattr(a, f), getattr(b, f)))]
 
 
 def _static_state(system: System, sc: Scenario, progress=None):
     """Statics of the scene -> (state, info). A straight start (analysis.statics.start) that
-    fails on lines with slack is retried from the catenary start shape, and info.message
-    says so; info.warnings holds the free compressed stretches beyond their Euler load
-    (rfesim.solvers.buckling), also logged."""
+    fails on lines with slack is retried from the catenary start shape; info.warnings says
+    so, and holds the free compressed stretches beyond their Euler load
+    (rfesim.solvers.buckling); each is logged too."""
     s = sc.analysis.statics
 
     def solve(start=None):
@@ -117,7 +126,10 @@ def _static_state(system: System, sc: Scenario, progress=None):
     except SolverError as exc:
         excess = _excess_length(system.model) if s.start == "straight" else []
         if excess:
-            state, info = _catenary_retry(system, sc, exc, excess, saved, solve)
+            retried = _catenary_retry(system, sc, exc, excess, saved, solve)
+            if isinstance(retried, SolverError):
+                raise retried from None
+            state, info = retried
         else:
             hint = None if exc.hint else _statics_hint(sc)
             if hint is None:
@@ -131,28 +143,39 @@ def _static_state(system: System, sc: Scenario, progress=None):
             system, sc, state, info,
             lambda st: solve_statics(system, st, tolerance=s.tolerance, max_iterations=s.max_iterations,
                                      seabed_friction=s.seabed_friction))
-    info.warnings = buckling_warnings(system, state)
+    info.warnings = list(info.warnings) + buckling_warnings(system, state)
     for w in info.warnings:
-        log.warning(w)
+        log.warning("statics: %s", w)
     return state, info
 
 
 def _catenary_retry(system: System, sc: Scenario, exc: SolverError, excess, saved, solve):
     """Statics from the catenary start shape after the straight start failed on lines with
-    slack: the same model (the straight start still sets what it sets, e.g. the direction of
-    a clamped end given without one), another first iterate (docs/theory.md, section 6)."""
+    slack: another first iterate of the same model (docs/theory.md, section 6). Only when
+    the catenary start compiles to the same model: where the start shape fixes something in
+    it (a clamped end without a direction), the error keeps the straight start's failure
+    with a hint."""
+    def failed(why: str):
+        return SolverError(exc.message, time=exc.time, element=exc.element, quantity=exc.quantity,
+                           results=exc.results, hint=_straight_start_hint(excess, why))
+
+    catenary = compile_scenario(sc, start="catenary")
+    differ = _start_dependent(system, catenary)
+    if differ:
+        return failed("a catenary start would set the model differently (the orientation of a clamped end "
+                      "given without a direction, or of a join: " + ", ".join(differ) + "), so it is not "
+                      "tried in its place: give those ends a direction, or set analysis.statics.start to "
+                      "catenary (or auto)")
     system.set_history(saved)       # the failed solve's tensioner, reel and friction anchors
-    start = compile_scenario(sc, start="catenary").initial
     try:
-        state, info = solve(start)
+        state, info = solve(catenary.initial)
     except SolverError:
-        raise SolverError(exc.message, time=exc.time, element=exc.element, quantity=exc.quantity,
-                          results=exc.results, hint=_straight_start_hint(excess)) from None
+        raise failed("statics from the catenary start failed too: look at the scene (are the ends where "
+                     "you meant them?), or give more load steps (analysis.statics.load_steps)") from None
     name, length, span = excess[0]
     note = (f"the straight start failed (it compresses the {length:.6g} m of line '{name}' between ends "
             f"{span:.6g} m apart into a column, which buckles), so statics started from the catenary")
-    log.warning("statics: %s", note)
-    info.message = f"{info.message} ({note})"
+    info.warnings = [note]
     return state, info
 
 
@@ -212,6 +235,7 @@ def simulate(scenario, *, progress=None):
         if exc.results is not None:
             exc.results.scenario_json = meta["scenario_json"]
             exc.results.version = __version__
+            exc.results.message = _with_warnings(exc.results.message, info)
         raise
     except CancelledError:
         raise

@@ -22,9 +22,17 @@ tensioned neighbours, which hold its ends at least as well as pins (clamps: 4 N_
 stretch that ends at a free end of a line (a cantilever, N_E / 4) is not treated apart,
 and a stretch is not followed across a join into the next line. The largest compression of
 the stretch is compared (conservative where it varies along it). Compression below
-``NOISE_FRACTION`` of the scene's force scale (``System.force_scale``: the largest element
-weight or point load, else the largest internal force), or below ``NOISE_ROUNDOFF`` times
-the force resolution of the model, is numerical noise and never warns.
+``NOISE_FRACTION`` of the line's own force scale (its largest element weight or point load,
+else its largest internal force: a heavy load elsewhere in the scene does not hide it), or
+below ``NOISE_ROUNDOFF`` times the force resolution of the model, is numerical noise and
+never warns.
+
+Only a *straight* stretch is reported as unstable: one whose RFE centres lie within
+``STRAIGHT`` of its length from the chord through its end centres. A pinned column past
+its Euler load is unstable straight, but stable bent (the elastica, whose compression stays
+a few per cent above N_E for deflections of a fifth of its length): a slack line that
+statics has bent sideways under compression, such as a neutrally buoyant tether, is a
+stable equilibrium and does not warn.
 """
 from __future__ import annotations
 
@@ -38,6 +46,7 @@ from .system import System
 
 NOISE_FRACTION = 1e-3   # compression below this fraction of the force scale is noise
 NOISE_ROUNDOFF = 1e3    # ... or below this multiple of the force resolution (System.roundoff_force)
+STRAIGHT = 1e-2         # a stretch whose centres lie within this fraction of its length from its chord is straight
 
 
 @dataclass(frozen=True)
@@ -48,10 +57,12 @@ class CompressedStretch:
     compression: float    # N, largest compressive axial force in it (positive)
     euler_load: float     # N, pi^2 EI_min / length^2 (pinned-pinned)
     bending_stiffness: float  # N*m^2, EI_min of the section
+    deviation: float = 0.0    # m, largest distance of its RFE centres from the chord of its end centres
 
     @property
     def buckles(self) -> bool:
-        return self.compression > self.euler_load
+        """Straight and compressed beyond the Euler load: an unstable equilibrium."""
+        return self.compression > self.euler_load and self.deviation <= STRAIGHT * self.length
 
 
 def supported_rfes(system: System, state: State) -> np.ndarray:
@@ -82,17 +93,21 @@ def compressed_stretches(system: System, state: State) -> list[CompressedStretch
     km, ws = system.km, system.ws
     held = supported_rfes(system, state)         # evaluates the state: ws.sigma is its SDE forces
     compression = -ws.sigma[:, 0]
-    floor = max(NOISE_FRACTION * system.force_scale(state), NOISE_ROUNDOFF * system.roundoff_force(state))
+    centres = ws.r[:km.rfe_mass.shape[0]].copy()
+    roundoff = NOISE_ROUNDOFF * system.roundoff_force(state)
     out: list[CompressedStretch] = []
     for li in system.model.lines:
         EI = li.section.EI_min
+        floor = max(NOISE_FRACTION * _line_force_scale(km, ws, li), roundoff)
 
         def close(run):
             if run:
                 length = float(km.sde_length[run].sum())
+                rfes = [int(km.sde_left[s]) for s in run] + [int(km.sde_right[run[-1]])]
                 out.append(CompressedStretch(line=li.name, start=(run[0] - li.sde_start) * li.dx, length=length,
                                              compression=float(compression[run].max()),
-                                             euler_load=math.pi ** 2 * EI / length ** 2, bending_stiffness=EI))
+                                             euler_load=math.pi ** 2 * EI / length ** 2, bending_stiffness=EI,
+                                             deviation=_deviation(centres[rfes])))
             return []
 
         run: list[int] = []
@@ -106,6 +121,34 @@ def compressed_stretches(system: System, state: State) -> list[CompressedStretch
             run.append(s)
         close(run)
     return out
+
+
+def _line_force_scale(km, ws, li) -> float:
+    """A typical force of one line (N): its largest element weight or point load, else its
+    largest internal force (as System.force_scale for the scene)."""
+    lo, hi = li.rfe_start, li.rfe_stop
+    cand = [0.0]
+    if km.gravity > 0:
+        cand.append(float(km.rfe_mass[lo:hi].max()) * km.gravity)
+    if km.load_force.size:
+        on = (km.load_rfe >= lo) & (km.load_rfe < hi)
+        if on.any():
+            cand.append(float(np.abs(km.load_force[on]).max()))
+            cand.append(float(np.abs(km.load_moment[on]).max()) / max(float(km.rfe_length[lo:hi].min()), 1e-12))
+    ref = max(cand)
+    if ref == 0.0 and li.sde_stop > li.sde_start:
+        ref = float(np.abs(ws.sigma[li.sde_start:li.sde_stop, :3]).max())
+    return ref
+
+
+def _deviation(points: np.ndarray) -> float:
+    """Largest distance (m) of the points from the straight line through the first and last."""
+    chord = points[-1] - points[0]
+    d = points - points[0]
+    size = float(np.linalg.norm(chord))
+    if size == 0.0:
+        return float(np.linalg.norm(d, axis=1).max())
+    return float(np.linalg.norm(np.cross(d, chord / size), axis=1).max())
 
 
 def buckling_warnings(system: System, state: State) -> list[str]:

@@ -42,6 +42,8 @@ def advance_controlled(system, st, t_target: float, h: float, step, flags, count
                     c.restore(s)
                 flags[0] = 0           # the factorised Jacobian belongs to another step size
                 flags[2] = 0           # the previous acceleration may come from the failed attempt
+                if flags.shape[0] > 3:
+                    flags[3] = 1       # a halved step: a third Newton attempt (kernels.ga_advance)
             for m in range(sub):
                 ta = t0 + m * hh
                 for c in controllers:
@@ -77,6 +79,8 @@ def advance_controlled(system, st, t_target: float, h: float, step, flags, count
                     counters["step_halvings"] = counters.get("step_halvings", 0) + 1
                     flags[0] = 0
                 break
+        if flags.shape[0] > 3:
+            flags[3] = 0
         if status != 0 and unbalanced is not None:
             raise SolverError(f"the winches' coupling to their ropes (drum balance, constant-tension "
                               f"speed) did not settle within {COUPLING_ITERATIONS} tries of a step at "

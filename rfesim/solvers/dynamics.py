@@ -807,7 +807,7 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
         force_ref = system.force_scale(st)
         floor = 100.0 * system.roundoff_force(st) / force_ref
         tol = max(float(integ.tolerance), floor)
-        flags = np.zeros(3, np.int64)
+        flags = np.zeros(4, np.int64)   # kernels.ga_advance; [3]: a halved step (a third attempt)
         qdd_prev = st.qdd.copy()
         analytic = integ.jacobian == "analytic"
         from .fastcall import FastCall
@@ -841,6 +841,7 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
                     system.set_history(step_history)
                     trial.t = t_step0
                     flags[0] = 0
+                    flags[3] = 1 if level > 0 else 0
                     s2 = 0
                     for m in range(sub):
                         s2 = ga_call(km, vs, att, ws, trial.q, trial.qd, trial.qdd, trial.aux, trial.ref,
@@ -860,6 +861,7 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
                         break
                     status = s2
                 flags[0] = 0
+                flags[3] = 0
                 if not ok:
                     st.t = t_step0
                     counters.add(stats)

@@ -125,7 +125,9 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
     second limit steps ran out of iterations and were halved: docs/theory.md, 'When Newton
     forms a new Jacobian'); a step
     that still fails restarts once from the constant-acceleration predictor with a fresh
-    Jacobian. stats += [steps, newton iterations, jacobians,
+    Jacobian, and, in a step already halved by the driver (flags[3] = 1), once more from the
+    step's start state (docs/theory.md, 'Slack ropes and Newton'). stats += [steps, newton
+    iterations, jacobians,
     rebases]. ``analytic``: Jacobian from the SDE tangent (rfesim.solvers.jacobian) instead
     of coloured finite differences; Ks, Kds, T, Fsde, Msde are its work arrays. The Newton
     predictor extrapolates the acceleration linearly from the last two steps (qdd_prev holds
@@ -134,6 +136,7 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
     n = q.shape[0]
     cq = h * h * beta * (1.0 - alpha_f) / (1.0 - alpha_m)
     cv = h * gamma * (1.0 - alpha_f) / (1.0 - alpha_m)
+    attempts = 3 if flags.shape[0] > 3 and flags[3] == 1 else 2
     for step in range(nsteps):
         t1 = t0 + (step + 1) * h
         attachment_kinematics(vs, t1, att)
@@ -152,7 +155,7 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
         converged = False
         evals = 0
         ws.step_state[0] = 0
-        for attempt in range(2):
+        for attempt in range(attempts):
             need_new = flags[0] == 0 or (not reuse) or attempt > 0 or flags[1] > SLOW_STEP
             rn_prev = np.inf
             nfresh = 0
@@ -226,10 +229,23 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
                     break
             if converged:
                 break
-            # restart from the (constant-acceleration) predictor with a fresh Jacobian
-            for i in range(n):
-                for k in range(6):
-                    q[i, k] = Q0[i, k] + cq * qdd[i, k]
+            if attempt + 1 == attempts:
+                break
+            if attempt == 0:
+                # restart from the (constant-acceleration) predictor with a fresh Jacobian
+                for i in range(n):
+                    for k in range(6):
+                        q[i, k] = Q0[i, k] + cq * qdd[i, k]
+            else:
+                # then, in a halved step, from the step's start state q_n: both predictors
+                # carry the accelerations of a stiff mode (omega h >> 1), large but harmless,
+                # over the step into a far iterate. Not at the driver's own step: there it can
+                # converge to a far root of the step's equations where the halved step finds
+                # the right one (docs/theory.md, 'Slack ropes and Newton')
+                for i in range(n):
+                    for k in range(6):
+                        ab = (alpha_f * qdd[i, k] - alpha_m * aux[i, k]) / (1.0 - alpha_m)
+                        q[i, k] = Q0[i, k] - (h * qd[i, k] + h * h * (0.5 - beta) * aux[i, k] + h * h * beta * ab)
         flags[1] = evals
         ws.sea_frozen[0] = 0
         if not converged:

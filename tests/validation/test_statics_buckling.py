@@ -166,8 +166,67 @@ def test_straight_start_that_cannot_be_rescued_says_why(monkeypatch):
     assert len(calls) == 2 and calls[0] is None and calls[1] is not None
     assert err.value.message.startswith("static equilibrium not found")
     assert "line 'r' is 20 m long between ends 5 m apart" in err.value.hint
-    assert "set analysis.statics.start to catenary" in err.value.hint
+    assert "statics from the catenary start failed too" in err.value.hint
     calls.clear()
     with pytest.raises(SolverError) as err:
         rfesim.statics(with_start(rope(5.0), "catenary"))
     assert len(calls) == 1 and not err.value.hint
+
+
+def test_straight_start_is_not_replaced_where_the_start_shape_sets_the_model():
+    """A clamped end given without a direction takes its orientation from the start shape:
+    a catenary start would be another model (another clamp), so the failed straight start
+    is not silently replaced; the hint says what differs and what to do."""
+    data = rope(5.0, tension_only=False, EI=1e3)
+    data["lines"]["r"]["end_a"]["connection"] = "clamped"
+    sc = with_start(data, "straight")
+    straight, catenary = compile_scenario(sc), compile_scenario(sc, start="catenary")
+    assert not np.array_equal(straight.km.rfe_clamp_R, catenary.km.rfe_clamp_R)
+    with pytest.raises(SolverError) as err:
+        rfesim.statics(sc)
+    assert "line 'r' is 20 m long between ends 5 m apart" in err.value.hint
+    assert "rfe_clamp_R" in err.value.hint and "give those ends a direction" in err.value.hint
+    data["lines"]["r"]["end_a"]["direction"] = [0.0, 0.0, -1.0]     # given: the same model from either start
+    res = rfesim.statics(with_start(data, "straight"))
+    assert "so statics started from the catenary" in res.message
+
+
+NEUTRAL_D = 0.1
+
+
+def neutral_tether(span: float) -> dict:
+    """A neutrally buoyant tether of 100 m (EI 2000 N m^2) between fixed points ``span``
+    apart at 50 m depth: nothing pulls it straight, so statics bends it sideways."""
+    return {"name": "neutrally buoyant tether",
+            "environment": {"gravity": 9.81, "water": {"density": 1025.0, "depth": 200.0}},
+            "line_types": {"u": {"EA": 1e7, "EIy": 2000.0, "outer_diameter": NEUTRAL_D,
+                                 "mass_per_length": 1025.0 * math.pi / 4.0 * NEUTRAL_D ** 2}},
+            "lines": {"l": {"type": "u", "length": 100.0, "elements": 50,
+                            "end_a": {"attach": "fixed", "position": [0.0, 0.0, -50.0]},
+                            "end_b": {"attach": "fixed", "position": [span, 0.0, -50.0]}}},
+            "analysis": {"statics": {"enabled": True}}}
+
+
+def test_a_bent_compressed_line_is_the_stable_elastica_and_does_not_warn():
+    """The slack neutrally buoyant tether settles bent (the elastica): its compression is a
+    few per cent above pi^2 EI / L^2, as the post-buckled pinned column's is, and the bent
+    shape is stable (its lowest modes about the equilibrium have positive frequencies). Only
+    a straight stretch beyond its Euler load is reported."""
+    sc = rfesim.load_scenario(neutral_tether(90.0))
+    _, info, stretches = statics_with_stretches(sc)
+    c, = stretches
+    assert c.euler_load < c.compression < 1.1 * c.euler_load
+    assert c.deviation > 0.1 * c.length                   # bent by about a fifth of its length
+    assert not c.buckles and info.warnings == []
+
+
+def test_a_heavy_load_elsewhere_does_not_hide_a_buckled_line():
+    """The noise floor of the compression is each line's own force scale: a second line pulled
+    by 3 MN does not hide the pushed beam at ten times its Euler load."""
+    data = pushed_beam(0.0, seabed=False)
+    data["lines"]["tie"] = {"type": "beam", "length": 10.0, "elements": 5,
+                            "end_a": {"attach": "fixed", "position": [0.0, 10.0, 0.0]}, "end_b": {"attach": "free"},
+                            "loads": [{"at": "end_b", "force": [3e6, 0.0, 0.0]}]}
+    _, info, stretches = statics_with_stretches(rfesim.load_scenario(data))
+    assert len(info.warnings) == 1 and "line 'b'" in info.warnings[0]
+    assert [c.line for c in stretches if c.buckles] == ["b"]
