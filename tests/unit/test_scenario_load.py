@@ -112,6 +112,37 @@ lines:
     compile_scenario(sc)
 
 
+def test_yaml_merge_keys_share_properties(tmp_path):
+    """``<<: *base`` merges a mapping (YAML's merge key); the keys written beside it win. It
+    failed with "could not determine a constructor for the tag ...merge" before."""
+    path = tmp_path / "merge.yaml"
+    path.write_text("""\
+name: merge
+line_types:
+  cable: &cable {EA: 1.0e8, EIy: 0.0, mass_per_length: 20.0}
+  heavy:
+    <<: *cable
+    mass_per_length: 40.0
+lines:
+  pipe:
+    type: heavy
+    length: 100
+    elements: 10
+    end_a: &end {attach: fixed, position: [0, 0, 0]}
+    end_b:
+      <<: [*end, {connection: pinned}]
+      position: [90, 0, 0]
+""")
+    sc = rfesim.load_scenario(path)
+    heavy = sc.line_types["heavy"]
+    assert (heavy.EA, heavy.EIy, heavy.mass_per_length) == (1.0e8, 0.0, 40.0)
+    assert sc.lines["pipe"].end_b.position == [90.0, 0.0, 0.0] and sc.lines["pipe"].end_b.attach == "fixed"
+    path.write_text(path.read_text().replace("    mass_per_length: 40.0\n", "    mass_per_length: 40.0\n"
+                                             "    mass_per_length: 41.0\n"))
+    with pytest.raises(rfesim.ScenarioError, match="key 'mass_per_length' appears twice"):
+        rfesim.load_scenario(path)
+
+
 def test_utf8_bom_is_accepted(tmp_path, data):
     path = tmp_path / "bom.json"
     path.write_bytes(b"\xef\xbb\xbf" + json.dumps(data).encode())
