@@ -144,6 +144,25 @@ def test_free_drum_accelerates_the_payload_at_the_reduced_gravity(h):
     assert abs(a - G) > 0.2 * G          # the drum's inertia matters
 
 
+def from_a_moved_static_state(doc: dict, seed: int, eps: float):
+    """Results of the scenario's dynamics from its static state with the free positions moved
+    by ``eps`` (m) in a seeded random direction."""
+    from rfesim.api import _static_state
+    from rfesim.model.compile import compile_scenario
+    from rfesim.scenario import load_scenario
+    from rfesim.solvers.dynamics import Counters, run_dynamics
+    from rfesim.solvers.system import System
+    sc = load_scenario(doc)
+    system = System(compile_scenario(sc))
+    state, _ = _static_state(system, sc)
+    d = np.random.default_rng(seed).standard_normal(state.q.shape)
+    d[:, 3:] = 0.0
+    d *= system.mask
+    state.q += eps * d / np.linalg.norm(d)
+    _, rec, _ = run_dynamics(system, state, sc.analysis.dynamics, counters=Counters())
+    return rec.results(status=0, message="", counters={})
+
+
 def test_free_drum_at_50_ms_steps_is_robust_to_the_last_digits_of_the_static_state():
     """The free drum at 50 ms steps from the static state moved by 1e-10 m in random
     directions (the free coordinates): the same reduced-gravity acceleration. The first
@@ -153,25 +172,13 @@ def test_free_drum_at_50_ms_steps_is_robust_to_the_last_digits_of_the_static_sta
     (not the state restored), paid out 230 m to 83 km in 25 ms and stopped the run (7 of
     8 directions at 1e-10 m, 2 of 8 at 1e-12 m). The predictor now uses the chord rate kept
     with the controller's state (docs/theory.md, 'Winches and rope payout')."""
-    from rfesim.api import _static_state
-    from rfesim.model.compile import compile_scenario
-    from rfesim.scenario import load_scenario
-    from rfesim.solvers.dynamics import Counters, run_dynamics
-    from rfesim.solvers.system import System
     m, J, r, mu = 1000.0, 100.0, 0.5, 0.05
     g_eff = (m + mu * 20.0) * G / drum_mass(m, mu, 20.0, 200.0, J, r)
-    sc = load_scenario(hoist({"kind": "drum", "radius": r, "inertia": J}, m=m, mu=mu, duration=3.0, h=0.05,
-                             output=0.05, damping=DRUM_DAMPING))
+    doc = hoist({"kind": "drum", "radius": r, "inertia": J}, m=m, mu=mu, duration=3.0, h=0.05, output=0.05,
+                damping=DRUM_DAMPING)
     accelerations = []
     for seed in range(4):
-        system = System(compile_scenario(sc))
-        state, _ = _static_state(system, sc)
-        d = np.random.default_rng(seed).standard_normal(state.q.shape)
-        d[:, 3:] = 0.0
-        d *= system.mask
-        state.q += 1e-10 * d / np.linalg.norm(d)
-        _, rec, _ = run_dynamics(system, state, sc.analysis.dynamics, counters=Counters())
-        res = rec.results(status=0, message="", counters={})
+        res = from_a_moved_static_state(doc, seed, 1e-10)
         t, z = res.time, res.body("payload").position[:, 2]
         keep = t > 0.3
         accelerations.append(-2.0 * np.polyfit(t[keep], z[keep], 2)[0])
@@ -186,27 +193,15 @@ def test_light_rope_at_50_ms_steps_from_a_start_moved_by_1e_8_m(mode):
     1.6e4) starts with large, harmless accelerations that both predictors carry over the
     step into a far iterate (the first residual 2.4e5 force scales, the upper rope turned by
     ~140 rad by the first correction); Newton failed in 5 of 6 directions held, in all 6
-    with the free drum. A step whose two predictor attempts fail now restarts from its
-    start state (docs/theory.md, 'Slack ropes and Newton')."""
-    from rfesim.api import _static_state
-    from rfesim.model.compile import compile_scenario
-    from rfesim.scenario import load_scenario
-    from rfesim.solvers.dynamics import Counters, run_dynamics
-    from rfesim.solvers.system import System
+    with the free drum, at every halving. A halved step whose two predictor attempts fail
+    now tries once more from its start state (docs/theory.md, 'Slack ropes and Newton')."""
     m, mu = 1000.0, 0.05
     winch = {"held": {"kind": "speed", "rows": [[0, 0], [100, 0]]},
              "ramp": {"kind": "speed", "rows": [[0, 0], [1, 0.5], [100, 0.5]]},
              "drum": {"kind": "drum", "radius": 0.5, "inertia": 100.0}}[mode]
-    sc = load_scenario(hoist(winch, m=m, mu=mu, duration=2.0, h=0.05, output=0.05, damping=DRUM_DAMPING))
+    doc = hoist(winch, m=m, mu=mu, duration=2.0, h=0.05, output=0.05, damping=DRUM_DAMPING)
     for seed in range(4):
-        system = System(compile_scenario(sc))
-        state, _ = _static_state(system, sc)
-        d = np.random.default_rng(seed).standard_normal(state.q.shape)
-        d[:, 3:] = 0.0
-        d *= system.mask
-        state.q += 1e-8 * d / np.linalg.norm(d)
-        _, rec, _ = run_dynamics(system, state, sc.analysis.dynamics, counters=Counters())
-        res = rec.results(status=0, message="", counters={})
+        res = from_a_moved_static_state(doc, seed, 1e-8)
         z = res.body("payload").position[:, 2]
         assert res.time[-1] == pytest.approx(2.0)
         lowered = z[0] - z[-1]
