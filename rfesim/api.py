@@ -126,10 +126,7 @@ def _static_state(system: System, sc: Scenario, progress=None):
     except SolverError as exc:
         excess = _excess_length(system.model) if s.start == "straight" else []
         if excess:
-            retried = _catenary_retry(system, sc, exc, excess, saved, solve)
-            if isinstance(retried, SolverError):
-                raise retried from None
-            state, info = retried
+            state, info = _catenary_retry(system, sc, exc, excess, saved, solve)
         else:
             hint = None if exc.hint else _statics_hint(sc)
             if hint is None:
@@ -162,10 +159,10 @@ def _catenary_retry(system: System, sc: Scenario, exc: SolverError, excess, save
     catenary = compile_scenario(sc, start="catenary")
     differ = _start_dependent(system, catenary)
     if differ:
-        return failed("a catenary start would set the model differently (the orientation of a clamped end "
-                      "given without a direction, or of a join: " + ", ".join(differ) + "), so it is not "
-                      "tried in its place: give those ends a direction, or set analysis.statics.start to "
-                      "catenary (or auto)")
+        raise failed("a catenary start would set the model differently (the orientation of a clamped end "
+                     "given without a direction, or of a join: " + ", ".join(differ) + "), so it is not "
+                     "tried in its place: give those ends a direction, or set analysis.statics.start to "
+                     "catenary (or auto)") from None
     system.set_history(saved)       # the failed solve's tensioner, reel and friction anchors
     try:
         state, info = solve(catenary.initial)
