@@ -176,10 +176,13 @@ def _catenary_retry(system: System, sc: Scenario, exc: SolverError, excess, save
     return state, info
 
 
+STATICS_WARNING = "; statics warning: "     # what precedes each statics warning in a results' message
+
+
 def _with_warnings(message: str, info) -> str:
     """The results' message with the statics warnings (rfesim.solvers.buckling) after it."""
     warnings = info.warnings if info is not None else []
-    return "".join([message] + [f"; statics warning: {w}" for w in warnings])
+    return "".join([message] + [f"{STATICS_WARNING}{w}" for w in warnings])
 
 
 def statics(scenario, *, progress=None):

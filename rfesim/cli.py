@@ -277,7 +277,7 @@ def cmd_run(args) -> int:
         return _solver_failure(failure, out, args.plot)
     wall = time.perf_counter() - wall0
     _write(res, out)
-    print(f"{sc.name}: {res.message}")
+    print(f"{sc.name}: {_summary_message(res.message)}")
     for line in _run_summary(res, wall):
         print(line)
     print(f"results written to {out}")
@@ -321,7 +321,7 @@ def cmd_statics(args) -> int:
     except rfesim.SolverError as exc:
         return _solver_failure(exc, out)
     wall = time.perf_counter() - wall0
-    print(f"{sc.name}: statics {res.message} (wall time {wall:.3g} s)")
+    print(f"{sc.name}: statics {_summary_message(res.message)} (wall time {wall:.3g} s)")
     rows = []
     for name, lr in res.lines.items():
         fa, fb = lr.end_a_force[-1], lr.end_b_force[-1]
@@ -505,6 +505,16 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", metavar="TABLE.csv", help="also write the table as CSV")
     p.set_defaults(func=cmd_sweep)
     return parser
+
+
+def _summary_message(message: str) -> str:
+    """A results' message for the summary line: its statics warnings were logged on stderr
+    as statics found them (the results file keeps them in full), so only their count."""
+    from .api import STATICS_WARNING
+    head, *warnings = message.split(STATICS_WARNING)
+    if not warnings:
+        return message
+    return f"{head} ({len(warnings)} statics warning{'s' if len(warnings) > 1 else ''}, above)"
 
 
 class _StderrHandler(logging.StreamHandler):

@@ -87,6 +87,23 @@ def test_verbose_logs_library_messages(tmp_path, capsys):
     assert "INFO rfesim" in capsys.readouterr().err
 
 
+def test_statics_warning_is_shown_once(tmp_path, capsys):
+    """The cantilever pushed along its axis by ten times its Euler load, weightless: statics
+    converges straight and warns (rfesim.solvers.buckling). The warning is logged on stderr
+    once; the summary line counts it; the results file keeps it in full."""
+    import rfesim
+    data = copy.deepcopy(CANTILEVER)
+    euler = 3.141592653589793 ** 2 * 1.0e5 / 10.0 ** 2
+    data["lines"]["pipe"]["loads"] = [{"at": "end_b", "force": [-10.0 * euler, 0.0, 0.0]}]
+    path = write_scenario(tmp_path, data, "pushed.json")
+    out = tmp_path / "pushed.nc"
+    assert main(["statics", str(path), "-o", str(out)]) == 0
+    captured = capsys.readouterr()
+    assert captured.err.count("compression over a free stretch of 10 m") == 1
+    assert "compression over" not in captured.out and "(1 statics warning, above)" in captured.out
+    assert "statics warning: line 'pipe' carries" in rfesim.open_results(out).message
+
+
 def test_missing_file(tmp_path, capsys):
     assert main(["check", str(tmp_path / "nope.json")]) == 1
     err = capsys.readouterr().err
