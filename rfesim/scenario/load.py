@@ -487,12 +487,37 @@ def check_references(sc: Scenario) -> list[tuple[str, str]]:
     errors.extend(check_tugger_references(sc))
     from .joins import check_join_references
     errors.extend(check_join_references(sc))
-    an = sc.analysis
-    if an.dynamics.enabled and an.dynamics.duration > 0 and an.dynamics.output_interval is not None:
-        if an.dynamics.output_interval > an.dynamics.duration:
-            errors.append(("analysis.dynamics.output_interval",
-                           f"{an.dynamics.output_interval} s is longer than the duration {an.dynamics.duration} s"))
+    errors.extend(_step_counts(sc.analysis.dynamics))
     return list(dict.fromkeys(errors))
+
+
+MAX_STEPS = 1.0e9       # time steps of one run
+MAX_OUTPUTS = 1.0e8     # output times of one run
+
+
+def _step_counts(dyn) -> list[tuple[str, str]]:
+    """The time step and output interval against the duration: a step or interval too short
+    to count its way through the run (a unit mistake: 1e-300 s, or ms for s)."""
+    if not (dyn.enabled and dyn.duration > 0):
+        return []
+    T = float(dyn.duration)
+    errors = []
+    integ = dyn.integrator
+    name = "max_step" if integ.kind == "adaptive" else "time_step"
+    step = getattr(integ, name, None)
+    if step is not None and T / step > MAX_STEPS:
+        errors.append((f"analysis.dynamics.integrator.{name}",
+                       f"{step:g} s takes {T / step:.3g} steps through the duration {T:g} s, more than the "
+                       f"{MAX_STEPS:,.0f} a run can take (days of computing for the smallest scene): check the "
+                       f"units (seconds)"))
+    out = dyn.output_interval
+    if out is not None and out > T:
+        errors.append(("analysis.dynamics.output_interval", f"{out} s is longer than the duration {T} s"))
+    elif out is not None and T / out > MAX_OUTPUTS:
+        errors.append(("analysis.dynamics.output_interval",
+                       f"{out:g} s stores {T / out:.3g} output times over the duration {T:g} s, more than the "
+                       f"{MAX_OUTPUTS:,.0f} a run keeps: give a longer interval (seconds)"))
+    return errors
 
 
 def _extreme_number(data: Any, path: tuple = ()) -> tuple[float, tuple, Any] | None:

@@ -77,6 +77,49 @@ MAX_COEFFICIENT = 10.0              # drag and added-mass coefficients of a line
 COEFFICIENT_LIMIT = ("the coefficients of slender and bluff shapes lie between 0 and about 2 (a coefficient, "
                      "not a force or a mass)")
 COEFFICIENT = {"units": "1", "limit": COEFFICIENT_LIMIT}      # the json_schema_extra of a coefficient
+MAX_ANGLE_DEG = 1.0e6               # deg
+ANGLE_LIMIT = ("2,800 turns: no heading, phase or angle of a scene is larger, and the sine of a larger angle "
+               "loses its digits (check the units, degrees)")
+MAX_TIME = 1.0e7                    # s, the longest duration
+TIME_LIMIT = "the longest simulated duration (116 days), so no time of a scene is later (check the units, seconds)"
+MAX_SPEED = 1.0e4                   # m/s
+SPEED_LIMIT = ("seven times the speed of sound in water: no current, vessel, winch or payout is faster "
+               "(check the units, m/s)")
+MAX_RATE = 1.0e5                    # rad/s
+RATE_LIMIT = ("16,000 turns a second: no wave frequency, drum or joint turns faster (check the units, rad/s)")
+MAX_AREA = 1.0e8                    # m^2
+AREA_LIMIT = "a square 10 km on a side, larger than any body (check the units, m^2)"
+MAX_VOLUME = 1.0e12                 # m^3
+VOLUME_LIMIT = "a cube 10 km on a side, larger than any body (check the units, m^3)"
+MAX_GAIN = 1.0e4                    # 1/s (its square for 1/s^2)
+GAIN_LIMIT = ("a loop that closes in 0.1 ms, far faster than any winch drive can follow (check the units: "
+              "a gain per second)")
+
+# The bound of a field by its unit, for the fields that declare no bound of their own (no
+# ``le``/``lt``): every number of a number, a vector or a list of them, checked by _Strict in
+# size (a position -2e7 m is as wrong as +2e7 m). A number past it has the wrong units, or
+# would make the arithmetic lose its digits (the sine of 1e20 degrees) or overflow.
+UNIT_BOUNDS = {
+    "m": (MAX_LENGTH, "10,000 km, farther than any point, line or structure of a scene reaches (check the units, "
+                      "metres)"),
+    "deg": (MAX_ANGLE_DEG, ANGLE_LIMIT),
+    "s": (MAX_TIME, TIME_LIMIT),
+    "m/s": (MAX_SPEED, SPEED_LIMIT),
+    "rad/s": (MAX_RATE, RATE_LIMIT),
+    "m/s or rad/s": (MAX_RATE, "the bound of both speeds (m/s) and turning rates (rad/s) (check the units)"),
+    "rad/s or m/s": (MAX_RATE, "the bound of both speeds (m/s) and turning rates (rad/s) (check the units)"),
+    "rad or m": (MAX_LENGTH, "10,000 km, or 1.6 million turns (check the units, metres or radians)"),
+    "m or rad": (MAX_LENGTH, "10,000 km, or 1.6 million turns (check the units, metres or radians)"),
+    "m^2": (MAX_AREA, AREA_LIMIT),
+    "m^3": (MAX_VOLUME, VOLUME_LIMIT),
+    "N": (MAX_FORCE, FORCE_LIMIT),
+    "N*m": (MAX_FORCE, FORCE_LIMIT),
+    "N or N*m": (MAX_FORCE, FORCE_LIMIT),
+    "kg": (MAX_MASS, MASS_LIMIT),
+    "kg*m^2": (MAX_INERTIA, INERTIA_LIMIT),
+    "1/s": (MAX_GAIN, GAIN_LIMIT),
+    "1/s^2": (MAX_GAIN ** 2, GAIN_LIMIT),
+}
 
 
 def bound_text(limit: float) -> str:
@@ -159,6 +202,32 @@ class _Strict(BaseModel):
                     raise FieldError(name, f"must be a number, not the boolean {word}")
                 raise FieldError(name, f"the boolean {word} is not allowed here ({yaml_bool_hint(value)})")
         return data
+
+    @model_validator(mode="after")
+    def _unit_bounds(self):
+        # the fields without a bound of their own get the bound of their unit (UNIT_BOUNDS)
+        for name, field in type(self).model_fields.items():
+            extra = field.json_schema_extra
+            bound = UNIT_BOUNDS.get(extra.get("units")) if isinstance(extra, dict) else None
+            if bound is None or "limit" in extra or any(hasattr(m, "le") or hasattr(m, "lt")
+                                                         for m in field.metadata):
+                continue
+            signed = not any(v is not None and v >= 0 for m in field.metadata
+                             for v in (getattr(m, "ge", None), getattr(m, "gt", None)))
+            for where, v in _numbers(getattr(self, name), name):
+                why = upper_bound(v, bound[0], extra["units"], bound[1], signed=signed and v < 0)
+                if why:
+                    raise FieldError(where, why)
+        return self
+
+
+def _numbers(value, where: str):
+    """(path, number) of every number in a number or a (nested) list of them."""
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        yield where, float(value)
+    elif isinstance(value, (list, tuple)):
+        for i, v in enumerate(value):
+            yield from _numbers(v, f"{where}.{i}")
 
 
 def _is_numeric(annotation) -> bool:
@@ -575,7 +644,9 @@ DOF_NAMES = ("surge", "sway", "heave", "roll", "pitch", "yaw")
 
 
 class HarmonicDof(_Strict):
-    amplitude: float = Field(..., ge=0.0, description="Amplitude [m for surge/sway/heave, deg for roll/pitch/yaw]")
+    amplitude: float = _units("m or deg", "Amplitude (m for surge, sway and heave; deg for roll, pitch and yaw)",
+                              ge=0.0, le=1000.0, limit=("a vessel's largest motions in a storm are about 15 m of "
+                                                        "heave and 30 deg of roll (check the units)"))
     period: float = _units("s", "Period", gt=0.0)
     phase_deg: float = _units("deg", "Phase: displacement = amplitude*sin(2*pi*t/period + phase)", default=0.0)
 

@@ -693,7 +693,7 @@ def _check_output_size(system: System, nt: int) -> None:
     have = _memory_bytes()
     if need > 0.5 * have:
         raise ScenarioError([("analysis.dynamics.output_interval",
-                              f"{nt} output times would store about {need / 2**30:.3g} GiB of results, more than "
+                              f"{nt:.4g} output times would store about {need / 2**30:.3g} GiB of results, more than "
                               f"half of this machine's memory ({have / 2**30:.3g} GiB): give a longer output "
                               f"interval or a shorter duration")])
 

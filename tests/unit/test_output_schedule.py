@@ -75,8 +75,19 @@ def test_step_longer_than_the_duration_runs_one_step():
     assert res.counters["time_step"] == pytest.approx(2.0)
 
 
-def test_too_many_output_times_is_a_field_error():
+def test_too_many_output_times_is_a_field_error(monkeypatch):
+    # 1e7 output times pass the scenario's count (rfesim.scenario.load.MAX_OUTPUTS) and are
+    # refused before allocation on a machine of 1 GiB, the count written in short
+    from rfesim.solvers import dynamics
+    monkeypatch.setattr(dynamics, "_memory_bytes", lambda: float(2**30))
     with pytest.raises(rfesim.ScenarioError) as err:
-        rfesim.simulate(rfesim.load_scenario(scenario(duration=1.0, output_interval=1e-9)))
-    text = str(err.value)
-    assert "analysis.dynamics.output_interval" in text and "GiB" in text and "machine's memory" in text
+        rfesim.simulate(rfesim.load_scenario(scenario(duration=1.0, output_interval=1e-7)))
+    reason = dict(err.value.errors)["analysis.dynamics.output_interval"]
+    assert reason.startswith("1e+07 output times would store about") and "machine's memory (1 GiB)" in reason
+
+
+def test_output_times_beyond_the_count_are_refused_by_the_scenario():
+    with pytest.raises(rfesim.ScenarioError) as err:
+        rfesim.load_scenario(scenario(duration=1.0, output_interval=1e-9))
+    reason = dict(err.value.errors)["analysis.dynamics.output_interval"]
+    assert reason.startswith("1e-09 s stores 1e+09 output times over the duration 1 s, more than the 100,000,000")

@@ -7,7 +7,11 @@ and the reason:
 * huge finite numbers (1e200 Pa, 1e250 kg/m^3, a 1e300 kg payload): upper bounds with their
   reasons on moduli, section stiffnesses, densities, masses, inertias, stiffnesses, damping,
   forces, lengths and coefficients, generous enough for "rigid" stand-ins (1e15 Pa passes)
-  (rfesim.scenario.schema MAX_*).
+  (rfesim.scenario.schema MAX_*);
+* the fields without a bound of their own (positions, headings, phases, times, speeds, volumes,
+  gains) bounded by their unit (rfesim.scenario.schema.UNIT_BOUNDS), and a time step or output
+  interval too short to count through the duration (rfesim.scenario.load.MAX_STEPS, MAX_OUTPUTS):
+  before, a 1e-300 s step ended in an OverflowError from inside the dynamics driver.
 
 Every bundled scenario, as JSON and as YAML, still passes ``rfesim check``.
 """
@@ -274,3 +278,79 @@ def test_json_schema_states_the_new_bounds():
     assert 1e20 in [modulus.get("maximum")] + [a.get("maximum") for a in modulus.get("anyOf", [])]
     assert "diamond" in modulus["limit"]
     assert defs["Body"]["properties"]["mass"]["maximum"] == 1e12
+
+
+# ----------------------------------------------------------------------------- 3. bounds by unit
+
+BY_UNIT = [
+    ("catenary_riser", {"vessels.fpso.position": [1e30, 0.0, 0.0]}, "vessels.fpso.position.0",
+     "must be less than or equal to 10000000 m (got 1e+30)", "check the units, metres"),
+    ("catenary_riser", {"lines.riser.end_a.position": [-535.0, -2e7, -199.0]}, "lines.riser.end_a.position.1",
+     "must lie between -10000000 and 10000000 m (got -20000000.0)", "farther than any point"),
+    ("catenary_riser", {"vessels.fpso.heading_deg": 1e300}, "vessels.fpso.heading_deg",
+     "must be less than or equal to 1000000 deg (got 1e+300)", "check the units, degrees"),
+    ("catenary_riser", {"vessels.fpso.motion.heave.phase_deg": -2e6}, "vessels.fpso.motion.heave.phase_deg",
+     "must lie between -1000000 and 1000000 deg", "2,800 turns"),
+    ("catenary_riser", {"vessels.fpso.motion.heave.amplitude": 1e4}, "vessels.fpso.motion.heave.amplitude",
+     "must be less than or equal to 1000 m or deg (got 10000.0)", "15 m of heave"),
+    ("catenary_riser", {"vessels.fpso.motion.ramp_duration": 1e300}, "vessels.fpso.motion.ramp_duration",
+     "must be less than or equal to 10000000 s (got 1e+300)", "check the units, seconds"),
+    ("column_crane", {"cranes.crane.payload.volume": 1e300}, "cranes.crane.payload.volume",
+     "must be less than or equal to 1e+12 m^3 (got 1e+300)", "a cube 10 km on a side"),
+    ("column_crane", {"cranes.crane.winch.heave_compensation": {"kp": 1e300}},
+     "winches.crane_winch.heave_compensation.kp", "must be less than or equal to 10000 1/s (got 1e+300)",
+     "a loop that closes in 0.1 ms"),
+    ("s_lay_template", {"pipelay.lay.tensioner.payout": {"kind": "constant-tension", "tension": 1.5e5,
+                                                          "gain": 1e5, "max_speed": 1e300}},
+     "pipelay.lay.tensioner.payout.max_speed", "must be less than or equal to 10000 m/s (got 1e+300)",
+     "speed of sound in water"),
+]
+
+
+@pytest.mark.parametrize("data, overrides, field, bound, why", BY_UNIT, ids=[c[2] for c in BY_UNIT])
+def test_unbounded_field_takes_the_bound_of_its_unit(data, overrides, field, bound, why):
+    errors = errors_of(copy.deepcopy(data), overrides)
+    assert field in errors, errors
+    assert bound in errors[field] and why in errors[field]
+
+
+@pytest.mark.parametrize("overrides", [
+    {"vessels.fpso.heading_deg": 720.0, "vessels.fpso.motion.heave.phase_deg": -9.0e5},
+    {"vessels.fpso.motion.heave.amplitude": 1000.0},
+    {"vessels.fpso.motion.ramp_duration": 1.0e7},
+])
+def test_values_up_to_the_unit_bounds_pass(overrides):
+    assert load("catenary_riser", overrides) is not None
+
+
+def test_a_scene_far_from_the_origin_passes():
+    # every position of the riser moved 9,000 km east: inside the bound of 10,000 km
+    data = example("catenary_riser")
+    data["vessels"]["fpso"]["position"][0] += 9.0e6
+    data["lines"]["riser"]["end_a"]["position"][0] += 9.0e6
+    assert load(data, {}).lines["riser"].end_a.position[0] == 9.0e6 - 535.0
+
+
+STEPS = [
+    ({"analysis.dynamics.integrator.time_step": 1e-300}, "analysis.dynamics.integrator.time_step",
+     "1e-300 s takes 6e+301 steps through the duration 60 s, more than the 1,000,000,000"),
+    ({"analysis.dynamics.integrator": {"kind": "rk4", "time_step": 1e-8}}, "analysis.dynamics.integrator.time_step",
+     "1e-08 s takes 6e+09 steps"),
+    ({"analysis.dynamics.integrator": {"kind": "adaptive", "max_step": 1e-12}},
+     "analysis.dynamics.integrator.max_step", "1e-12 s takes 6e+13 steps"),
+    ({"analysis.dynamics.output_interval": 1e-300}, "analysis.dynamics.output_interval",
+     "1e-300 s stores 6e+301 output times over the duration 60 s, more than the 100,000,000"),
+]
+
+
+@pytest.mark.parametrize("overrides, field, words", STEPS, ids=[c[1].rsplit(".", 1)[1] for c in STEPS])
+def test_a_step_too_short_for_the_duration_is_refused(overrides, field, words):
+    errors = errors_of("catenary_riser", overrides)
+    assert field in errors, errors
+    assert words in errors[field]
+
+
+def test_short_steps_within_the_count_pass():
+    # 6e7 steps of 1 microsecond: a long run, not a unit mistake
+    sc = load("catenary_riser", {"analysis.dynamics.integrator.time_step": 1e-6})
+    assert sc.analysis.dynamics.integrator.time_step == 1e-6
