@@ -6,26 +6,54 @@ equilibrium (0 Newton iterations), however far it is compressed: the 600 m riser
 scenarios/catenary_riser.json without gravity sits at 180 MN of compression between ends
 566 m apart, where its Euler load is 1.04 kN. The check finds such equilibria and says so.
 
-A *free compressed stretch* is a run of consecutive SDEs of one line whose axial force
-(the x component of eq. 8.86, the effective tension: buoyancy is a distributed load) is
-compressive beyond the noise floor, with no supported RFE inside it. An RFE is supported
-when the seabed pushes on it, a roller (or stinger, straightener) carries it, or a
-tensioner or reel grips it; an SDE between two supported RFEs lies along its support and
-belongs to no stretch. Tension-only SDEs (ropes) carry no compression and are skipped.
-A stretch of length L (the sum of its SDE lengths) is compared with the Euler load
+A *free compressed stretch* is a run of consecutive SDEs of one line, or of lines joined end
+to end, whose axial force (the x component of eq. 8.86, the effective tension: buoyancy is a
+distributed load) is compressive beyond the noise floor, with no supported RFE inside it. An
+RFE is supported when the seabed pushes on it, a roller (or stinger, straightener) carries
+it, or a tensioner or reel grips it; an SDE between two supported RFEs lies along its support
+and belongs to no stretch. Tension-only SDEs (ropes) carry no compression and are skipped.
 
-    N_E = pi^2 EI_min / L^2
+*Joins.* A stretch goes on across a join (rfesim.model.joins: end A of a child on end B of
+its parent, or a closing join of two ends B) into the next line: every join transmits the
+axial force (clamped, hinged and pinned alike), and a column built of four lines joined end
+to end, each short enough to pass alone, is one column of their summed length. The joint SDE
+counts as any SDE of the run (its compression, its two RFEs supported or not) but has no
+length: it joins the two end points of the lines. A join is crossed only where the two lines
+continue each other: their outward end tangents opposite within ``KINK`` (4 ``STRAIGHT``: a
+kink theta at a join moves the middle of the stretch by up to theta L / 4 off its chord, so
+a stretch bent more than that at a join would not count as straight anyway). A join bent
+more (a boom on its pedestal, A-frame legs on their deck stubs) is a corner of a frame, not a
+column going on: the walk ends there and each line is checked alone, as where more than one
+straight join meets at a line end. EI_min is the smallest of the joined lines' sections
+(conservative where they differ). A clamped join is as stiff as its lines (100 times one of
+their elements); a pinned or hinged join in the middle of a stretch is a hinge, which lowers
+the load further (a pinned-ended column with a hinge inside is a mechanism): the check does
+not go that far and treats the joined stretch as one continuous column, which is still
+lower than the pieces' loads it replaces.
 
-of a pinned-pinned column (EI_min: the smaller bending stiffness of the section, eq. 8.88
+*End conditions.* A stretch of length L (the sum of its SDE lengths) is compared with the
+Euler load
+
+    N_E = pi^2 EI_min / L_eff^2
+
+with L_eff = L, pinned-pinned (EI_min: the smaller bending stiffness of the section, eq. 8.88
 with c = EI / Delta). Pins are the conservative choice for a stretch between supports or
-tensioned neighbours, which hold its ends at least as well as pins (clamps: 4 N_E); a
-stretch that ends at a free end of a line (a cantilever, N_E / 4) is not treated apart,
-and a stretch is not followed across a join into the next line. The largest compression of
-the stretch is compared (conservative where it varies along it). Compression below
-``NOISE_FRACTION`` of the line's own force scale (its largest element weight or point load,
-else its largest internal force: a heavy load elsewhere in the scene does not hide it), or
-below ``NOISE_ROUNDOFF`` times the force resolution of the model, is numerical noise and
-never warns.
+tensioned neighbours, which hold its ends at least as well as pins (clamps: 4 N_E). A
+stretch one of whose ends is a *free line end* is a cantilever, L_eff = 2 L (N_E / 4): the
+line end is attached to nothing (no fixed point, vessel, body or join), no tugger line,
+reeving lead or follower load (a follower-loaded cantilever is Beck's column, not Euler's)
+acts on its RFE, and no RFE from the stretch out to that end is supported. 2 L is exact for
+a clamped other end; a rotationally softer one (the line going on over a support or into a
+tensioned part, a corner join) lowers the load further and a pinned one makes it a
+mechanism, not told apart. A stretch with two free ends (a free-free column compressed by
+loads along it) keeps the pinned L_eff = L: Euler's end conditions do not describe it.
+
+The largest compression of the stretch is compared (conservative where it varies along it).
+Compression below ``NOISE_FRACTION`` of the line's own force scale (its largest element
+weight or point load, else its largest internal force: a heavy load elsewhere in the scene
+does not hide it; a joint SDE takes the smaller floor of its two lines), or below
+``NOISE_ROUNDOFF`` times the force resolution of the model, is numerical noise and never
+warns.
 
 Only a *straight* stretch is reported as unstable: one whose RFE centres lie within
 ``STRAIGHT`` of its length from the chord through its end centres. A pinned column past
@@ -38,6 +66,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -47,17 +76,31 @@ from .system import System
 NOISE_FRACTION = 1e-3   # compression below this fraction of the force scale is noise
 NOISE_ROUNDOFF = 1e3    # ... or below this multiple of the force resolution (System.roundoff_force)
 STRAIGHT = 1e-2         # a stretch whose centres lie within this fraction of its length from its chord is straight
+KINK = 4.0 * STRAIGHT   # rad: two joined lines whose ends turn by more than this are a corner, not one column
 
 
 @dataclass(frozen=True)
 class CompressedStretch:
-    line: str
-    start: float          # m, arc length from end A where the stretch begins
-    length: float         # m, sum of its SDE lengths
+    line: str             # the (first) line of the stretch
+    start: float          # m, arc length from end A of ``line`` where the stretch begins (on one line: its end
+                          #   nearer end A)
+    length: float         # m, sum of its SDE lengths (the joints between lines have none)
     compression: float    # N, largest compressive axial force in it (positive)
-    euler_load: float     # N, pi^2 EI_min / length^2 (pinned-pinned)
-    bending_stiffness: float  # N*m^2, EI_min of the section
+    euler_load: float     # N, pi^2 EI_min / effective_length^2
+    bending_stiffness: float  # N*m^2, EI_min: the smallest bending stiffness of the sections along it
     deviation: float = 0.0    # m, largest distance of its RFE centres from the chord of its end centres
+    lines: tuple[str, ...] = ()     # the lines it runs over, in order across their joins (default: (line,))
+    stop: float = math.nan          # m, arc length from end A of the last line where it ends (default start + length)
+    free_ends: int = 0              # how many of its two ends are free line ends (nothing attached, nothing holds them)
+    effective_length: float = math.nan  # m, the length (pinned ends) or twice it (one free end: a cantilever)
+
+    def __post_init__(self):
+        if not self.lines:
+            object.__setattr__(self, "lines", (self.line,))
+        if math.isnan(self.stop):
+            object.__setattr__(self, "stop", self.start + self.length)
+        if math.isnan(self.effective_length):
+            object.__setattr__(self, "effective_length", self.length)
 
     @property
     def buckles(self) -> bool:
@@ -87,39 +130,180 @@ def supported_rfes(system: System, state: State) -> np.ndarray:
     return held
 
 
+class _Step(NamedTuple):
+    """One SDE of a walk along joined lines, oriented along the walk."""
+    sde: int
+    left: int             # RFE behind it
+    right: int            # RFE ahead of it
+    length: float         # m (0 for the joint between two lines)
+    line: int             # index of its line in model.lines (a joint: the line ahead)
+    arc_left: float       # m, arc length of its left end on its line (a joint: NaN)
+    arc_right: float
+    floor: float          # N, compression at or below this is noise
+    joint: bool
+
+
+def _walks(system: System, floors: list[float]) -> list[tuple[list[_Step], tuple, tuple]]:
+    """Every line once, in walks that go on across the joins that continue a line straight:
+    (steps, first line end, last line end), a line end being (line index, "a" | "b"). A join
+    (end A of a child on end B of its parent, or a closing join of two ends B) is crossed when
+    it transmits force (every join does: clamped, hinged or pinned; none is a rope) and the
+    two lines continue each other there: their outward end tangents are opposite within KINK
+    rad. A join bent more than that (a boom on its pedestal, a leg on its stub) is a corner,
+    not a column going on; there, and where more than one straight join meets a line end,
+    the walk ends. Uses the orientations of the last evaluation (system.ws)."""
+    model, km, ws = system.model, system.km, system.ws
+    lines = model.lines
+    index = {li.name: k for k, li in enumerate(lines)}
+
+    def end_rfe(end) -> int:
+        k, side = end
+        return lines[k].rfe_start if side == "a" else lines[k].rfe_stop - 1
+
+    def outward(end) -> np.ndarray:
+        x = ws.R[end_rfe(end)][:, 0]
+        return x if end[1] == "b" else -x
+
+    straight: dict[tuple, list] = {}
+    for info, sides in [(j, ("b", "a")) for j in model.joins] + [(c, ("b", "b")) for c in model.closures]:
+        if info.parent not in index or info.child not in index or km.sde_tension_only[info.sde] == 1:
+            continue
+        p, c = (index[info.parent], sides[0]), (index[info.child], sides[1])
+        if float(outward(p) @ outward(c)) <= -math.cos(KINK):
+            straight.setdefault(p, []).append((c, info.sde))
+            straight.setdefault(c, []).append((p, info.sde))
+    partner = {end: links[0] for end, links in straight.items()
+               if len(links) == 1 and len(straight[links[0][0]]) == 1}
+
+    def steps_of(k: int, forward: bool) -> list[_Step]:
+        li = lines[k]
+        out = []
+        order = range(li.sde_start, li.sde_stop) if forward else range(li.sde_stop - 1, li.sde_start - 1, -1)
+        for s in order:
+            j = s - li.sde_start
+            a, b = j * li.dx, (j + 1) * li.dx
+            left, right = int(km.sde_left[s]), int(km.sde_right[s])
+            if not forward:
+                left, right, a, b = right, left, b, a
+            out.append(_Step(s, left, right, float(km.sde_length[s]), k, a, b, floors[k], False))
+        return out
+
+    visited = [False] * len(lines)
+    walks = []
+
+    def walk_from(end):
+        steps, first = [], end
+        while True:
+            k = end[0]
+            visited[k] = True
+            steps.extend(steps_of(k, end[1] == "a"))
+            out = (k, "b" if end[1] == "a" else "a")
+            nxt = partner.get(out)
+            if nxt is None or visited[nxt[0][0]]:
+                return steps, first, out          # a free, held or attached end, a corner; or a loop closed
+            end, s = nxt
+            steps.append(_Step(s, end_rfe(out), end_rfe(end), 0.0, end[0], math.nan, math.nan,
+                               min(floors[k], floors[end[0]]), True))
+
+    for k in range(len(lines)):
+        if visited[k]:
+            continue
+        start = next((e for e in ((k, "a"), (k, "b")) if e not in partner), (k, "a"))
+        walks.append(walk_from(start))
+    return walks
+
+
+def _free_line_ends(system: System) -> set:
+    """Line ends (line index, "a" | "b") that nothing holds: attached to nothing (no fixed
+    point, vessel, body or join), no tugger or reeving lead on their RFE, no follower load
+    on it (a follower-loaded cantilever is not Euler's column)."""
+    model, km = system.model, system.km
+    index = {li.name: k for k, li in enumerate(model.lines)}
+    joined = set()
+    for j in model.joins:
+        joined |= {(index.get(j.parent), "b"), (index.get(j.child), "a")}
+    for c in model.closures:
+        joined |= {(index.get(c.parent), "b"), (index.get(c.child), "b")}
+    restrained = set(int(i) for i in km.tug_rfe)
+    restrained |= set(int(i) for i, kind in zip(km.rv_rfe, km.rv_kind) if kind == 1)
+    restrained |= set(int(i) for i, local in zip(km.load_rfe, km.load_local) if local == 1)
+    out = set()
+    for k, li in enumerate(model.lines):
+        for side, end, rfe in (("a", li.end_a, li.rfe_start), ("b", li.end_b, li.rfe_stop - 1)):
+            if getattr(end, "attach", None) == "free" and (k, side) not in joined and rfe not in restrained:
+                out.add((k, side))
+    return out
+
+
 def compressed_stretches(system: System, state: State) -> list[CompressedStretch]:
     """The free compressed stretches of every line at the state (module docstring), whether
-    they buckle or not."""
+    they buckle or not, followed across the straight joins between lines."""
     km, ws = system.km, system.ws
     held = supported_rfes(system, state)         # evaluates the state: ws.sigma is its SDE forces
     compression = -ws.sigma[:, 0]
+    for c in system.model.closures:
+        # a closing join's frame is the closing line's (rest rotation R_target^T R_closing, a
+        # half turn for two ends B meeting head on), whose x points back into the target:
+        # its axial force is compressive when positive
+        compression[c.sde] = ws.sigma[c.sde, 0]
     centres = ws.r[:km.rfe_mass.shape[0]].copy()
     roundoff = NOISE_ROUNDOFF * system.roundoff_force(state)
+    lines = system.model.lines
+    floors = [max(NOISE_FRACTION * _line_force_scale(km, ws, li), roundoff) for li in lines]
+    free = _free_line_ends(system)
     out: list[CompressedStretch] = []
-    for li in system.model.lines:
-        EI = li.section.EI_min
-        floor = max(NOISE_FRACTION * _line_force_scale(km, ws, li), roundoff)
+    for steps, first_end, last_end in _walks(system, floors):
 
-        def close(run):
-            if run:
-                length = float(km.sde_length[run].sum())
-                rfes = [int(km.sde_left[s]) for s in run] + [int(km.sde_right[run[-1]])]
-                out.append(CompressedStretch(line=li.name, start=(run[0] - li.sde_start) * li.dx, length=length,
-                                             compression=float(compression[run].max()),
-                                             euler_load=math.pi ** 2 * EI / length ** 2, bending_stiffness=EI,
-                                             deviation=_deviation(centres[rfes])))
-            return []
+        def loose(rfes, end) -> bool:
+            """The walk's end ``end`` is a free line end and nothing holds the RFEs from the
+            stretch's end out to it."""
+            return end in free and not any(held[i] for i in rfes)
 
-        run: list[int] = []
-        for s in range(li.sde_start, li.sde_stop):
-            left, right = int(km.sde_left[s]), int(km.sde_right[s])
-            if km.sde_tension_only[s] == 1 or compression[s] <= floor or (held[left] and held[right]):
-                run = close(run)
+        def close(lo: int, hi: int) -> None:
+            """The stretch of steps[lo:hi] (joints at its ends, of no length, left out)."""
+            while lo < hi and steps[lo].joint:
+                lo += 1
+            while hi > lo and steps[hi - 1].joint:
+                hi -= 1
+            if lo >= hi:
+                return
+            run = steps[lo:hi]
+            sdes = [st.sde for st in run]
+            length = float(sum(st.length for st in run))
+            names = []
+            for st in run:
+                if not st.joint and lines[st.line].name not in names:
+                    names.append(lines[st.line].name)
+            EI = min(system.model.line(n).section.EI_min for n in names)
+            before = [steps[lo].left] + [i for st in steps[:lo] for i in (st.left, st.right)]
+            after = [steps[hi - 1].right] + [i for st in steps[hi:] for i in (st.left, st.right)]
+            free_ends = int(loose(before, first_end)) + int(loose(after, last_end))
+            effective = 2.0 * length if free_ends == 1 else length
+            a, b = run[0].arc_left, run[-1].arc_right
+            if len(names) == 1:
+                a, b = min(a, b), max(a, b)
+            rfes = [st.left for st in run] + [run[-1].right]
+            out.append(CompressedStretch(line=names[0], start=a, length=length,
+                                         compression=float(compression[sdes].max()),
+                                         euler_load=math.pi ** 2 * EI / effective ** 2, bending_stiffness=EI,
+                                         deviation=_deviation(centres[rfes]), lines=tuple(names), stop=b,
+                                         free_ends=free_ends, effective_length=effective))
+
+        lo = None
+        for i, st in enumerate(steps):
+            if km.sde_tension_only[st.sde] == 1 or compression[st.sde] <= st.floor or (held[st.left]
+                                                                                       and held[st.right]):
+                if lo is not None:
+                    close(lo, i)
+                lo = None
                 continue
-            if held[left]:
-                run = close(run)          # a support inside the run ends one stretch, begins the next
-            run.append(s)
-        close(run)
+            if held[st.left] and lo is not None:
+                close(lo, i)              # a support inside the run ends one stretch, begins the next
+                lo = None
+            if lo is None:
+                lo = i
+        if lo is not None:
+            close(lo, len(steps))
     return out
 
 
@@ -152,17 +336,30 @@ def _deviation(points: np.ndarray) -> float:
 
 
 def buckling_warnings(system: System, state: State) -> list[str]:
-    """One message per free compressed stretch beyond its Euler load: the line, where and how
-    long the stretch is, its compression and Euler load, and what to do."""
+    """One message per free compressed stretch beyond its Euler load: the line (or the joined
+    lines), where and how long the stretch is, its compression and Euler load with the end
+    condition taken, and what to do."""
     messages = []
     for c in compressed_stretches(system, state):
         if not c.buckles:
             continue
+        if len(c.lines) == 1:
+            where = (f"line '{c.line}' carries {c.compression / 1e3:.4g} kN of compression over a free stretch of "
+                     f"{c.length:.4g} m (arc length {c.start:.4g} to {c.stop:.4g} m)")
+            stiffness = f"EI = {c.bending_stiffness:.4g} N m^2"
+        else:
+            names = ", ".join(f"'{n}'" for n in c.lines)
+            where = (f"lines {names}, joined end to end, carry {c.compression / 1e3:.4g} kN of compression over a "
+                     f"free stretch of {c.length:.4g} m (from arc length {c.start:.4g} m of '{c.lines[0]}' to "
+                     f"arc length {c.stop:.4g} m of '{c.lines[-1]}')")
+            stiffness = f"EI = {c.bending_stiffness:.4g} N m^2, the smallest along the stretch"
+        if c.free_ends == 1:
+            euler = (f"pi^2 EI / (2 L)^2 = {c.euler_load / 1e3:.4g} kN (one end free, a cantilever: effective "
+                     f"length 2 L = {c.effective_length:.4g} m, {stiffness})")
+        else:
+            euler = f"pi^2 EI / L^2 = {c.euler_load / 1e3:.4g} kN (pinned ends, {stiffness})"
         messages.append(
-            f"line '{c.line}' carries {c.compression / 1e3:.4g} kN of compression over a free stretch of "
-            f"{c.length:.4g} m (arc length {c.start:.4g} to {c.start + c.length:.4g} m), above its Euler load "
-            f"pi^2 EI / L^2 = {c.euler_load / 1e3:.4g} kN (pinned ends, EI = {c.bending_stiffness:.4g} N m^2): "
-            f"this static equilibrium is unstable (buckling) and a dynamic run will leave it; give the line "
-            f"tension (gravity, a shorter line or ends further apart, an end load) or support along the "
-            f"stretch, or check the start shape (analysis.statics.start)")
+            f"{where}, above its Euler load {euler}: this static equilibrium is unstable (buckling) and a dynamic "
+            f"run will leave it; give the line tension (gravity, a shorter line or ends further apart, an end "
+            f"load) or support along the stretch, or check the start shape (analysis.statics.start)")
     return messages

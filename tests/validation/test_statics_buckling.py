@@ -20,6 +20,7 @@ import rfesim
 from rfesim import api
 from rfesim.errors import SolverError
 from rfesim.model.compile import compile_scenario
+from rfesim.model.joins import JOINT_STIFFNESS
 from rfesim.solvers.buckling import compressed_stretches
 from rfesim.solvers.system import System
 
@@ -120,7 +121,122 @@ def test_compressed_line_on_the_seabed_is_supported():
     assert len(info.warnings) == 1 and len(stretches) == 1
     assert stretches[0].length == pytest.approx(20.0, rel=1e-12)
     assert stretches[0].compression == pytest.approx(10.0 * PUSHED_EULER, rel=1e-6)
-    assert stretches[0].euler_load == pytest.approx(PUSHED_EULER, rel=1e-12)
+    assert stretches[0].euler_load == pytest.approx(PUSHED_EULER / 4.0, rel=1e-12)     # end B free: a cantilever
+
+
+@pytest.mark.parametrize("factor", [0.5, 0.2])
+def test_a_cantilever_with_a_free_end_is_judged_on_twice_its_length(factor, caplog):
+    """The pushed beam (end A clamped, end B free) at half its pinned Euler load is past its
+    cantilever load pi^2 EI / (2 L)^2 = N_E / 4 and warns, saying so; at a fifth of it, below
+    N_E / 4, it does not. Judged pinned (as before), neither warned."""
+    data = pushed_beam(0.0, seabed=False)
+    data["lines"]["b"]["loads"][0]["force"] = [-factor * PUSHED_EULER, 0.0, 0.0]
+    sc = rfesim.load_scenario(data)
+    with caplog.at_level(logging.WARNING, logger="rfesim"):
+        res = rfesim.statics(sc)
+    _, info, stretches = statics_with_stretches(sc)
+    c, = stretches
+    assert (c.line, c.lines, c.start, c.stop) == ("b", ("b",), 0.0, pytest.approx(20.0, rel=1e-12))
+    assert c.compression == pytest.approx(factor * PUSHED_EULER, rel=1e-6)
+    assert c.free_ends == 1 and c.effective_length == pytest.approx(40.0, rel=1e-12)
+    assert c.euler_load == pytest.approx(PUSHED_EULER / 4.0, rel=1e-12)
+    assert c.deviation <= 1e-9 * c.length
+    if factor * 4.0 > 1.0:
+        assert c.buckles and len(info.warnings) == 1
+        for text in (res.message, caplog.text):
+            assert "line 'b' carries" in text and "free stretch of 20 m" in text
+            assert f"pi^2 EI / (2 L)^2 = {PUSHED_EULER / 4e3:.4g} kN (one end free, a cantilever" in text
+            assert "effective length 2 L = 40 m" in text
+    else:
+        assert not c.buckles and info.warnings == [] and "warning" not in res.message
+
+
+def test_a_follower_load_at_the_free_end_keeps_the_pinned_check():
+    """A load given in the end's own frame follows it (Beck's column, not Euler's): the end
+    is not taken as free, and the pushed beam at half its pinned Euler load does not warn."""
+    data = pushed_beam(0.0, seabed=False)
+    data["lines"]["b"]["loads"][0].update(force=[-0.5 * PUSHED_EULER, 0.0, 0.0], frame="local")
+    _, info, stretches = statics_with_stretches(rfesim.load_scenario(data))
+    c, = stretches
+    assert c.compression == pytest.approx(0.5 * PUSHED_EULER, rel=1e-6)
+    assert c.free_ends == 0 and c.euler_load == pytest.approx(PUSHED_EULER, rel=1e-12)
+    assert info.warnings == []
+
+
+COLUMN_EI = 1e4                                  # N m^2, the softest of the column's sections
+COLUMN_EULER = math.pi ** 2 * COLUMN_EI / 20.0 ** 2   # N, pinned Euler load of the four lines together
+
+
+def joined_column(compression: float, corner: bool = False) -> dict:
+    """Four lines of 5 m joined end to end (clamped joins) into a weightless column of 20 m,
+    pinned at both ends to fixed points a little closer than 20 m so that it carries
+    ``compression``; line 'c' twice as stiff in bending as the others. ``corner``: line 'c'
+    starts at 30 deg to 'b' (the column turns at that join) and end B of 'd' is free."""
+    EA = 1e6
+    span = 20.0 * (1.0 - compression / EA)
+    types = {"soft": {"EA": EA, "EIy": COLUMN_EI, "mass_per_length": 10.0},
+             "stiff": {"EA": EA, "EIy": 2.0 * COLUMN_EI, "mass_per_length": 10.0}}
+    lines = {"a": {"type": "soft", "length": 5.0, "elements": 5,
+                   "end_a": {"attach": "fixed", "position": [0.0, 0.0, 0.0], "direction": [1.0, 0.0, 0.0]},
+                   "end_b": {"attach": "free"}}}
+    for name, parent, kind in (("b", "a", "soft"), ("c", "b", "stiff"), ("d", "c", "soft")):
+        lines[name] = {"type": kind, "length": 5.0, "elements": 5,
+                       "end_a": {"attach": f"{parent}:end_b", "connection": "clamped"}, "end_b": {"attach": "free"}}
+    lines["d"]["end_b"] = {"attach": "fixed", "position": [span, 0.0, 0.0]}
+    for name in "bc":
+        lines[name]["end_a"]["direction"] = [1.0, 0.0, 0.0]
+    if corner:
+        lines["c"]["end_a"]["direction"] = [math.cos(math.radians(30.0)), math.sin(math.radians(30.0)), 0.0]
+        lines["d"]["end_b"] = {"attach": "free"}
+    return {"name": "joined column", "environment": {"gravity": 0.0}, "line_types": types, "lines": lines,
+            "analysis": {"statics": {"enabled": True}}}
+
+
+@pytest.mark.parametrize("factor", [4.0, 0.5])
+def test_a_column_of_joined_lines_is_checked_as_one(factor, caplog):
+    """Four 5 m lines joined end to end into a 20 m column: at four times the column's Euler
+    load each line alone is at a quarter of its own (pi^2 EI / (5 m)^2) and passed; the
+    stretch now runs across the joins over all four lines, with the smallest EI of them,
+    and warns naming them. At half the column's load it does not warn."""
+    sc = rfesim.load_scenario(joined_column(factor * COLUMN_EULER))
+    with caplog.at_level(logging.WARNING, logger="rfesim"):
+        res = rfesim.statics(sc)
+    _, info, stretches = statics_with_stretches(sc)
+    c, = stretches
+    assert (c.line, c.lines, c.start, c.stop) == ("a", ("a", "b", "c", "d"), 0.0, pytest.approx(5.0, rel=1e-12))
+    assert c.length == pytest.approx(20.0, rel=1e-12) and c.free_ends == 0
+    # the three joints add the axial compliance of 1 / JOINT_STIFFNESS element (1 m) each
+    assert c.compression == pytest.approx(factor * COLUMN_EULER * 20.0 / (20.0 + 3.0 / JOINT_STIFFNESS), rel=1e-6)
+    assert c.bending_stiffness == COLUMN_EI
+    assert c.euler_load == pytest.approx(COLUMN_EULER, rel=1e-12)
+    assert c.compression < math.pi ** 2 * COLUMN_EI / 5.0 ** 2          # each line alone passes
+    if factor > 1.0:
+        assert c.buckles and len(info.warnings) == 1
+        for text in (res.message, caplog.text):
+            assert "lines 'a', 'b', 'c', 'd', joined end to end, carry" in text
+            assert "free stretch of 20 m (from arc length 0 m of 'a' to arc length 5 m of 'd')" in text
+            assert f"pi^2 EI / L^2 = {COLUMN_EULER / 1e3:.4g} kN (pinned ends" in text
+            assert "the smallest along the stretch" in text
+    else:
+        assert not c.buckles and info.warnings == [] and "warning" not in res.message
+
+
+def test_a_corner_join_ends_the_stretch():
+    """Where line 'c' turns 30 deg from 'b' the lines do not continue each other: the joined
+    frame is checked as two stretches, 'a'-'b' and 'c'-'d', not as one bent column."""
+    sc = rfesim.load_scenario(joined_column(0.0, corner=True))
+    system = System(compile_scenario(sc))
+    state = system.model.initial
+    system.evaluate(state)
+    from rfesim.solvers.buckling import _walks
+    walks = _walks(system, [0.0] * 4)
+    assert [[system.model.lines[k].name for k in dict.fromkeys(st.line for st in steps if not st.joint)]
+            for steps, _, _ in walks] == [["a", "b"], ["c", "d"]]
+    sc = rfesim.load_scenario(joined_column(1.0))
+    system = System(compile_scenario(sc))
+    system.evaluate(system.model.initial)
+    walks = _walks(system, [0.0] * 4)
+    assert len(walks) == 1 and sum(st.joint for st in walks[0][0]) == 3
 
 
 def with_start(data, start: str):
@@ -230,3 +346,33 @@ def test_a_heavy_load_elsewhere_does_not_hide_a_buckled_line():
     _, info, stretches = statics_with_stretches(rfesim.load_scenario(data))
     assert len(info.warnings) == 1 and "line 'b'" in info.warnings[0]
     assert [c.line for c in stretches if c.buckles] == ["b"]
+
+
+def test_a_closing_join_is_crossed_too():
+    """Two 10 m lines (EI 10 N m^2) pinned to fixed points 20 m apart less the compression's
+    shortening, end B of 'b' closing onto end B of 'a' (a portal's crossbeam halves): at
+    twice the Euler load of the 20 m column each half is at half its own and passed; the
+    stretch runs from 'a' through the closing join back along 'b' (from its end B) and warns.
+    (A closing end B must start within 1e-6 m of its target, which the straight start of a
+    shortened 'b' misses by a quarter element times its strain: hence the soft section.)"""
+    EI = 10.0
+    euler = math.pi ** 2 * EI / 20.0 ** 2
+    EA, compression = 1e6, 2.0 * euler
+    span = 20.0 - compression * (20.0 + 1.0 / JOINT_STIFFNESS) / EA
+    data = {"name": "closed column", "environment": {"gravity": 0.0},
+            "line_types": {"soft": {"EA": EA, "EIy": EI, "mass_per_length": 10.0}},
+            "lines": {"a": {"type": "soft", "length": 10.0, "elements": 10,
+                            "end_a": {"attach": "fixed", "position": [0.0, 0.0, 0.0], "direction": [1.0, 0.0, 0.0]},
+                            "end_b": {"attach": "free"}},
+                      "b": {"type": "soft", "length": 10.0, "elements": 10,
+                            "end_a": {"attach": "fixed", "position": [span, 0.0, 0.0],
+                                      "direction": [-1.0, 0.0, 0.0]},
+                            "end_b": {"attach": "a:end_b", "connection": "clamped"}}},
+            "analysis": {"statics": {"enabled": True}}}
+    _, info, stretches = statics_with_stretches(rfesim.load_scenario(data))
+    c, = stretches
+    assert (c.lines, c.start, c.stop, c.free_ends) == (("a", "b"), 0.0, 0.0, 0)
+    assert c.length == pytest.approx(20.0, rel=1e-12)
+    assert c.compression == pytest.approx(compression, rel=1e-6)
+    assert c.euler_load == pytest.approx(euler, rel=1e-12) and c.buckles
+    assert len(info.warnings) == 1 and "lines 'a', 'b', joined end to end" in info.warnings[0]
