@@ -31,6 +31,7 @@ pure absolute path (``ga_advance``) is not involved. See docs/theory.md, "Mixed 
 """
 from __future__ import annotations
 
+import logging
 import math
 import time as _time
 from dataclasses import dataclass, field
@@ -43,12 +44,15 @@ from ..model.compile import State, compile_scenario
 from ..model.outputs import reactions
 from ..scenario.chains import chain_point
 from ..solvers.banded import bt_factor, bt_solve
+from ..solvers.buckling import buckling_warnings
 from ..solvers.dynamics import output_schedule
 from ..solvers.kernels import REBASE_THRESHOLD, genalpha_parameters, jacobian_fd, jacobian_fd_general, residual_q
 from ..solvers.residual import residual_norm
 from ..solvers.system import System
 from .chain import ChainData, evaluate, fill_prescribed
 from .scene import _chain_lines, _chain_unit, _Kinematics, JointResults
+
+log = logging.getLogger("rfesim")
 
 
 def is_mixed(sc) -> bool:
@@ -97,6 +101,7 @@ class MixedScene:
 
     def __init__(self, sc):
         self.sc = sc
+        self.statics_warnings: list[str] = []      # the lines' buckling check after statics (initial_state)
         g = sc.environment.gravity
         gvec = (0.0, 0.0, -g)
         names = list(sc.chains)
@@ -398,6 +403,7 @@ class MixedStatics:
     x: np.ndarray                 # chain unknowns
     iterations: int
     residual: float
+    warnings: list[str] = field(default_factory=list)   # the lines' buckling check (rfesim.solvers.buckling)
 
 
 def mixed_statics(ms: MixedScene, *, tolerance=1e-8, max_iterations=200, load_steps=1) -> MixedStatics:
@@ -749,10 +755,23 @@ class _Recorded:
 
 
 def _statics_start(ms: MixedScene, sc):
+    """The mixed statics, then the Euler buckling check of its lines (rfesim.solvers.buckling,
+    as rfesim.api does for a scene of lines only: the chains stand still at their static
+    coordinates, where the lines' attachment points are)."""
     s = sc.analysis.statics
     r = mixed_statics(ms, tolerance=s.tolerance, max_iterations=min(s.max_iterations, 200),
                       load_steps=s.load_steps)
+    ms.set_points(0.0, ms.chain_full(0.0, r.x, np.zeros(ms.nc), np.zeros(ms.nc)))
+    r.warnings = buckling_warnings(ms.system, r.state)
+    for w in r.warnings:
+        log.warning("statics: %s", w)
     return r
+
+
+def _with_warnings(message: str, warnings) -> str:
+    """The results' message with the statics warnings after it (as rfesim.api)."""
+    from ..api import STATICS_WARNING
+    return "".join([message] + [f"{STATICS_WARNING}{w}" for w in warnings])
 
 
 def statics(sc, progress=None):
@@ -763,7 +782,8 @@ def statics(sc, progress=None):
     c = {"x": r.x, "v": np.zeros(ms.nc), "a": np.zeros(ms.nc)}
     rec.record(r.state, c)
     counters = {"newton_iterations": r.iterations, "wall_time": _time.perf_counter() - wall0}
-    return rec.results(sc, status=0, message="converged", counters=counters, kind="statics")
+    return rec.results(sc, status=0, message=_with_warnings("converged", r.warnings), counters=counters,
+                       kind="statics")
 
 
 def initial_state(ms: MixedScene, sc, counters=None):
@@ -771,9 +791,10 @@ def initial_state(ms: MixedScene, sc, counters=None):
     compiled initial shape and the joints' initial values; accelerations not yet set."""
     x0 = np.concatenate([u.q0[fr] for u, fr in zip(ms.units, ms.free)]) if ms.nc else np.zeros(0)
     v0 = np.concatenate([u.qd0[fr] for u, fr in zip(ms.units, ms.free)]) if ms.nc else np.zeros(0)
+    ms.statics_warnings = []
     if sc.analysis.statics.enabled:
         r = _statics_start(ms, sc)
-        st, x = r.state, r.x
+        st, x, ms.statics_warnings = r.state, r.x, r.warnings
         if counters is not None:
             counters["statics_iterations"] = r.iterations
     else:
@@ -814,7 +835,8 @@ def simulate(sc, progress=None):
         rec = _Recorded(ms, 1)
         rec.record(st, c)
         counters["wall_time"] = _time.perf_counter() - wall0
-        return rec.results(sc, status=0, message="statics only", counters=counters, kind="statics")
+        return rec.results(sc, status=0, message=_with_warnings("statics only", ms.statics_warnings),
+                           counters=counters, kind="statics")
     integ = dyn.integrator
     sysm = ms.system
     start_dynamics(ms, st, c)
@@ -840,11 +862,12 @@ def simulate(sc, progress=None):
                     raise CancelledError(f"cancelled at t = {st.t:.6g} s: {exc}") from exc
     except SolverError as exc:
         counters.update(vars(ig.stats))
-        exc.results = rec.results(sc, status=1, message=str(exc), counters=counters, kind="dynamics")
+        exc.results = rec.results(sc, status=1, message=_with_warnings(str(exc), ms.statics_warnings),
+                                  counters=counters, kind="dynamics")
         raise
     counters.update(vars(ig.stats))
     counters["time_step"] = h
     counters["wall_time"] = _time.perf_counter() - wall0
     counters["wall_time_per_step"] = (_time.perf_counter() - wall1) / max(ig.stats.steps, 1)
-    return rec.results(sc, status=0, message=f"finished: {ig.stats.steps} steps", counters=counters,
-                       kind="dynamics")
+    message = _with_warnings(f"finished: {ig.stats.steps} steps", ms.statics_warnings)
+    return rec.results(sc, status=0, message=message, counters=counters, kind="dynamics")

@@ -173,3 +173,20 @@ def test_simulate_through_the_api_gives_line_and_chain_results():
     # starting from the statics with the arm at rest, it stays at rest: theta constant
     np.testing.assert_allclose(theta, theta[0], atol=1e-8)
     assert rope.end_a_force[:, 2] == pytest.approx(-2.0 * 3.0 * G, rel=1e-6)
+
+
+@pytest.mark.parametrize("end_x, warns", [(4.9, True), (5.1, False)])
+def test_lines_of_a_mixed_scene_get_the_buckling_check(end_x, warns):
+    # without gravity, the 3 m line from the arm's tip (2, 0, 0) to a fixed point on the arm's
+    # axis starts straight: 2.9 m away it is a column at EA * 0.1 / 3 = 3.3 kN, far above its
+    # Euler load pi^2 EI / L^2 = 0.011 N (rfesim.solvers.buckling); 3.1 m away it is in tension
+    sc = scene()
+    sc["environment"]["gravity"] = 0.0
+    sc["chains"]["c"]["joints"]["j"]["initial"] = 0.0
+    sc["lines"]["rope"]["end_b"] = {"attach": "fixed", "position": [end_x, 0.0, 0.0]}
+    sc["analysis"]["dynamics"]["enabled"] = False
+    st = rfesim.statics(sc)
+    assert st.line("rope").tension[0] == pytest.approx(np.full(4, 1e5 * (end_x - 5.0) / 3.0), rel=1e-6)
+    for message in (st.message, rfesim.simulate(sc).message):
+        assert ("line 'rope' carries 3.333 kN of compression" in message) is warns, message
+        assert ("above its Euler load pi^2 EI / L^2 = 1.097e-05 kN" in message) is warns, message
