@@ -62,9 +62,69 @@ def _slack_on_seabed(sc: Scenario) -> list[tuple[str, float, float]]:
     return out
 
 
-def _statics_hint(sc: Scenario) -> str | None:
+def _shear_limited(sc: Scenario, model) -> list[tuple[str, float, float, float, int]]:
+    """Lines in the fem shear stiffness (eq. 8.89) whose tension would exceed what it holds:
+    (name, tension estimate, limit 12 EI / Delta^2, Delta, elements needed).
+
+    The shear spring c = 12 EI / Delta^3 of an SDE holds a chain of rigid elements in line
+    under a tension T only while T < c Delta = 12 EI / Delta^2: above it the straight chain is
+    unstable (its elements shear apart sideways; a 20 m line, EI = 10 N m^2, 20 elements,
+    pulled by 121 N has a negative eigenvalue in its static tangent, at 119 N it has none), so
+    a hanging line carrying more has no stable equilibrium near its physical shape and Newton
+    wanders (docs/theory.md, section 6, 'Soft fem shear under tension'). The tension is the
+    elastic catenary's largest for a slack line with both ends placed, else the line's wet
+    weight plus its point loads."""
+    from .catenary import solve_catenary
+    from .model.compile import _submerged_weight
+
+    out = []
+    q0 = model.initial
+    for li in model.lines:
+        if li.shear_model != "fem":
+            continue
+        sec = li.section
+        limit = 12.0 * sec.EI_min / li.dx ** 2
+        w = abs(_submerged_weight(sec, sc))
+        line = sc.lines.get(li.name)
+        loads = sum(float(np.linalg.norm(ld.force)) for ld in line.loads) if line is not None else 0.0
+        tension = w * li.length + loads
+        if li.chord is not None:
+            if li.chord >= li.length or w == 0.0:
+                continue
+            i0, i1 = li.rfe_start, li.rfe_stop - 1
+            lo = q0.ref.X[i0] - 0.5 * model.km.rfe_length[i0] * q0.ref.R[i0][:, 0]
+            hi = q0.ref.X[i1] + 0.5 * model.km.rfe_length[i1] * q0.ref.R[i1][:, 0]
+            if hi[2] < lo[2]:
+                lo, hi = hi, lo
+            span = float(np.hypot(*(hi - lo)[:2]))
+            try:
+                cat = solve_catenary(span, float(hi[2] - lo[2]), li.length, w, sec.EA, seabed=False)
+                tension = max(cat.top_tension, cat.anchor_tension) + loads
+            except ValueError:
+                pass
+        if tension > limit:
+            out.append((li.name, tension, limit, li.dx, math.ceil(li.length / math.sqrt(12.0 * sec.EI_min / tension))))
+    return out
+
+
+def _shear_hint(sc: Scenario, model) -> str | None:
+    """The hint for lines whose fem shear cannot hold their tension (``_shear_limited``)."""
+    limited = _shear_limited(sc, model) if model is not None else []
+    if not limited:
+        return None
+    name, tension, limit, dx, need = limited[0]
+    more = f" (and {len(limited) - 1} more)" if len(limited) > 1 else ""
+    return (f"line '{name}'{more} uses the fem shear stiffness 12 EI / Delta^3 (eq. 8.89), which holds its "
+            f"elements in line only up to a tension of 12 EI / Delta^2 = {limit:.4g} N at Delta = {dx:.4g} m "
+            f"(beyond it the chain of rigid elements shears apart sideways: no stable equilibrium), and it "
+            f"carries about {tension:.4g} N: give lines.{name}.elements well above {need} (Delta below "
+            f"sqrt(12 EI / T)), or set lines.{name}.shear_stiffness to kruszewski (eq. 8.88)")
+
+
+def _statics_hint(sc: Scenario, model=None) -> str | None:
     """Why a statics that failed could not succeed, where the scene shows it: lines without
-    support, or slack lying on the seabed."""
+    support, slack lying on the seabed, or lines whose fem shear cannot hold their tension
+    (with the compiled ``model``)."""
     free = _unsupported_lines(sc)
     if free:
         names = ", ".join(f"'{n}'" for n in free)
@@ -79,7 +139,7 @@ def _statics_hint(sc: Scenario) -> str | None:
                 f"between points {span:.6g} m apart): slack lying on the seabed has no unique static shape; "
                 f"make the line as long as the distance between its ends, lift an end off the seabed, or set "
                 f"analysis.statics.enabled to false")
-    return None
+    return _shear_hint(sc, model)
 
 
 EXCESS_LENGTH = 1e-3   # a line longer than the distance between its ends by this fraction has slack
@@ -128,7 +188,7 @@ def _static_state(system: System, sc: Scenario, progress=None):
         if excess:
             state, info = _catenary_retry(system, sc, exc, excess, saved, solve)
         else:
-            hint = None if exc.hint else _statics_hint(sc)
+            hint = None if exc.hint else _statics_hint(sc, system.model)
             if hint is None:
                 raise
             raise SolverError(exc.message, time=exc.time,
@@ -167,8 +227,10 @@ def _catenary_retry(system: System, sc: Scenario, exc: SolverError, excess, save
     try:
         state, info = solve(catenary.initial)
     except SolverError:
-        raise failed("statics from the catenary start failed too: look at the scene (are the ends where "
-                     "you meant them?), or give more load steps (analysis.statics.load_steps)") from None
+        shear = _shear_hint(sc, system.model)
+        raise failed("statics from the catenary start failed too: " + (
+            shear if shear is not None else "look at the scene (are the ends where you meant them?), or give "
+                                            "more load steps (analysis.statics.load_steps)")) from None
     name, length, span = excess[0]
     note = (f"the straight start failed (it compresses the {length:.6g} m of line '{name}' between ends "
             f"{span:.6g} m apart into a column, which buckles), so statics started from the catenary")

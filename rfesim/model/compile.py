@@ -286,6 +286,13 @@ def _catenary_curve(A: np.ndarray, B: np.ndarray, length: float, weight: float, 
     contact already has its stiffness (at zero penetration it has none, and Newton would
     see no seabed under the grounded elements)."""
     from ..catenary import solve_catenary
+    if weight < 0.0:
+        # a buoyant line floats up: the catenary of its net buoyancy -w hangs the other way up,
+        # the hanging catenary of weight -w mirrored in a horizontal plane (the same tensions).
+        # The seabed cannot hold it up; the free surface is not a support either.
+        flip = np.array([1.0, 1.0, -1.0])
+        c = _catenary_curve(A * flip, B * flip, length, -weight, EA, None, contact_radius)
+        return None if c is None else _Curve(c.s, c.X * flip[None, :], c.strain)
     swap = B[2] < A[2]
     lo, hi = (B, A) if swap else (A, B)
     dh = hi[:2] - lo[:2]
@@ -473,12 +480,24 @@ def compile_scenario(sc, start: str | None = None) -> Model:
             if d >= L * (1.0 - 1e-9) or start == "straight" or env.gravity == 0.0:
                 curve = _straight(A, chord, L, stretch=d / L)
             else:
-                low = A if A[2] <= B[2] else B
-                curve = _catenary_curve(A, B, L, _submerged_weight(sec, sc), sec.EA,
+                # a clamped end with a direction holds its end RFE along it (its pose is the
+                # clamp's, docs/theory.md section 5): the catenary spans between the end RFEs'
+                # inner ends, so that SDE 0 starts without a gap (eq. 8.85), only bent (eq. 8.87)
+                lead_a = lengths[0] if (ends["end_a"]["kind"] == KIND_CLAMPED and dA is not None) else 0.0
+                lead_b = lengths[-1] if (ends["end_b"]["kind"] == KIND_CLAMPED and dB is not None) else 0.0
+                A1 = A + lead_a * dA if lead_a > 0.0 else A
+                B1 = B - lead_b * dB if lead_b > 0.0 else B
+                L1 = L - lead_a - lead_b
+                if float(np.linalg.norm(B1 - A1)) >= L1 * (1.0 - 1e-9):
+                    A1, B1, L1, lead_a, lead_b = A, B, L, 0.0, 0.0     # no slack between the clamps' leads
+                low = A1 if A1[2] <= B1[2] else B1
+                curve = _catenary_curve(A1, B1, L1, _submerged_weight(sec, sc), sec.EA,
                                         env.seabed_z_at(float(low[0]), float(low[1])),
                                         0.5 * sec.outer_diameter, seabed.normal_stiffness if seabed else 0.0)
                 if curve is None:
-                    curve = _sagged_curve(A, B, L)
+                    curve = _sagged_curve(A1, B1, L1, up=_submerged_weight(sec, sc) < 0.0)
+                if lead_a > 0.0 or lead_b > 0.0:
+                    curve = _with_leads(curve, A, B, lead_a, lead_b)
         elif A is not None:
             curve = _straight(A, dA if dA is not None else down, L)
         elif B is not None:
@@ -520,7 +539,7 @@ def compile_scenario(sc, start: str | None = None) -> Model:
                 continue
             frames[0] = frame
         for i in range(1, nseg + 1):
-            frames[i] = minimal_rotation(tang[i - 1], tang[i]) @ frames[i - 1]
+            frames[i] = minimal_rotation(frames[i - 1][:, 0] if i == 1 else tang[i - 1], tang[i]) @ frames[i - 1]
         if line.end_b.connection == "clamped" and dB is not None:
             frames[-1] = minimal_rotation(frames[-1][:, 0], dB) @ frames[-1]
         if body_pose_b is not None and line.end_b.connection == "clamped":
@@ -850,12 +869,30 @@ def _catenary_tail(sec: Section, sc):
     return tail
 
 
-def _sagged_curve(A: np.ndarray, B: np.ndarray, L: float) -> _Curve:
-    """A parabola-like sag below the chord with the right arc length (fallback start)."""
+def _with_leads(curve: _Curve, A: np.ndarray, B: np.ndarray, lead_a: float, lead_b: float) -> _Curve:
+    """``curve`` (between the inner ends of clamped end RFEs) with the straight leads from end
+    A and to end B along the clamps' directions prepended and appended (a lead of 0: none).
+    The strain of a lead is the curve's at its end."""
+    s = curve.s + lead_a
+    X = curve.X
+    if lead_a > 0.0:
+        s, X = np.concatenate([[0.0], s]), np.vstack([A, X])
+    if lead_b > 0.0:
+        s, X = np.concatenate([s, [s[-1] + lead_b]]), np.vstack([X, B])
+    strain = None
+    if curve.strain is not None:
+        inner, length = curve.strain, float(curve.s[-1])
+        strain = (lambda arc: inner(np.clip(np.asarray(arc, float) - lead_a, 0.0, length)))
+    return _Curve(s, X, strain)
+
+
+def _sagged_curve(A: np.ndarray, B: np.ndarray, L: float, up: bool = False) -> _Curve:
+    """A parabola-like sag below the chord (above it for a buoyant line, ``up``) with the
+    right arc length (fallback start)."""
     chord = B - A
     d = np.linalg.norm(chord)
     u = np.linspace(0.0, 1.0, 201)
-    sag_dir = np.array([0.0, 0.0, -1.0])
+    sag_dir = np.array([0.0, 0.0, 1.0 if up else -1.0])
     sag_dir = sag_dir - chord * (sag_dir @ chord) / (d * d)
     if np.linalg.norm(sag_dir) < 1e-9:
         sag_dir = np.cross(chord, [0.0, 1.0, 0.0])

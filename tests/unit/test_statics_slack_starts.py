@@ -1,0 +1,157 @@
+"""Statics of slack lines whose start shape used to be wrong (rfesim.model.compile; docs/theory.md,
+section 6, 'Start shapes of clamped and buoyant slack lines' and 'Soft fem shear under tension').
+
+* A flexible line clamped horizontally at end A and pinned 5 m away (20 m long, lots of slack)
+  failed from the straight and the catenary start: the catenary leaves A steeply, the clamped
+  end RFE points along the clamp, and the frames of all the other RFEs were transported from the
+  clamp's frame along the chord tangents, so every element was turned away from its own chord
+  by the angle between them (residual 9.6e5 x force scale at the start).
+* A slightly buoyant slack tether started from a downward sag (the catenary start needs a
+  positive weight), which is the inverted, compressed arch: statics found that unstable
+  equilibrium or failed.
+* With the fem shear (eq. 8.89) a chain of rigid elements under a tension above 12 EI / Delta^2
+  shears apart: then statics says so and what to do.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import rfesim
+from rfesim.catenary import solve_catenary
+from rfesim.model.compile import compile_scenario
+
+G = 9.81
+RHO = 1025.0
+LENGTH = 20.0
+MASS = 10.0                # kg/m, a small steel pipe
+D = 0.05                   # m
+Z0 = -10.0                 # m, height of both ends
+
+
+def clamped_line(EI: float, water: bool, *, start: str = "auto", elements: int = 20, span: float = 5.0) -> dict:
+    """20 m clamped horizontally at end A, pinned at end B ``span`` away at the same height."""
+    env = {"gravity": G}
+    if water:
+        env["water"] = {"density": RHO, "depth": 100.0}
+    return {"name": "clamped slack line", "environment": env,
+            "line_types": {"flex": {"EA": 1.0e8, "EIy": EI, "mass_per_length": MASS, "outer_diameter": D}},
+            "lines": {"l": {"type": "flex", "length": LENGTH, "elements": elements,
+                            "end_a": {"attach": "fixed", "position": [0.0, 0.0, Z0], "direction": [1.0, 0.0, 0.0],
+                                      "connection": "clamped"},
+                            "end_b": {"attach": "fixed", "position": [span, 0.0, Z0], "connection": "pinned"}}},
+            "analysis": {"statics": {"enabled": True, "start": start}}}
+
+
+def wet_weight(water: bool) -> float:
+    """N/m"""
+    return MASS * G - (RHO * G * math.pi / 4.0 * D * D if water else 0.0)
+
+
+def end_forces(res, name: str = "l"):
+    line = res.line(name)
+    return tuple(np.asarray(getattr(line, a)[0]) for a in ("end_a_force", "end_b_force", "end_a_moment"))
+
+
+@pytest.mark.parametrize("EI, water", [(100.0, False), (1000.0, False), (100.0, True), (1000.0, True)])
+def test_clamped_slack_line_hangs(EI, water):
+    """It converges from the catenary start to a line hanging in a U: the ends carry its whole
+    wet weight, and the clamp, which holds it horizontal where the catenary leaves at 85.6 deg
+    below the horizontal, takes the moment of the tensioned elastica's boundary layer,
+    M = 2 sqrt(EI T) sin(theta / 2) (from EI theta'^2 / 2 = T (1 - cos theta)), the way a
+    cantilever hanging down loads its wall."""
+    res = rfesim.statics(rfesim.load_scenario(clamped_line(EI, water, start="catenary")))
+    assert res.status == 0 and res.counters["newton_iterations"] < 100
+    fa, fb, ma = end_forces(res)
+    w = wet_weight(water)
+    assert fa[2] + fb[2] == pytest.approx(-w * LENGTH, rel=1e-6)
+    assert abs(fa[0] + fb[0]) <= 1e-6 * w * LENGTH
+    z = np.asarray(res.line("l").position[0])[:, 2]
+    assert z.min() < Z0 - 8.0                                  # hangs (the catenary's sag is 9.1 m)
+    cat = solve_catenary(5.0, 0.0, LENGTH, w, 1.0e8, seabed=False)
+    theta = math.atan2(-cat.vertical_tension_anchor, cat.horizontal_tension)
+    estimate = 2.0 * math.sqrt(EI * cat.anchor_tension) * math.sin(theta / 2.0)
+    assert ma[1] > 0.0 and abs(ma[0]) + abs(ma[2]) <= 1e-9 * ma[1]      # the line pulls the clamp's tip down
+    assert 0.8 * estimate < ma[1] < 1.25 * estimate
+
+
+def test_clamped_slack_line_from_the_straight_start():
+    """The straight start (a column compressed to the 5 m chord) fails, and statics goes on from
+    the catenary start of the same model (the clamp's direction is given) to its equilibrium."""
+    res = rfesim.statics(rfesim.load_scenario(clamped_line(1000.0, True, start="straight")))
+    assert "so statics started from the catenary" in res.message
+    ref = rfesim.statics(rfesim.load_scenario(clamped_line(1000.0, True, start="catenary")))
+    for got, want in zip(end_forces(res), end_forces(ref)):
+        assert np.abs(got - want).max() <= 1e-6 * np.abs(want).max()
+
+
+def test_clamped_start_shape_follows_the_clamp():
+    """The start: the clamped end RFE along the clamp's direction, the chain of the others on the
+    catenary from its inner end, each RFE's axis along its own chord (no element turned away
+    from it), and no gap at the SDE next to the clamp."""
+    model = compile_scenario(rfesim.load_scenario(clamped_line(100.0, False, start="catenary")))
+    R, X, ell = model.initial.ref.R, model.initial.ref.X, model.km.rfe_length
+    left = X - 0.5 * ell[:, None] * R[:, :, 0]
+    right = X + 0.5 * ell[:, None] * R[:, :, 0]
+    assert np.allclose(R[0][:, 0], [1.0, 0.0, 0.0], atol=1e-12)
+    gap = left[1:] - right[:-1]
+    along = np.einsum("ij,ij->i", gap, R[:-1, :, 0])
+    lateral = gap - along[:, None] * R[:-1, :, 0]
+    # no element turned away from its chord: the gaps are the chord chain's closure error only
+    # (compressed by 0.5 %, section 6), where a frame turned by the catenary's 86 deg at the
+    # clamp opened gaps of half an element
+    assert np.abs(lateral).max() < 0.01 * ell.max() and np.abs(along).max() < 0.01 * ell.max()
+    assert R[1][2, 0] < -0.5                                          # the chain turns down right after the clamp
+
+
+@pytest.mark.parametrize("EI", [1.0, 100.0])
+def test_buoyant_slack_tether_floats_up(EI):
+    """A tether 0.1 % lighter than the water it displaces, 20 m between anchors 15 m apart at
+    50 m depth, floats up in the mirror image of the same tether 0.1 % heavier (the same net
+    force per length the other way), pulling both anchors up by its net buoyancy. With
+    EI = 1 N m^2 it is a catenary in tension; with EI = 100 N m^2 (Euler load 2.5 N against a net
+    buoyancy of 1.6 N) a bent elastica a little in compression, either way up."""
+    shapes = {}
+    for ratio in (0.999, 1.001):
+        m = ratio * RHO * math.pi / 4.0 * 0.1 ** 2
+        data = {"name": "tether", "environment": {"gravity": G, "water": {"density": RHO, "depth": 100.0}},
+                "line_types": {"t": {"EA": 1.0e7, "EIy": EI, "mass_per_length": m, "outer_diameter": 0.1}},
+                "lines": {"t": {"type": "t", "length": 20.0, "elements": 20,
+                                "end_a": {"attach": "fixed", "position": [0.0, 0.0, -50.0]},
+                                "end_b": {"attach": "fixed", "position": [15.0, 0.0, -50.0]}}},
+                "analysis": {"statics": {"enabled": True}}}
+        res = rfesim.statics(rfesim.load_scenario(data))
+        assert res.status == 0
+        fa, fb, _ = end_forces(res, "t")
+        net = (m - RHO * math.pi / 4.0 * 0.1 ** 2) * G * 20.0          # N, < 0 when buoyant
+        assert fa[2] + fb[2] == pytest.approx(-net, rel=1e-6)            # the line pulls its anchors up
+        assert fa[0] == pytest.approx(-fb[0], rel=1e-6)
+        if EI == 1.0:
+            assert fa[0] > 0.0                                         # a catenary: it pulls its anchors together
+        shapes[ratio] = np.asarray(res.line("t").position[0])
+    up, down = shapes[0.999], shapes[1.001]
+    assert up[:, 2].min() >= -50.0 - 1e-9 and up[:, 2].max() > -50.0 + 5.0
+    mirrored = down.copy()
+    mirrored[:, 2] = -100.0 - down[:, 2]
+    assert np.abs(up - mirrored).max() < 1e-6
+
+
+def test_soft_fem_shear_under_tension_is_named():
+    """EI = 10 N m^2 on 20 elements: the fem shear 12 EI / Delta^3 holds the chain in line up
+    to 120 N only, and the hanging line carries ~980 N, so there is no stable equilibrium near
+    its shape. The failure says so and what to do, and the kruszewski shear (eq. 8.88) it
+    suggests converges."""
+    with pytest.raises(rfesim.SolverError) as err:
+        rfesim.statics(rfesim.load_scenario(clamped_line(10.0, False, start="catenary")))
+    hint = err.value.hint or ""
+    assert "line 'l' uses the fem shear stiffness" in hint
+    assert "12 EI / Delta^2 = 120 N" in hint
+    assert "lines.l.elements" in hint and "lines.l.shear_stiffness to kruszewski" in hint
+    data = clamped_line(10.0, False, start="catenary")
+    data["lines"]["l"]["shear_stiffness"] = "kruszewski"
+    res = rfesim.statics(rfesim.load_scenario(data))
+    fa, fb, ma = end_forces(res)
+    assert fa[2] + fb[2] == pytest.approx(-wet_weight(False) * LENGTH, rel=1e-6)
+    assert ma[1] > 0.0
