@@ -3,8 +3,6 @@ solve (Schur complement = the dense solve), consistent initial accelerations, an
 Results of a run through the public API."""
 from __future__ import annotations
 
-import copy
-
 import numpy as np
 import pytest
 
