@@ -184,7 +184,7 @@ def _show(value: Any) -> str:
 
 class _Strict(BaseModel):
     model_config = ConfigDict(extra="forbid", allow_inf_nan=False, validate_default=True,
-                              populate_by_name=True)
+                              populate_by_name=True, json_schema_extra=lambda schema, cls: _schema_unit_bounds(schema))
 
     @model_validator(mode="before")
     @classmethod
@@ -219,6 +219,39 @@ class _Strict(BaseModel):
                 if why:
                     raise FieldError(where, why)
         return self
+
+
+def _schema_unit_bounds(schema: dict) -> None:
+    """The bounds of UNIT_BOUNDS in the JSON Schema: ``maximum`` (and ``minimum`` for signed
+    numbers) on the numbers of every property bounded by its unit, and its ``limit`` text."""
+    for prop in schema.get("properties", {}).values():
+        bound = UNIT_BOUNDS.get(prop.get("units"))
+        if bound is None or "limit" in prop or _has_maximum(prop):
+            continue
+        prop["limit"] = bound[1]
+        _bound_numbers(prop, bound[0])
+
+
+def _has_maximum(node) -> bool:
+    if isinstance(node, dict):
+        return "maximum" in node or "exclusiveMaximum" in node or any(_has_maximum(v) for v in node.values())
+    if isinstance(node, list):
+        return any(_has_maximum(v) for v in node)
+    return False
+
+
+def _bound_numbers(node, limit: float) -> None:
+    if isinstance(node, list):
+        for v in node:
+            _bound_numbers(v, limit)
+    elif isinstance(node, dict):
+        if node.get("type") in ("number", "integer"):
+            node["maximum"] = limit
+            if "minimum" not in node and "exclusiveMinimum" not in node:
+                node["minimum"] = -limit
+        for key in ("anyOf", "oneOf", "items", "prefixItems"):
+            if key in node:
+                _bound_numbers(node[key], limit)
 
 
 def _numbers(value, where: str):

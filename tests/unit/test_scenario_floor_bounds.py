@@ -354,3 +354,16 @@ def test_short_steps_within_the_count_pass():
     # 6e7 steps of 1 microsecond: a long run, not a unit mistake
     sc = load("catenary_riser", {"analysis.dynamics.integrator.time_step": 1e-6})
     assert sc.analysis.dynamics.integrator.time_step == 1e-6
+
+
+def test_json_schema_states_the_unit_bounds():
+    defs = rfesim.Scenario.model_json_schema()["$defs"]
+    position = defs["Vessel"]["properties"]["position"]
+    assert (position["items"]["minimum"], position["items"]["maximum"]) == (-1e7, 1e7)
+    assert "check the units, metres" in position["limit"]
+    heading = defs["Vessel"]["properties"]["heading_deg"]
+    assert (heading["minimum"], heading["maximum"]) == (-1e6, 1e6)
+    ramp = defs["HarmonicMotion"]["properties"]["ramp_duration"]        # its own minimum stays
+    assert (ramp["minimum"], ramp["maximum"]) == (0.0, 1e7)
+    modulus = defs["LineType"]["properties"]["youngs_modulus"]          # its own bound stays
+    assert "diamond" in modulus["limit"] and "minimum" not in json.dumps(modulus)
