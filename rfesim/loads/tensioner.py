@@ -29,7 +29,6 @@ of the material (the stored pipe upstream of the tensioner is part of the line).
 """
 from __future__ import annotations
 
-import math
 
 from numba import njit
 

@@ -31,6 +31,8 @@ from ..scenario.load import NOTHING_TO_SIMULATE
 
 log = logging.getLogger("rfesim")
 
+LEAD_SHARE = 0.1          # clamped ends' straight leads longer than this share of the line: no leads
+LEAD_CHORD = 1e-3         # ... nor when the chord between their inner ends is shorter than this share
 NEARLY_FLEXIBLE = 1e-6     # 12 EI / Delta^3 below this fraction of GA / Delta: default to kruszewski
 
 
@@ -442,6 +444,8 @@ def compile_scenario(sc, start: str | None = None) -> Model:
         dA = _glob_dir("end_a", line.end_a)
         dB = _glob_dir("end_b", line.end_b)
         down = np.array([0.0, 0.0, -1.0]) if env.gravity > 0 else np.array([1.0, 0.0, 0.0])
+        # a line with one end placed hangs from it, or floats up from it when buoyant
+        hang = -down if env.gravity > 0 and _submerged_weight(sec, sc) < 0.0 else down
         if parent is not None:
             # a join: end A starts at the parent's end B
             PB = end_b_of[parent]["point"]
@@ -488,8 +492,11 @@ def compile_scenario(sc, start: str | None = None) -> Model:
                 A1 = A + lead_a * dA if lead_a > 0.0 else A
                 B1 = B - lead_b * dB if lead_b > 0.0 else B
                 L1 = L - lead_a - lead_b
-                if float(np.linalg.norm(B1 - A1)) >= L1 * (1.0 - 1e-9):
-                    A1, B1, L1, lead_a, lead_b = A, B, L, 0.0, 0.0     # no slack between the clamps' leads
+                inner = float(np.linalg.norm(B1 - A1))
+                if inner >= L1 * (1.0 - 1e-9) or inner < LEAD_CHORD * L1 or lead_a + lead_b > LEAD_SHARE * L:
+                    # no slack between the clamps' leads, or so few elements that the leads are
+                    # much of the line or end at (or past) the other end: the catenary end to end
+                    A1, B1, L1, lead_a, lead_b = A, B, L, 0.0, 0.0
                 low = A1 if A1[2] <= B1[2] else B1
                 curve = _catenary_curve(A1, B1, L1, _submerged_weight(sec, sc), sec.EA,
                                         env.seabed_z_at(float(low[0]), float(low[1])),
@@ -499,9 +506,9 @@ def compile_scenario(sc, start: str | None = None) -> Model:
                 if lead_a > 0.0 or lead_b > 0.0:
                     curve = _with_leads(curve, A, B, lead_a, lead_b)
         elif A is not None:
-            curve = _straight(A, dA if dA is not None else down, L)
+            curve = _straight(A, dA if dA is not None else hang, L)
         elif B is not None:
-            dirB = dB if dB is not None else -down
+            dirB = dB if dB is not None else -hang
             curve = _straight(B - L * dirB / np.linalg.norm(dirB), dirB, L)
         else:
             problems.append((f"{base}.end_a.position", "give the position of at least one end"))
@@ -522,7 +529,14 @@ def compile_scenario(sc, start: str | None = None) -> Model:
             joints = curve.joints(lengths, None)
         e0, e1 = joints[:-1], joints[1:]
         tang = e1 - e0
-        tang /= np.linalg.norm(tang, axis=1)[:, None]
+        norms = np.linalg.norm(tang, axis=1)
+        if not (np.all(np.isfinite(joints)) and np.all(norms > 1e-9 * L)):
+            # the chain of so few, long elements does not close along the start curve
+            problems.append((f"{base}.elements", f"{nseg} elements of {dx:.4g} m are too few to start this line "
+                                                 f"of {L:.6g} m from its start shape (two of its joints coincide): "
+                                                 f"give more elements (e.g. {max(2 * nseg, 10)})"))
+            continue
+        tang /= norms[:, None]
         centres = 0.5 * (e0 + e1)
         # frames: clamped end A sets the first frame, then parallel transport along the line
         frames = np.empty((nseg + 1, 3, 3))
@@ -893,7 +907,8 @@ def _sagged_curve(A: np.ndarray, B: np.ndarray, L: float, up: bool = False) -> _
     d = np.linalg.norm(chord)
     u = np.linspace(0.0, 1.0, 201)
     sag_dir = np.array([0.0, 0.0, 1.0 if up else -1.0])
-    sag_dir = sag_dir - chord * (sag_dir @ chord) / (d * d)
+    if d > 1e-12 * L:
+        sag_dir = sag_dir - chord * (sag_dir @ chord) / (d * d)
     if np.linalg.norm(sag_dir) < 1e-9:
         sag_dir = np.cross(chord, [0.0, 1.0, 0.0])
     sag_dir /= np.linalg.norm(sag_dir)

@@ -80,9 +80,10 @@ class BodyAddedMass(_Strict):
 
     ca: NumberOr3 | None = Field(None, description="Added-mass coefficient on rho*volume, one value or "
                                  "[x, y, z] [-]", json_schema_extra={"units": "1"})
-    mass: NumberOr3 | None = _units("kg", "Added mass, one value or [x, y, z] (instead of ca)", default=None)
+    mass: NumberOr3 | None = _units("kg", "Added mass, one value or [x, y, z] (instead of ca)", default=None,
+                                    limit=MASS_LIMIT)
     inertia: Vector3 = _units("kg*m^2", "Added rotational inertia about the body axes [x, y, z]",
-                              default=[0.0, 0.0, 0.0])
+                              default=[0.0, 0.0, 0.0], limit=INERTIA_LIMIT)
 
     @model_validator(mode="after")
     def _one_of(self):
@@ -133,9 +134,9 @@ class Body(_Strict):
 
     mass: float = _units("kg", "Mass", gt=0.0, le=MAX_MASS, limit=MASS_LIMIT)
     inertia: Vector3 | None = _units("kg*m^2", "Principal moments of inertia about the centre of mass, body "
-                                     "axes [Ixx, Iyy, Izz]", default=None)
+                                     "axes [Ixx, Iyy, Izz]", default=None, limit=INERTIA_LIMIT)
     radius_of_gyration: NumberOr3 | None = _units("m", "Radius of gyration, one value or [x, y, z] (instead of "
-                                                  "inertia: I = mass * r^2)", default=None)
+                                                  "inertia: I = mass * r^2)", default=None, limit=LENGTH_LIMIT)
     volume: float = _units("m^3", "Displaced volume when fully submerged", default=0.0, ge=0.0)
     height: float | None = _units("m", "Vertical extent over which the body goes under water (buoyancy, drag, "
                                   "added mass and slamming scale with the submerged part of it); default: "

@@ -120,7 +120,7 @@ class ChainLink(_Strict):
     centre: Vector3 | None = _units("m", "Centre of mass of a rigid link in its axes (default: mid-length)",
                                     default=None)
     inertia: Vector3 | None = _units("kg*m^2", "Principal moments of inertia of a rigid link about its centre "
-                                     "along its axes (default: a slender rod)", default=None)
+                                     "along its axes (default: a slender rod)", default=None, limit=INERTIA_LIMIT)
     loads: list[PointLoad] = Field(default_factory=list, description="Dead point loads (global frame); "
                                    "'at': arc length, 'end_a' (joint) or 'end_b' (tip)")
 

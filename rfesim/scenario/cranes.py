@@ -213,10 +213,10 @@ class CylinderSpec(_Strict):
     eye: float = _units("m", "Distance of the cylinder eye from the hinge along the boom / leg", gt=0.0)
     count: int = Field(1, ge=1, le=8, description="Number of cylinders sharing the load")
     stroke: list[Annotated[list[float], Field(min_length=2, max_length=2)]] | None = _units(
-        "m", "Cylinder length table [[t s, length m], ...]: drives the luffing instead of an angle table",
+        "s, m", "Cylinder length table [[t s, length m], ...]: drives the luffing instead of an angle table",
         default=None)
     force: AngleProfile | None = _units(
-        "N", "A-frame: force per cylinder (positive pushing), or a table [[t s, N], ...]: the legs turn "
+        "N (s, N)", "A-frame: force per cylinder (positive pushing), or a table [[t s, N], ...]: the legs turn "
         "freely on their hinge under it and their weights (tilt_deg is then the starting tilt, a constant; "
         "statics finds the tilt the force at t = 0 holds)", default=None)
     length_min: float | None = _units("m", "With force: the cylinder's shortest length, an end stop (default: none)",
@@ -250,7 +250,7 @@ class LuffingRopeSpec(_Strict):
     falls: int = Field(1, ge=1, le=24, description="Parts of line between the gantry and the eye (the pull on "
                        "the boom is falls times the rope tension)")
     length: list[Annotated[list[float], Field(min_length=2, max_length=2)]] = _units(
-        "m", "Distance gantry - eye against time [[t s, length m], ...] (the winch pays out falls times its "
+        "s, m", "Distance gantry - eye against time [[t s, length m], ...] (the winch pays out falls times its "
         "change)")
 
 
@@ -300,10 +300,11 @@ class ColumnCrane(_Crane):
     pedestal: MemberSpec
     boom: MemberSpec
     slewing_deg: AngleProfile = Field(0.0, description="Slewing angle about the pedestal axis from the vessel's "
-                                      "x axis (deg), or a table [[t s, deg], ...]", json_schema_extra={"units": "deg"})
+                                      "x axis (deg), or a table [[t s, deg], ...]",
+                                      json_schema_extra={"units": "deg (s, deg)"})
     luffing_deg: AngleProfile | None = Field(None, description="Boom angle above the horizontal (deg), or a table "
                                              "(or give cylinder.stroke, or luffing_rope.length)",
-                                             json_schema_extra={"units": "deg"})
+                                             json_schema_extra={"units": "deg (s, deg)"})
     cylinder: CylinderSpec | None = None
     luffing_rope: LuffingRopeSpec | None = Field(None, description="Luffing by a rope from a gantry: its length "
                                                  "table drives the boom angle (instead of luffing_deg)")
@@ -333,7 +334,7 @@ class AFrame(_Crane):
                                  "stern, -x)", default=180.0, ge=-360.0, le=360.0)
     tilt_deg: AngleProfile | None = Field(None, description="Leg angle from the vertical, positive outboard "
                                           "(deg), or a table (or give cylinder.stroke)",
-                                          json_schema_extra={"units": "deg"})
+                                          json_schema_extra={"units": "deg (s, deg)"})
     cylinder: CylinderSpec | None = None
     crossbeam: MemberSpec | None = Field(None, description="The crossbeam as a member (its length is "
                                          "leg_spacing): the frame is then the closed portal -- two legs, each on "

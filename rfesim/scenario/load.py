@@ -236,6 +236,7 @@ def validation_errors(exc: ValidationError, prefix: tuple = ()) -> list[tuple[st
     """Convert a pydantic ValidationError into ``(field path, reason)`` pairs; ``prefix``
     is the location in the Scenario of what was validated (e.g. ``("pipelay",)``)."""
     by_path: dict[str, list[str]] = {}
+    not_text: set[str] = set()         # a mapping given where a union takes a name or a model
     for err in exc.errors():
         loc = tuple(prefix) + tuple(err.get("loc", ()))
         parts, owner, tp = _resolve(loc)
@@ -246,9 +247,16 @@ def validation_errors(exc: ValidationError, prefix: tuple = ()) -> list[tuple[st
         if extra:
             parts = parts + [extra]
         path = ".".join(parts)
+        if err.get("type") == "string_type" and isinstance(err.get("input"), dict):
+            not_text.add(path)
         reasons = by_path.setdefault(path, [])
         if reason not in reasons:
             reasons.append(reason)
+    # a mapping that failed inside the model of a union (a crane's payload: a body name or a
+    # body) is not also told it is no name
+    for path in not_text:
+        if any(p.startswith(path + ".") for p in by_path) and len(by_path[path]) == 1:
+            del by_path[path]
     # a value tried against several alternatives (a union) gives one error per
     # alternative: report them as one entry for the field
     return [(path, "; or ".join(reasons)) for path, reasons in by_path.items()]

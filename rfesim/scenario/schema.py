@@ -119,6 +119,9 @@ UNIT_BOUNDS = {
     "kg*m^2": (MAX_INERTIA, INERTIA_LIMIT),
     "1/s": (MAX_GAIN, GAIN_LIMIT),
     "1/s^2": (MAX_GAIN ** 2, GAIN_LIMIT),
+    "Pa": (MAX_MODULUS, MODULUS_LIMIT),
+    "m/m or deg/m": (1.0e3, "a heave RAO is about 1 m/m at long waves and a roll RAO a few deg/m near its "
+                            "resonance (check the units: motion per metre of wave amplitude)"),
 }
 
 
@@ -205,20 +208,67 @@ class _Strict(BaseModel):
 
     @model_validator(mode="after")
     def _unit_bounds(self):
-        # the fields without a bound of their own get the bound of their unit (UNIT_BOUNDS)
+        # the fields without a bound of their own get the bound of their unit (UNIT_BOUNDS),
+        # the cells of a table the bound of their column's unit
         for name, field in type(self).model_fields.items():
             extra = field.json_schema_extra
-            bound = UNIT_BOUNDS.get(extra.get("units")) if isinstance(extra, dict) else None
-            if bound is None or "limit" in extra or any(hasattr(m, "le") or hasattr(m, "lt")
-                                                         for m in field.metadata):
+            if not isinstance(extra, dict) or "limit" in extra or "units" not in extra:
                 continue
-            signed = not any(v is not None and v >= 0 for m in field.metadata
-                             for v in (getattr(m, "ge", None), getattr(m, "gt", None)))
-            for where, v in _numbers(getattr(self, name), name):
-                why = upper_bound(v, bound[0], extra["units"], bound[1], signed=signed and v < 0)
-                if why:
-                    raise FieldError(where, why)
+            scalar, columns = table_units(extra["units"])
+            value = getattr(self, name)
+            if columns is not None and isinstance(value, list) and value and all(isinstance(r, list) for r in value):
+                _check_table(value, name, columns)
+                continue
+            if any(hasattr(m, "le") or hasattr(m, "lt") for m in field.metadata):
+                continue
+            lower = [v for m in field.metadata for v in (getattr(m, "ge", None), getattr(m, "gt", None))
+                     if v is not None]
+            positive = any(v > 0 for v in lower) or any(getattr(m, "gt", None) == 0 for m in field.metadata)
+            for where, v in _numbers(value, name):
+                _check_number(v, where, scalar, signed=not any(v >= 0 for v in lower))
+                if scalar == "s" and positive and 0.0 < v < MIN_TIME:
+                    raise FieldError(where, f"{v:g} s is shorter than {MIN_TIME:g} s, {MIN_TIME_LIMIT}")
         return self
+
+
+MIN_TIME = 1.0e-6                   # s, the shortest period, ramp, step or table interval
+MIN_TIME_LIMIT = ("a microsecond: no period, ramp, time step or table interval of a scene is shorter "
+                  "(check the units, seconds)")
+
+
+def table_units(units: str) -> tuple[str | None, list[str] | None]:
+    """(unit of a single number, units of a table's columns) of a field's ``units``: "N (s, N)"
+    (a number in N or rows [t, N]), "s, m/s" or "[1, Pa]" (rows only), "m" (numbers only)."""
+    text = units.strip()
+    if text.endswith(")") and " (" in text:
+        scalar, rest = text[:-1].split(" (", 1)
+        return scalar.strip(), [c.strip() for c in rest.split(",")]
+    if text.startswith("[") and text.endswith("]"):
+        return None, [c.strip() for c in text[1:-1].split(",")]
+    if "," in text:
+        return None, [c.strip() for c in text.split(",")]
+    return text, None
+
+
+def _check_number(v: float, where: str, unit: str | None, signed: bool) -> None:
+    bound = UNIT_BOUNDS.get(unit) if unit is not None else None
+    why = upper_bound(v, bound[0], unit, bound[1], signed=signed) if bound is not None else None
+    if why:
+        raise FieldError(where, why)
+
+
+def _check_table(rows: list, name: str, columns: list[str]) -> None:
+    """Every cell of a table within the bound of its column's unit (the last unit for the
+    columns beyond the list), and the rows of a time column at least MIN_TIME apart."""
+    for i, row in enumerate(rows):
+        for j, v in enumerate(row):
+            if isinstance(v, (int, float)) and not isinstance(v, bool):
+                _check_number(float(v), f"{name}.{i}.{j}", columns[min(j, len(columns) - 1)], signed=True)
+        if columns[0] == "s" and i and row and rows[i - 1]:
+            dt = row[0] - rows[i - 1][0]
+            if 0.0 < dt < MIN_TIME:
+                raise FieldError(f"{name}.{i}.0", f"{row[0]:.17g} s is {dt:.3g} s after the row before: rows closer "
+                                                  f"than {MIN_TIME:g} s, {MIN_TIME_LIMIT}")
 
 
 def _schema_unit_bounds(schema: dict) -> None:
@@ -335,6 +385,11 @@ class Current(_Strict):
             if not rows[i][0] > rows[i - 1][0]:
                 raise FieldError(f"time_factor.{i}", f"time {rows[i][0]} s does not increase "
                                                      f"(previous {rows[i - 1][0]} s)")
+        fastest = max(abs(v) for _, v in self.profile)
+        for i, (_, f) in enumerate(rows):
+            if abs(f) * fastest > MAX_SPEED:
+                raise FieldError(f"time_factor.{i}.1", f"{f:g} times the fastest row of the profile ({fastest:g} m/s) "
+                                                       f"is faster than {MAX_SPEED:g} m/s: {SPEED_LIMIT}")
         return self
 
 
@@ -708,7 +763,8 @@ class TableMotion(_Strict):
     kind: Literal["table"]
     rows: list[TableRow] = Field(
         ..., min_length=2,
-        description="Rows [t (s), surge (m), sway (m), heave (m), roll (deg), pitch (deg), yaw (deg)]")
+        description="Rows [t (s), surge (m), sway (m), heave (m), roll (deg), pitch (deg), yaw (deg)]",
+        json_schema_extra={"units": "s, m, m, m, deg, deg, deg"})
     interpolation: Literal["cubic", "linear"] = "cubic"
     ramp_duration: float = _units("s", "Ramp-in time of the motion", default=0.0, ge=0.0)
 
@@ -1244,8 +1300,8 @@ class LineEnd(_Strict):
 class PointLoad(_Strict):
     at: Union[Literal["end_a", "end_b"], float] = Field(..., description='"end_a", "end_b", or the arc length '
                                                         'from end A [m]')
-    force: Vector3 = _units("N", "Force", default=[0.0, 0.0, 0.0])
-    moment: Vector3 = _units("N*m", "Moment", default=[0.0, 0.0, 0.0])
+    force: Vector3 = _units("N", "Force", default=[0.0, 0.0, 0.0], limit=FORCE_LIMIT)
+    moment: Vector3 = _units("N*m", "Moment", default=[0.0, 0.0, 0.0], limit=FORCE_LIMIT)
     frame: Literal["global", "local"] = Field("global", description="global: dead load; local: follows the "
                                               "element (x along the line)")
 

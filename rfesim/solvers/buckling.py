@@ -45,10 +45,17 @@ reeving lead or follower load (a follower-loaded cantilever is Beck's column, no
 acts on its RFE, and no RFE from the stretch out to that end is supported. 2 L is exact for
 a clamped other end; a rotationally softer one (the line going on over a support or into a
 tensioned part, a corner join) lowers the load further and a pinned one makes it a
-mechanism, not told apart. A stretch with two free ends (a free-free column compressed by
-loads along it) keeps the pinned L_eff = L: Euler's end conditions do not describe it.
+mechanism, not told apart. Its compression grows from its free end, where it is the load
+at the tip P, to its held end, where it is P plus the weight along it q L: the cantilever
+buckles when P / (pi^2 EI / (2 L)^2) + q L / (7.837 EI / L^2) reaches 1 (Dunkerley's sum of
+the tip load's Euler case, L_eff = 2 L, and Greenhill's column under its own weight, exact
+for either alone, on the safe side for both: ``cantilever_load``). A steel pipe standing
+clamped in air under its own weight buckles at 63 m (12-inch X65, EI = 3.79e7 N m^2,
+1185 N/m); the tip-load rule alone would warn from 43 m. A stretch with two free ends (a
+free-free column compressed by loads along it) keeps the pinned L_eff = L: Euler's end
+conditions do not describe it.
 
-The largest compression of the stretch is compared (conservative where it varies along it).
+The largest compression of a pinned stretch is compared (conservative where it varies along it).
 Compression below ``NOISE_FRACTION`` of the line's own force scale (its largest element
 weight or point load, else its largest internal force: a heavy load elsewhere in the scene
 does not hide it; a joint SDE takes the smaller floor of its two lines), or below
@@ -92,7 +99,9 @@ class CompressedStretch:
     lines: tuple[str, ...] = ()     # the lines it runs over, in order across their joins (default: (line,))
     stop: float = math.nan          # m, arc length from end A of the last line where it ends (default start + length)
     free_ends: int = 0              # how many of its two ends are free line ends (nothing attached, nothing holds them)
-    effective_length: float = math.nan  # m, the length (pinned ends) or twice it (one free end: a cantilever)
+    effective_length: float = math.nan  # m, pi sqrt(EI_min / euler_load): the length (pinned ends), twice it (a
+                                        #   cantilever with its load at the free end), 1.12 times it (its own weight)
+    free_end_compression: float = 0.0   # N, a cantilever's compression at its free end (its tip load)
 
     def __post_init__(self):
         if not self.lines:
@@ -277,17 +286,22 @@ def compressed_stretches(system: System, state: State) -> list[CompressedStretch
             EI = min(system.model.line(n).section.EI_min for n in names)
             before = [steps[lo].left] + [i for st in steps[:lo] for i in (st.left, st.right)]
             after = [steps[hi - 1].right] + [i for st in steps[hi:] for i in (st.left, st.right)]
-            free_ends = int(loose(before, first_end)) + int(loose(after, last_end))
-            effective = 2.0 * length if free_ends == 1 else length
+            free_a, free_b = loose(before, first_end), loose(after, last_end)
+            free_ends = int(free_a) + int(free_b)
+            peak = float(compression[sdes].max())
+            load, tip = math.pi ** 2 * EI / length ** 2, 0.0
+            if free_ends == 1:
+                tip = float(max(compression[run[0].sde if free_a else run[-1].sde], 0.0))
+                load = cantilever_load(EI, length, peak, tip)
             a, b = run[0].arc_left, run[-1].arc_right
             if len(names) == 1:
                 a, b = min(a, b), max(a, b)
             rfes = [st.left for st in run] + [run[-1].right]
-            out.append(CompressedStretch(line=names[0], start=a, length=length,
-                                         compression=float(compression[sdes].max()),
-                                         euler_load=math.pi ** 2 * EI / effective ** 2, bending_stiffness=EI,
+            out.append(CompressedStretch(line=names[0], start=a, length=length, compression=peak,
+                                         euler_load=load, bending_stiffness=EI,
                                          deviation=_deviation(centres[rfes]), lines=tuple(names), stop=b,
-                                         free_ends=free_ends, effective_length=effective))
+                                         free_ends=free_ends, effective_length=math.pi * math.sqrt(EI / load),
+                                         free_end_compression=tip))
 
         lo = None
         for i, st in enumerate(steps):
@@ -335,6 +349,22 @@ def _deviation(points: np.ndarray) -> float:
     return float(np.linalg.norm(np.cross(d, chord / size), axis=1).max())
 
 
+GREENHILL = 7.837   # (q L^3 / EI) at which a cantilever buckles under its own weight q per length
+
+
+def cantilever_load(EI: float, length: float, peak: float, tip: float) -> float:
+    """The largest compression (at the held end) of a cantilever of ``length`` at which it
+    buckles, for the compression ``tip`` at its free end growing linearly to ``peak``: a tip
+    load P and its own weight q L, P / (pi^2 EI / (2 L)^2) + q L / (GREENHILL EI / L^2) = 1
+    (Dunkerley's sum, exact for either alone and on the safe side for both; Greenhill 1881
+    for the weight alone), scaled at fixed proportions to the compression ``peak`` = P + q L."""
+    n_tip = math.pi ** 2 * EI / (2.0 * length) ** 2
+    n_weight = GREENHILL * EI / length ** 2
+    tip = min(max(tip, 0.0), peak)
+    usage = tip / n_tip + (peak - tip) / n_weight
+    return peak / usage if usage > 0.0 else n_tip
+
+
 def buckling_warnings(system: System, state: State) -> list[str]:
     """One message per free compressed stretch beyond its Euler load: the line (or the joined
     lines), where and how long the stretch is, its compression and Euler load with the end
@@ -354,8 +384,12 @@ def buckling_warnings(system: System, state: State) -> list[str]:
                      f"arc length {c.stop:.4g} m of '{c.lines[-1]}')")
             stiffness = f"EI = {c.bending_stiffness:.4g} N m^2, the smallest along the stretch"
         if c.free_ends == 1:
-            euler = (f"pi^2 EI / (2 L)^2 = {c.euler_load / 1e3:.4g} kN (one end free, a cantilever: effective "
-                     f"length 2 L = {c.effective_length:.4g} m, {stiffness})")
+            n_tip = math.pi ** 2 * c.bending_stiffness / (2.0 * c.length) ** 2
+            euler = (f"{c.euler_load / 1e3:.4g} kN (one end free, a cantilever of {c.length:.4g} m: "
+                     f"{c.free_end_compression / 1e3:.4g} kN of it at the free end, whose load alone buckles it at "
+                     f"pi^2 EI / (2 L)^2 = {n_tip / 1e3:.4g} kN, and the rest along it, its weight, which alone "
+                     f"buckles it at {GREENHILL} EI / L^2 = {GREENHILL * c.bending_stiffness / c.length ** 2 / 1e3:.4g}"
+                     f" kN (Greenhill), combined by Dunkerley's sum; {stiffness})")
         else:
             euler = f"pi^2 EI / L^2 = {c.euler_load / 1e3:.4g} kN (pinned ends, {stiffness})"
         messages.append(

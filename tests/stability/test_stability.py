@@ -11,7 +11,7 @@ import rfesim
 from rfesim.model.compile import compile_scenario
 from rfesim.model.energy import mechanical_energy
 from rfesim.scenario import load_scenario
-from rfesim.solvers.dynamics import Recorder, run_dynamics, stable_rk4_step
+from rfesim.solvers.dynamics import run_dynamics, stable_rk4_step
 from rfesim.solvers.statics import solve_statics
 from rfesim.solvers.system import System
 

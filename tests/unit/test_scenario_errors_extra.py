@@ -134,9 +134,9 @@ OVERFLOWS = [
     # the safety net in the template expansion names the number far out of range
     ("j_lay", "environment.seabed.normal_stiffness", 1e-300, "1e-300 is out of range", "overflows"),
     # positions, angles and times are bounded by their unit (schema.UNIT_BOUNDS)
-    ("j_lay", "pipelay.lay.exit.2", 1e300, "must be less than or equal to 10000000 m (got 1e+300)",
+    ("j_lay", "pipelay.lay.exit.2", 1e300, "must lie between -10000000 and 10000000 m (got 1e+300)",
      "check the units, metres"),
-    ("catenary_riser", "vessels.fpso.heading_deg", -1e300, "must lie between -1000000 and 1000000 deg",
+    ("catenary_riser", "vessels.fpso.heading_deg", 1e300, "must lie between -1000000 and 1000000 deg",
      "loses its digits"),
     ("catenary_riser", "vessels.fpso.motion.heave.amplitude", 1e300, "less than or equal to 1000 m or deg",
      "30 deg of roll"),

@@ -284,11 +284,11 @@ def test_json_schema_states_the_new_bounds():
 
 BY_UNIT = [
     ("catenary_riser", {"vessels.fpso.position": [1e30, 0.0, 0.0]}, "vessels.fpso.position.0",
-     "must be less than or equal to 10000000 m (got 1e+30)", "check the units, metres"),
+     "must lie between -10000000 and 10000000 m (got 1e+30)", "check the units, metres"),
     ("catenary_riser", {"lines.riser.end_a.position": [-535.0, -2e7, -199.0]}, "lines.riser.end_a.position.1",
      "must lie between -10000000 and 10000000 m (got -20000000.0)", "farther than any point"),
     ("catenary_riser", {"vessels.fpso.heading_deg": 1e300}, "vessels.fpso.heading_deg",
-     "must be less than or equal to 1000000 deg (got 1e+300)", "check the units, degrees"),
+     "must lie between -1000000 and 1000000 deg (got 1e+300)", "check the units, degrees"),
     ("catenary_riser", {"vessels.fpso.motion.heave.phase_deg": -2e6}, "vessels.fpso.motion.heave.phase_deg",
      "must lie between -1000000 and 1000000 deg", "2,800 turns"),
     ("catenary_riser", {"vessels.fpso.motion.heave.amplitude": 1e4}, "vessels.fpso.motion.heave.amplitude",
@@ -305,6 +305,37 @@ BY_UNIT = [
      "pipelay.lay.tensioner.payout.max_speed", "must be less than or equal to 10000 m/s (got 1e+300)",
      "speed of sound in water"),
 ]
+
+
+LINEAR = {"kind": "table", "interpolation": "linear"}
+BY_COLUMN = [
+    # tables: each cell within the bound of its column's unit, time rows at least 1e-6 s apart
+    ("catenary_riser", {"vessels.fpso.motion": {**LINEAR, "rows": [[0, 0, 0, 0, 0, 0, 0], [10, 1e300, 0, 0, 0, 0, 0]]}},
+     "vessels.fpso.motion.rows.1.1", "must lie between -10000000 and 10000000 m (got 1e+300)", "metres"),
+    ("catenary_riser", {"vessels.fpso.motion": {**LINEAR, "rows": [[0, 0, 0, 0, 0, 0, 0], [10, 0, 0, 0, 1e300, 0, 0]]}},
+     "vessels.fpso.motion.rows.1.4", "must lie between -1000000 and 1000000 deg (got 1e+300)", "degrees"),
+    ("catenary_riser", {"vessels.fpso.motion": {**LINEAR, "rows": [[0, 0, 0, 0, 0, 0, 0],
+                                                                   [1e300, 0, 0, 0, 0, 0, 0]]}},
+     "vessels.fpso.motion.rows.1.0", "must lie between -10000000 and 10000000 s (got 1e+300)", "seconds"),
+    ("catenary_riser", {"vessels.fpso.motion": {"kind": "table", "rows": [[0, 0, 0, 0, 0, 0, 0],
+                                                                          [1e-300, 0, 0, 0, 0, 0, 0],
+                                                                          [1, 0, 0, 0, 0, 0, 0],
+                                                                          [2, 0, 0, 0, 0, 0, 0]]}},
+     "vessels.fpso.motion.rows.1.0", "is 1e-300 s after the row before: rows closer than 1e-06 s", "a microsecond"),
+    ("catenary_riser", {"environment.water.current": {"profile": [[0, 1e300], [-200, 0]]}},
+     "environment.water.current.profile.0.1", "must lie between -10000 and 10000 m/s (got 1e+300)", "speed of sound"),
+    ("catenary_riser", {"environment.water.current": {"profile": [[0, 1], [-200, 0]],
+                                                      "time_factor": [[0, 0], [1, 1e300]]}},
+     "environment.water.current.time_factor.1.1", "1e+300 times the fastest row of the profile (1 m/s)",
+     "speed of sound"),
+    ("catenary_riser", {"vessels.fpso.motion.heave.period": 1e-300}, "vessels.fpso.motion.heave.period",
+     "1e-300 s is shorter than 1e-06 s", "a microsecond"),
+    ("column_crane", {"cranes.crane.winch.mode": {"kind": "speed", "rows": [[-1e300, 0], [12, 0.3]]}},
+     "winches.crane_winch.mode.rows.0.0", "must lie between -10000000 and 10000000 s (got -1e+300)", "seconds"),
+    ("column_crane", {"cranes.crane.slewing_deg": [[0, 80], [2e7, 90]]}, "cranes.crane.slewing_deg.1.0",
+     "must lie between -10000000 and 10000000 s (got 20000000.0)", "seconds"),
+]
+BY_UNIT += BY_COLUMN
 
 
 @pytest.mark.parametrize("data, overrides, field, bound, why", BY_UNIT, ids=[c[2] for c in BY_UNIT])
@@ -333,17 +364,22 @@ def test_a_scene_far_from_the_origin_passes():
 
 STEPS = [
     ({"analysis.dynamics.integrator.time_step": 1e-300}, "analysis.dynamics.integrator.time_step",
-     "1e-300 s takes 6e+301 steps through the duration 60 s, more than the 1,000,000,000"),
-    ({"analysis.dynamics.integrator": {"kind": "rk4", "time_step": 1e-8}}, "analysis.dynamics.integrator.time_step",
-     "1e-08 s takes 6e+09 steps"),
-    ({"analysis.dynamics.integrator": {"kind": "adaptive", "max_step": 1e-12}},
-     "analysis.dynamics.integrator.max_step", "1e-12 s takes 6e+13 steps"),
+     "1e-300 s is shorter than 1e-06 s, a microsecond"),
+    ({"analysis.dynamics.integrator": {"kind": "rk4", "time_step": 2e-6}, "analysis.dynamics.duration": 1e4},
+     "analysis.dynamics.integrator.time_step", "2e-06 s takes 5e+09 steps through the duration 10000 s, more than "
+                                               "the 1,000,000,000"),
+    ({"analysis.dynamics.integrator": {"kind": "adaptive", "max_step": 2e-6}, "analysis.dynamics.duration": 1e4},
+     "analysis.dynamics.integrator.max_step", "2e-06 s takes 5e+09 steps"),
+    ({"analysis.dynamics.output_interval": 2e-6, "analysis.dynamics.duration": 1e3},
+     "analysis.dynamics.output_interval", "2e-06 s stores 5e+08 output times over the duration 1000 s, more than "
+                                          "the 100,000,000"),
     ({"analysis.dynamics.output_interval": 1e-300}, "analysis.dynamics.output_interval",
-     "1e-300 s stores 6e+301 output times over the duration 60 s, more than the 100,000,000"),
+     "1e-300 s is shorter than 1e-06 s"),
 ]
 
 
-@pytest.mark.parametrize("overrides, field, words", STEPS, ids=[c[1].rsplit(".", 1)[1] for c in STEPS])
+@pytest.mark.parametrize("overrides, field, words", STEPS, ids=[f"{c[1].rsplit('.', 1)[1]}-{i}"
+                                                                 for i, c in enumerate(STEPS)])
 def test_a_step_too_short_for_the_duration_is_refused(overrides, field, words):
     errors = errors_of("catenary_riser", overrides)
     assert field in errors, errors
@@ -367,3 +403,20 @@ def test_json_schema_states_the_unit_bounds():
     assert (ramp["minimum"], ramp["maximum"]) == (0.0, 1e7)
     modulus = defs["LineType"]["properties"]["youngs_modulus"]          # its own bound stays
     assert "diamond" in modulus["limit"] and "minimum" not in json.dumps(modulus)
+
+
+
+def test_a_mapping_given_for_a_name_or_a_body_is_not_told_to_be_text():
+    # a crane's payload is a body name or a body: an error inside the body is the only one
+    errors = errors_of("column_crane", {"cranes.crane.payload.volume": 1e13})
+    assert list(errors) == ["cranes.crane.payload.volume"], errors
+    errors = errors_of("column_crane", {"cranes.crane.payload": 5})
+    assert "must be text" in errors["cranes.crane.payload"], errors
+
+
+def test_table_units_read_numbers_and_tables():
+    from rfesim.scenario.schema import table_units
+    assert table_units("N (s, N)") == ("N", ["s", "N"])
+    assert table_units("s, m/s") == (None, ["s", "m/s"])
+    assert table_units("[1, Pa]") == (None, ["1", "Pa"])
+    assert table_units("m") == ("m", None)

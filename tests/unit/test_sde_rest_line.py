@@ -11,7 +11,7 @@ import reference_impl as ref
 import rfesim
 from rfesim.loads.drives import rest_at
 from rfesim.model.arrays import check_joint_arrays, joint_arrays
-from rfesim.model.compile import State, compile_scenario
+from rfesim.model.compile import compile_scenario
 from rfesim.model.energy import mechanical_energy
 from rfesim.solvers.banded import bt_to_dense
 from rfesim.solvers.jacobian import jacobian_analytic

@@ -155,3 +155,40 @@ def test_soft_fem_shear_under_tension_is_named():
     fa, fb, ma = end_forces(res)
     assert fa[2] + fb[2] == pytest.approx(-wet_weight(False) * LENGTH, rel=1e-6)
     assert ma[1] > 0.0
+
+
+def test_a_coarse_clamped_line_starts_without_the_leads():
+    """With 4 elements the clamp's lead is an eighth of the line: the catenary then runs end
+    to end, as before the leads (they made the start degenerate, NaN frames). Statics
+    converges and the ends carry the line's weight."""
+    data = clamped_line(1.0e6, False, elements=4)
+    model = compile_scenario(rfesim.load_scenario(data), start="catenary")
+    assert np.all(np.isfinite(model.initial.ref.R)) and np.all(np.isfinite(model.initial.ref.X))
+    fa, fb, _ = end_forces(rfesim.statics(data))
+    assert fa[2] + fb[2] == pytest.approx(-wet_weight(False) * LENGTH, rel=1e-9)
+
+
+def test_too_few_elements_for_the_start_shape_name_the_field():
+    """2 elements (10 m each) of a 20 m line over 5 m: two joints of the start chain coincide.
+    Before, statics failed with a residual NaN naming no field."""
+    with pytest.raises(rfesim.ScenarioError) as info:
+        rfesim.statics(clamped_line(1.0e6, False, elements=2))
+    reason = dict(info.value.errors)["lines.l.elements"]
+    assert reason.startswith("2 elements of 10 m are too few to start this line of 20 m") and "give more" in reason
+
+
+def test_a_buoyant_line_with_a_free_end_floats_up():
+    """Held at its foot, a buoyant riser (10 kg/m in a 0.3 m tube: 62 kg/m of water) starts
+    straight up and stays there in tension; before it started hanging down, compressed."""
+    data = {"environment": {"gravity": G, "water": {"density": RHO, "depth": 200.0}},
+            "line_types": {"b": {"EA": 1e9, "EIy": 1e4, "mass_per_length": 10.0, "outer_diameter": 0.3}},
+            "lines": {"l": {"type": "b", "length": 50.0, "elements": 20,
+                            "end_a": {"attach": "fixed", "position": [0.0, 0.0, -100.0]},
+                            "end_b": {"attach": "free"}}},
+            "analysis": {"statics": {"enabled": True}}}
+    res = rfesim.statics(data)
+    line = res.line("l")
+    assert line.position[0][-1, 2] == pytest.approx(-50.0, abs=1e-3)          # end B 50 m up
+    net = RHO * G * math.pi / 4.0 * 0.3 ** 2 - 10.0 * G                          # N/m upward
+    assert line.tension[0].max() == pytest.approx(net * 50.0 * (1 - 0.5 / 20), rel=1e-6)
+    assert "warning" not in res.message

@@ -3,7 +3,6 @@ joins"): an L-frame of two clamped-joined beams, a pinned join that carries no m
 base moment of a crane-like string (an exact statics identity) and a slewing drive."""
 from __future__ import annotations
 
-import copy
 import math
 
 import numpy as np

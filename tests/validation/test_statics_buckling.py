@@ -21,7 +21,7 @@ from rfesim import api
 from rfesim.errors import SolverError
 from rfesim.model.compile import compile_scenario
 from rfesim.model.joins import JOINT_STIFFNESS
-from rfesim.solvers.buckling import compressed_stretches
+from rfesim.solvers.buckling import GREENHILL, cantilever_load, compressed_stretches
 from rfesim.solvers.system import System
 
 from test_tension_only_statics import EA, LENGTH, rope
@@ -145,10 +145,48 @@ def test_a_cantilever_with_a_free_end_is_judged_on_twice_its_length(factor, capl
         assert c.buckles and len(info.warnings) == 1
         for text in (res.message, caplog.text):
             assert "line 'b' carries" in text and "free stretch of 20 m" in text
-            assert f"pi^2 EI / (2 L)^2 = {PUSHED_EULER / 4e3:.4g} kN (one end free, a cantilever" in text
-            assert "effective length 2 L = 40 m" in text
+            assert f"above its Euler load {PUSHED_EULER / 4e3:.4g} kN (one end free, a cantilever of 20 m" in text
+            assert f"whose load alone buckles it at pi^2 EI / (2 L)^2 = {PUSHED_EULER / 4e3:.4g} kN" in text
     else:
         assert not c.buckles and info.warnings == [] and "warning" not in res.message
+
+
+def standing_pipe(length: float) -> dict:
+    """A 12-inch X65 pipe standing clamped upright in air, its top free: a column under its
+    own weight (Greenhill)."""
+    return {"name": "standing pipe", "environment": {"gravity": 9.81},
+            "line_types": {"pipe": {"outer_diameter": 0.3239, "wall_thickness": 0.0159, "youngs_modulus": 2.07e11,
+                                    "density": 7850.0}},
+            "lines": {"p": {"type": "pipe", "length": length, "elements": 20,
+                            "end_a": {"attach": "fixed", "position": [0.0, 0.0, 0.0], "connection": "clamped",
+                                      "direction": [0.0, 0.0, 1.0]},
+                            "end_b": {"attach": "free"}}},
+            "analysis": {"statics": {"enabled": True}}}
+
+
+@pytest.mark.parametrize("share", [0.9, 1.1])
+def test_a_column_under_its_own_weight_buckles_at_greenhills_length(share):
+    """A cantilever standing under its own weight q buckles when q L^3 = 7.837 EI (Greenhill),
+    at 63 m for this pipe: at 0.9 of that length it does not warn, at 1.1 it does. The
+    tip-load rule pi^2 EI / (2 L)^2 alone warned from 43 m."""
+    sc = rfesim.load_scenario(standing_pipe(60.0))
+    _, EI = pipe_section(sc, "pipe")
+    q = 7850.0 * math.pi / 4.0 * (0.3239 ** 2 - (0.3239 - 2 * 0.0159) ** 2) * 9.81
+    critical = (GREENHILL * EI / q) ** (1.0 / 3.0)
+    assert critical == pytest.approx(63.1, abs=0.1)
+    length = share * critical
+    _, info, stretches = statics_with_stretches(rfesim.load_scenario(standing_pipe(length)))
+    c, = stretches
+    assert c.free_ends == 1 and c.length == pytest.approx(length, rel=1e-9)
+    assert c.compression == pytest.approx(q * length * (1 - 0.5 / 20), rel=1e-6)   # at the first SDE, dx/2 up
+    assert c.free_end_compression == pytest.approx(q * length / 40, rel=1e-6)    # the top RFE: dx / 2 of pipe
+    assert c.euler_load == pytest.approx(cantilever_load(EI, c.length, c.compression, c.free_end_compression),
+                                         rel=1e-12)
+    assert c.euler_load == pytest.approx(GREENHILL * EI / length ** 2, rel=0.1)
+    assert c.buckles is (share > 1.0)
+    assert len(info.warnings) == int(share > 1.0)
+    if share > 1.0:
+        assert "(Greenhill), combined by Dunkerley's sum" in info.warnings[0]
 
 
 def test_a_follower_load_at_the_free_end_keeps_the_pinned_check():
