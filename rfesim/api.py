@@ -11,7 +11,7 @@ from . import __version__
 from .errors import CancelledError, SolverError
 from .model.compile import compile_scenario
 from .scenario import Scenario, load_scenario
-from .solvers.buckling import buckling_warnings
+from .solvers.buckling import buckling_warnings, shear_warnings
 from .solvers.dynamics import Counters, Recorder, run_dynamics
 from .solvers.modal import ModalResults, modal_analysis
 from .solvers.statics import solve_statics
@@ -200,7 +200,7 @@ def _static_state(system: System, sc: Scenario, progress=None):
             system, sc, state, info,
             lambda st: solve_statics(system, st, tolerance=s.tolerance, max_iterations=s.max_iterations,
                                      seabed_friction=s.seabed_friction))
-    info.warnings = list(info.warnings) + buckling_warnings(system, state)
+    info.warnings = list(info.warnings) + buckling_warnings(system, state) + shear_warnings(system, state)
     for w in info.warnings:
         log.warning("statics: %s", w)
     return state, info

@@ -44,7 +44,7 @@ from ..model.compile import State, compile_scenario
 from ..model.outputs import reactions
 from ..scenario.chains import chain_point
 from ..solvers.banded import bt_factor, bt_solve
-from ..solvers.buckling import buckling_warnings
+from ..solvers.buckling import buckling_warnings, shear_warnings
 from ..solvers.dynamics import output_schedule
 from ..solvers.kernels import REBASE_THRESHOLD, genalpha_parameters, jacobian_fd, jacobian_fd_general, residual_q
 from ..solvers.residual import residual_norm
@@ -762,7 +762,7 @@ def _statics_start(ms: MixedScene, sc):
     r = mixed_statics(ms, tolerance=s.tolerance, max_iterations=min(s.max_iterations, 200),
                       load_steps=s.load_steps)
     ms.set_points(0.0, ms.chain_full(0.0, r.x, np.zeros(ms.nc), np.zeros(ms.nc)))
-    r.warnings = buckling_warnings(ms.system, r.state)
+    r.warnings = buckling_warnings(ms.system, r.state) + shear_warnings(ms.system, r.state)
     for w in r.warnings:
         log.warning("statics: %s", w)
     return r

@@ -33,6 +33,7 @@ log = logging.getLogger("rfesim")
 
 LEAD_SHARE = 0.1          # clamped ends' straight leads longer than this share of the line: no leads
 LEAD_CHORD = 1e-3         # ... nor when the chord between their inner ends is shorter than this share
+SHEAR_MARGIN = 1.0        # a line expected above this share of its fem shear limit defaults to kruszewski
 NEARLY_FLEXIBLE = 1e-6     # 12 EI / Delta^3 below this fraction of GA / Delta: default to kruszewski
 
 
@@ -176,6 +177,37 @@ def _choose_shear_model(line, sec: Section, dx: float) -> str:
         log.info("line is nearly flexible (EI = %.3g N*m^2): using kruszewski shear stiffness (eq. 8.88)", sec.EI_min)
         return "kruszewski"
     return "fem"
+
+
+def shear_limit(sec: Section, dx: float) -> float:
+    """N, the tension up to which the fem shear springs (eq. 8.89, c = 12 EI / Delta^3) hold a
+    chain of rigid elements in line: c Delta = 12 EI / Delta^2 (docs/theory.md, section 6,
+    'Soft fem shear under tension'); beyond it the chain shears apart sideways."""
+    return 12.0 * sec.EI_min / dx ** 2
+
+
+def _tension_estimate(line, sec: Section, sc, A, B) -> float:
+    """N, the largest static tension of a line expected before statics: its wet weight and
+    point loads, or the elastic catenary's between its ends when both are placed, or the
+    stretch between ends farther apart than its length."""
+    from ..catenary import solve_catenary
+    w = abs(_submerged_weight(sec, sc))
+    loads = sum(float(np.linalg.norm(ld.force)) for ld in line.loads)
+    tension = w * line.length + loads
+    if A is None or B is None:
+        return tension
+    d = float(np.linalg.norm(B - A))
+    if d >= line.length:
+        return max(tension, sec.EA * (d / line.length - 1.0) + loads)
+    lo, hi = (A, B) if A[2] <= B[2] else (B, A)
+    span = float(np.hypot(*(hi - lo)[:2]))
+    if w > 0.0 and span > 1e-6 * line.length:
+        try:
+            cat = solve_catenary(span, float(hi[2] - lo[2]), line.length, w, sec.EA, seabed=False)
+            tension = max(cat.top_tension, cat.anchor_tension) + loads
+        except ValueError:
+            pass
+    return tension
 
 
 def _submerged_weight(sec: Section, sc) -> float:
@@ -473,6 +505,14 @@ def compile_scenario(sc, start: str | None = None) -> Model:
                 dA = chord / np.linalg.norm(chord)
             else:
                 dA = end_b_of[parent]["frame"][:, 0].copy()
+        if shear_model == "fem" and line.shear_stiffness is None:
+            tension = _tension_estimate(line, sec, sc, A, B)
+            if tension > SHEAR_MARGIN * shear_limit(sec, dx):
+                # the fem shear would not hold this line's tension in line (docs/theory.md, section 6)
+                log.info("line %s: its tension, about %.4g N, is beyond %g of the fem shear limit 12 EI / "
+                         "Delta^2 = %.4g N: using the kruszewski shear stiffness (eq. 8.88)", lname, tension,
+                         SHEAR_MARGIN, shear_limit(sec, dx))
+                shear_model = "kruszewski"
         curve = None
         end_distance = None
         if A is not None and B is not None:

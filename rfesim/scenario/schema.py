@@ -1344,7 +1344,9 @@ class Line(_Strict):
                                    "(classical: x, y, z, rx, ry, rz; modified: rx, ry, rz); default all")
     shear_stiffness: Literal["fem", "kruszewski"] | None = Field(
         None, description='"fem" (eq. 8.89, default) or "kruszewski" (eq. 8.88). By default a nearly flexible '
-                          'line (12EI/dx^3 < 1e-6 GA/dx) uses kruszewski so its elements stay connected')
+                          'line (12EI/dx^3 < 1e-6 GA/dx) uses kruszewski so its elements stay connected, and so does '
+                          'a line whose expected static tension (its elastic catenary, or its wet weight and point '
+                          'loads) exceeds 12EI/dx^2, beyond which the fem shear does not hold its elements in line')
     end_a: LineEnd = Field(default_factory=LineEnd)
     end_b: LineEnd = Field(default_factory=LineEnd)
     loads: list[PointLoad] = Field(default_factory=list)

@@ -349,6 +349,33 @@ def _deviation(points: np.ndarray) -> float:
     return float(np.linalg.norm(np.cross(d, chord / size), axis=1).max())
 
 
+def shear_warnings(system: System, state: State) -> list[str]:
+    """One message per line in the fem shear stiffness (eq. 8.89) whose tension at the state
+    exceeds what that shear holds in line, 12 EI / Delta^2 (rfesim.model.compile.shear_limit;
+    docs/theory.md, section 6): its elements shear apart sideways, and an equilibrium statics
+    found there is spurious (a 100 m line of EI = 1e4 N m^2 on 20 elements hangs 18 m too deep
+    at half its tension). By default such a line takes the kruszewski shear; a line given
+    ``shear_stiffness: fem`` keeps it and is warned."""
+    from ..model.compile import shear_limit
+    st = state.copy()
+    st.qd[:] = 0.0
+    system.evaluate(st)
+    out = []
+    for li in system.model.lines:
+        if li.shear_model != "fem" or li.sde_stop <= li.sde_start:
+            continue
+        limit = shear_limit(li.section, li.dx)
+        tension = float(system.ws.sigma[li.sde_start:li.sde_stop, 0].max())
+        if tension > limit:
+            out.append(f"line '{li.name}' carries {tension / 1e3:.4g} kN of tension, above the "
+                       f"{limit / 1e3:.4g} kN that its fem shear stiffness 12 EI / Delta^3 (eq. 8.89) holds in line "
+                       f"(12 EI / Delta^2 at Delta = {li.dx:.4g} m): its elements shear apart sideways and this "
+                       f"equilibrium is spurious; leave out lines.{li.name}.shear_stiffness (the default takes "
+                       f"kruszewski here) or set it to kruszewski (eq. 8.88), or give many more elements (Delta well "
+                       f"below sqrt(12 EI / T), with T the line's true tension, which this equilibrium understates)")
+    return out
+
+
 GREENHILL = 7.837   # (q L^3 / EI) at which a cantilever buckles under its own weight q per length
 
 

@@ -141,20 +141,67 @@ def test_buoyant_slack_tether_floats_up(EI):
 def test_soft_fem_shear_under_tension_is_named():
     """EI = 10 N m^2 on 20 elements: the fem shear 12 EI / Delta^3 holds the chain in line up
     to 120 N only, and the hanging line carries ~980 N, so there is no stable equilibrium near
-    its shape. The failure says so and what to do, and the kruszewski shear (eq. 8.88) it
-    suggests converges."""
+    its shape. Given the fem shear, the failure says so and what to do; by default the line
+    takes the kruszewski shear (eq. 8.88) it suggests, and converges."""
+    data = clamped_line(10.0, False, start="catenary")
+    data["lines"]["l"]["shear_stiffness"] = "fem"
     with pytest.raises(rfesim.SolverError) as err:
-        rfesim.statics(rfesim.load_scenario(clamped_line(10.0, False, start="catenary")))
+        rfesim.statics(rfesim.load_scenario(data))
     hint = err.value.hint or ""
     assert "line 'l' uses the fem shear stiffness" in hint
     assert "12 EI / Delta^2 = 120 N" in hint
     assert "lines.l.elements" in hint and "lines.l.shear_stiffness to kruszewski" in hint
-    data = clamped_line(10.0, False, start="catenary")
-    data["lines"]["l"]["shear_stiffness"] = "kruszewski"
-    res = rfesim.statics(rfesim.load_scenario(data))
+    sc = rfesim.load_scenario(clamped_line(10.0, False, start="catenary"))
+    assert compile_scenario(sc).lines[0].shear_model == "kruszewski"
+    res = rfesim.statics(sc)
     fa, fb, ma = end_forces(res)
     assert fa[2] + fb[2] == pytest.approx(-wet_weight(False) * LENGTH, rel=1e-6)
     assert ma[1] > 0.0
+
+
+def hanging_line(EI: float, shear: str | None = None) -> dict:
+    """100 m of 20 kg/m in air hanging between points 60 m apart on 20 elements (9.85 kN)."""
+    line = {"type": "u", "length": 100.0, "elements": 20,
+            "end_a": {"attach": "fixed", "position": [0.0, 0.0, 0.0]},
+            "end_b": {"attach": "fixed", "position": [60.0, 0.0, 0.0]}}
+    if shear:
+        line["shear_stiffness"] = shear
+    return {"environment": {"gravity": G},
+            "line_types": {"u": {"EA": 1e8, "EIy": EI, "mass_per_length": 20.0, "outer_diameter": 0.1}},
+            "lines": {"u": line}, "analysis": {"statics": {"enabled": True}}}
+
+
+@pytest.mark.parametrize("shear", [None, "kruszewski"])
+def test_a_hanging_line_past_its_fem_shear_limit_takes_kruszewski(shear):
+    """With EI = 1e4 N m^2 the fem shear holds 4.8 kN only (12 EI / Delta^2), and the line
+    carries 9.85 kN. Given the fem shear, statics found a spurious equilibrium (hanging 18 m
+    too deep at half the tension); by default the line takes the kruszewski shear and hangs
+    as the elastic catenary does (its EI stiffens it by 0.6 %)."""
+    sc = rfesim.load_scenario(hanging_line(1.0e4, shear))
+    assert compile_scenario(sc).lines[0].shear_model == "kruszewski"
+    res = rfesim.statics(sc)
+    cat = solve_catenary(60.0, 0.0, 100.0, 20.0 * G, 1e8, seabed=False)
+    fa, _, _ = end_forces(res, "u")
+    assert abs(fa[0]) == pytest.approx(cat.horizontal_tension, rel=0.01)
+    assert np.asarray(res.line("u").position[0])[:, 2].min() == pytest.approx(-36.15, abs=0.1)
+    assert "warning" not in res.message
+
+
+def test_a_line_within_its_fem_shear_limit_keeps_it():
+    """With EI = 1e5 N m^2 the fem shear holds 48 kN: it stays the default, and both shears
+    agree (EI bends the line 5 % off the catenary's horizontal tension)."""
+    sc = rfesim.load_scenario(hanging_line(1.0e5))
+    assert compile_scenario(sc).lines[0].shear_model == "fem"
+    fem = end_forces(rfesim.statics(sc), "u")[0]
+    kru = end_forces(rfesim.statics(hanging_line(1.0e5, "kruszewski")), "u")[0]
+    assert fem[0] == pytest.approx(kru[0], rel=2e-3) and fem[2] == pytest.approx(kru[2], rel=1e-9)
+
+
+def test_an_explicit_fem_shear_past_its_limit_warns():
+    res = rfesim.statics(hanging_line(1.0e4, "fem"))
+    assert "statics warning: line 'u' carries" in res.message
+    assert "above the 4.8 kN that its fem shear stiffness 12 EI / Delta^3 (eq. 8.89) holds in line" in res.message
+    assert "this equilibrium is spurious" in res.message
 
 
 def test_a_coarse_clamped_line_starts_without_the_leads():
