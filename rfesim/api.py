@@ -11,7 +11,7 @@ from . import __version__
 from .errors import CancelledError, SolverError
 from .model.compile import compile_scenario
 from .scenario import Scenario, load_scenario
-from .solvers.buckling import buckling_warnings, shear_warnings
+from .solvers.buckling import buckling_warnings, dynamic_shear_warnings, shear_warnings
 from .solvers.dynamics import Counters, Recorder, run_dynamics
 from .solvers.modal import ModalResults, modal_analysis
 from .solvers.statics import solve_statics
@@ -297,12 +297,26 @@ def simulate(scenario, *, progress=None):
         if exc.results is not None:
             exc.results.scenario_json = meta["scenario_json"]
             exc.results.version = __version__
-            exc.results.message = _with_warnings(exc.results.message, info)
+            exc.results.message = _with_warnings(exc.results.message, info) + _dynamic_warnings(model, exc.results)
         raise
     except CancelledError:
         raise
-    return rec.results(status=0, message=_with_warnings(f"finished: {counters.get('steps', 0)} steps", info),
-                       counters=dict(counters), **meta)
+    res = rec.results(status=0, message=_with_warnings(f"finished: {counters.get('steps', 0)} steps", info),
+                      counters=dict(counters), **meta)
+    res.message += _dynamic_warnings(model, res)
+    return res
+
+
+DYNAMICS_WARNING = "; dynamics warning: "   # what precedes each dynamics warning in a results' message
+
+
+def _dynamic_warnings(model, results) -> str:
+    """The lines whose tension in the run went past their fem shear limit
+    (rfesim.solvers.buckling.dynamic_shear_warnings), logged and as text for the message."""
+    warnings = dynamic_shear_warnings(model, results)
+    for w in warnings:
+        log.warning("dynamics: %s", w)
+    return "".join(f"{DYNAMICS_WARNING}{w}" for w in warnings)
 
 
 def modes(scenario, n: int | None = None) -> ModalResults:

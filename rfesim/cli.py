@@ -508,13 +508,14 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _summary_message(message: str) -> str:
-    """A results' message for the summary line: its statics warnings were logged on stderr
-    as statics found them (the results file keeps them in full), so only their count."""
-    from .api import STATICS_WARNING
-    head, *warnings = message.split(STATICS_WARNING)
-    if not warnings:
-        return message
-    return f"{head} ({len(warnings)} statics warning{'s' if len(warnings) > 1 else ''}, above)"
+    """A results' message for the summary line: its statics and dynamics warnings were logged
+    on stderr as they were found (the results file keeps them in full), so only their count."""
+    from .api import DYNAMICS_WARNING, STATICS_WARNING
+    head, _, dynamics = message.partition(DYNAMICS_WARNING)
+    head, *statics = head.split(STATICS_WARNING)
+    counts = [(len(statics), "statics")] + [(dynamics.count(DYNAMICS_WARNING) + 1, "dynamics")] * bool(dynamics)
+    counts = [f"{n} {kind} warning{'s' if n > 1 else ''}" for n, kind in counts if n]
+    return f"{head} ({', '.join(counts)}, above)" if counts else message
 
 
 class _StderrHandler(logging.StreamHandler):

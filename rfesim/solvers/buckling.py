@@ -376,6 +376,29 @@ def shear_warnings(system: System, state: State) -> list[str]:
     return out
 
 
+def dynamic_shear_warnings(model, results) -> list[str]:
+    """One message per line in the fem shear stiffness whose tension, at any output time of a
+    run, exceeds the limit 12 EI / Delta^2 that shear holds in line (``shear_warnings`` after
+    statics, for the peaks of the dynamics: a snap load): the run from then on may be spurious."""
+    from ..model.compile import shear_limit
+    out = []
+    for li in model.lines:
+        if li.shear_model != "fem" or li.name not in results.lines:
+            continue
+        tension = np.asarray(results.line(li.name).tension)
+        if tension.size == 0:
+            continue
+        k = int(np.argmax(tension.max(axis=1)))
+        peak, limit = float(tension[k].max()), shear_limit(li.section, li.dx)
+        if peak > limit:
+            out.append(f"line '{li.name}' reaches {peak / 1e3:.4g} kN of tension at t = {results.time[k]:.6g} s, above "
+                       f"the {limit / 1e3:.4g} kN that its fem shear stiffness 12 EI / Delta^3 (eq. 8.89) holds in "
+                       f"line (12 EI / Delta^2 at Delta = {li.dx:.4g} m): from then on its elements may shear apart "
+                       f"sideways and the run be spurious; set lines.{li.name}.shear_stiffness to kruszewski "
+                       f"(eq. 8.88) or give more elements")
+    return out
+
+
 GREENHILL = 7.837   # (q L^3 / EI) at which a cantilever buckles under its own weight q per length
 
 

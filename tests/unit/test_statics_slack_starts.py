@@ -239,3 +239,31 @@ def test_a_buoyant_line_with_a_free_end_floats_up():
     net = RHO * G * math.pi / 4.0 * 0.3 ** 2 - 10.0 * G                          # N/m upward
     assert line.tension[0].max() == pytest.approx(net * 50.0 * (1 - 0.5 / 20), rel=1e-6)
     assert "warning" not in res.message
+
+
+def test_a_run_past_the_fem_shear_limit_warns_in_its_message():
+    """The dynamics keeps the spurious equilibrium's 4.9 kN, above the 4.8 kN the fem shear
+    holds: the run's message and the log say so after the statics warning, at the peak's time."""
+    from rfesim.cli import _summary_message
+    data = hanging_line(1.0e4, "fem")
+    data["analysis"]["dynamics"] = {"duration": 0.5, "output_interval": 0.1,
+                                    "integrator": {"kind": "generalized-alpha", "time_step": 0.05}}
+    res = rfesim.simulate(data)
+    head, _, dynamics = res.message.partition("; dynamics warning: ")
+    assert "statics warning: line 'u' carries" in head
+    assert dynamics.startswith("line 'u' reaches 4.9") and "above the 4.8 kN that its fem shear" in dynamics
+    assert _summary_message(res.message).endswith("(1 statics warning, 1 dynamics warning, above)")
+
+
+def test_dynamic_shear_warnings_name_the_time_of_the_peak():
+    from types import SimpleNamespace
+    from rfesim.solvers.buckling import dynamic_shear_warnings
+    model = compile_scenario(rfesim.load_scenario(hanging_line(1.0e5)))       # fem, limit 48 kN
+    tension = np.full((3, 20), 1.0e4)
+    tension[2, 7] = 5.0e4
+    results = SimpleNamespace(lines={"u": None}, time=np.array([0.0, 0.5, 1.0]),
+                              line=lambda name: SimpleNamespace(tension=tension))
+    warning, = dynamic_shear_warnings(model, results)
+    assert warning.startswith("line 'u' reaches 50 kN of tension at t = 1 s, above the 48 kN")
+    tension[2, 7] = 4.7e4
+    assert dynamic_shear_warnings(model, results) == []
