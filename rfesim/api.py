@@ -62,6 +62,29 @@ def _slack_on_seabed(sc: Scenario) -> list[tuple[str, float, float]]:
     return out
 
 
+def _floating_free_end(sc: Scenario) -> list[tuple[str, float, float]]:
+    """Buoyant lines held at one end under water, the other end free, longer than the depth
+    of the held end: (name, length, depth). Their floating part has no static shape."""
+    from .model.compile import _submerged_weight
+    from .model.sections import section_from_type
+    from .scenario.load import _rest_point
+
+    water = sc.environment.water
+    if water is None or sc.environment.gravity <= 0.0:
+        return []
+    out = []
+    for name, line in sc.lines.items():
+        lt = sc.line_types.get(line.type)
+        free = [e.attach == "free" for e in (line.end_a, line.end_b)]
+        if lt is None or sum(free) != 1 or _submerged_weight(section_from_type(lt), sc) >= 0.0:
+            continue
+        held = line.end_b if free[0] else line.end_a
+        point = _rest_point(sc, held.attach, held.position) if held.position is not None else None
+        if point is not None and point[2] < water.surface_level and line.length > water.surface_level - point[2]:
+            out.append((name, line.length, water.surface_level - point[2]))
+    return out
+
+
 def _shear_limited(sc: Scenario, model) -> list[tuple[str, float, float, float, int]]:
     """Lines in the fem shear stiffness (eq. 8.89) whose tension would exceed what it holds:
     (name, tension estimate, limit 12 EI / Delta^2, Delta, elements needed).
@@ -132,6 +155,13 @@ def _statics_hint(sc: Scenario, model=None) -> str | None:
                 f"(both ends free): unless the seabed, rollers or buoyancy hold it there is no static "
                 f"equilibrium; attach an end, or set analysis.statics.enabled to false and start the dynamics "
                 f"from the given shape")
+    floating = _floating_free_end(sc)
+    if floating:
+        name, length, depth = floating[0]
+        return (f"line '{name}' is buoyant, held at one end {depth:.4g} m under the surface with its other end free, "
+                f"and {length:.6g} m long: the rest floats on the surface, where nothing holds it sideways, so it "
+                f"has no unique static shape; hold its free end too (a position, a tether), or set "
+                f"analysis.statics.enabled to false")
     slack = _slack_on_seabed(sc)
     if slack:
         name, length, span = slack[0]

@@ -186,28 +186,48 @@ def shear_limit(sec: Section, dx: float) -> float:
     return 12.0 * sec.EI_min / dx ** 2
 
 
-def _tension_estimate(line, sec: Section, sc, A, B) -> float:
-    """N, the largest static tension of a line expected before statics: its wet weight and
-    point loads, or the elastic catenary's between its ends when both are placed, or the
-    stretch between ends farther apart than its length."""
+def _hung_below(sc, lname: str, seen: frozenset = frozenset()) -> float:
+    """N, what hangs from end B of line ``lname`` besides the line itself: the weight of a
+    body there (dry, the most it pulls) and of the lines joined below it, each with its wet
+    weight, point loads and what hangs below it in turn."""
+    line = sc.lines[lname]
+    g = sc.environment.gravity
+    body = sc.bodies.get(line.end_b.attach) if isinstance(line.end_b.attach, str) else None
+    weight = body.mass * g if body is not None else 0.0
+    for name, child in sc.lines.items():
+        if name not in seen and join_parent(child.end_a) == lname:
+            sec = section_from_type(sc.line_types[child.type])
+            weight += abs(_submerged_weight(sec, sc)) * child.length + _point_loads(child)
+            weight += _hung_below(sc, name, seen | {lname})
+    return weight
+
+
+def _point_loads(line) -> float:
+    return sum(float(np.linalg.norm(ld.force)) for ld in line.loads)
+
+
+def _tension_estimate(lname: str, line, sec: Section, sc, A, B) -> float:
+    """N, the largest static tension of a line expected before statics: the elastic
+    catenary's between its ends when both are placed, or the stretch between ends farther
+    apart than its length, else its wet weight; with its point loads and what hangs from its
+    end B (a body, joined lines: ``_hung_below``)."""
     from ..catenary import solve_catenary
     w = abs(_submerged_weight(sec, sc))
-    loads = sum(float(np.linalg.norm(ld.force)) for ld in line.loads)
-    tension = w * line.length + loads
-    if A is None or B is None:
-        return tension
-    d = float(np.linalg.norm(B - A))
-    if d >= line.length:
-        return max(tension, sec.EA * (d / line.length - 1.0) + loads)
-    lo, hi = (A, B) if A[2] <= B[2] else (B, A)
-    span = float(np.hypot(*(hi - lo)[:2]))
-    if w > 0.0 and span > 1e-6 * line.length:
-        try:
-            cat = solve_catenary(span, float(hi[2] - lo[2]), line.length, w, sec.EA, seabed=False)
-            tension = max(cat.top_tension, cat.anchor_tension) + loads
-        except ValueError:
-            pass
-    return tension
+    extra = _point_loads(line) + _hung_below(sc, lname)
+    tension = w * line.length
+    if A is not None and B is not None:
+        d = float(np.linalg.norm(B - A))
+        lo, hi = (A, B) if A[2] <= B[2] else (B, A)
+        span = float(np.hypot(*(hi - lo)[:2]))
+        if d >= line.length:
+            tension = sec.EA * (d / line.length - 1.0)
+        elif w > 0.0 and span > 1e-6 * line.length:
+            try:
+                cat = solve_catenary(span, float(hi[2] - lo[2]), line.length, w, sec.EA, seabed=False)
+                tension = max(cat.top_tension, cat.anchor_tension)
+            except ValueError:
+                pass
+    return tension + extra
 
 
 def _submerged_weight(sec: Section, sc) -> float:
@@ -476,8 +496,12 @@ def compile_scenario(sc, start: str | None = None) -> Model:
         dA = _glob_dir("end_a", line.end_a)
         dB = _glob_dir("end_b", line.end_b)
         down = np.array([0.0, 0.0, -1.0]) if env.gravity > 0 else np.array([1.0, 0.0, 0.0])
-        # a line with one end placed hangs from it, or floats up from it when buoyant
-        hang = -down if env.gravity > 0 and _submerged_weight(sec, sc) < 0.0 else down
+        # a line with one end placed hangs from it, or floats up from it when buoyant and that
+        # end is under water (up to the surface, then along it: _floating_curve)
+        surface = env.water.surface_level if env.water is not None else None
+        placed = A if A is not None else B
+        floats = (env.gravity > 0 and _submerged_weight(sec, sc) < 0.0 and surface is not None
+                  and placed is not None and placed[2] < surface)
         if parent is not None:
             # a join: end A starts at the parent's end B
             PB = end_b_of[parent]["point"]
@@ -506,7 +530,7 @@ def compile_scenario(sc, start: str | None = None) -> Model:
             else:
                 dA = end_b_of[parent]["frame"][:, 0].copy()
         if shear_model == "fem" and line.shear_stiffness is None:
-            tension = _tension_estimate(line, sec, sc, A, B)
+            tension = _tension_estimate(lname, line, sec, sc, A, B)
             if tension > SHEAR_MARGIN * shear_limit(sec, dx):
                 # the fem shear would not hold this line's tension in line (docs/theory.md, section 6)
                 log.info("line %s: its tension, about %.4g N, is beyond %g of the fem shear limit 12 EI / "
@@ -546,10 +570,15 @@ def compile_scenario(sc, start: str | None = None) -> Model:
                 if lead_a > 0.0 or lead_b > 0.0:
                     curve = _with_leads(curve, A, B, lead_a, lead_b)
         elif A is not None:
-            curve = _straight(A, dA if dA is not None else hang, L)
+            curve = _straight(A, dA, L) if dA is not None else \
+                _floating_curve(A, L, surface - 0.5 * sec.outer_diameter) if floats else _straight(A, down, L)
         elif B is not None:
-            dirB = dB if dB is not None else -hang
-            curve = _straight(B - L * dirB / np.linalg.norm(dirB), dirB, L)
+            if dB is None and floats:
+                up = _floating_curve(B, L, surface - 0.5 * sec.outer_diameter)
+                curve = _Curve(L - up.s[::-1], up.X[::-1].copy())
+            else:
+                dirB = dB if dB is not None else -down
+                curve = _straight(B - L * dirB / np.linalg.norm(dirB), dirB, L)
         else:
             problems.append((f"{base}.end_a.position", "give the position of at least one end"))
             continue
@@ -938,6 +967,21 @@ def _with_leads(curve: _Curve, A: np.ndarray, B: np.ndarray, lead_a: float, lead
         inner, length = curve.strain, float(curve.s[-1])
         strain = (lambda arc: inner(np.clip(np.asarray(arc, float) - lead_a, 0.0, length)))
     return _Curve(s, X, strain)
+
+
+def _floating_curve(P: np.ndarray, L: float, top: float) -> _Curve:
+    """A buoyant line from the point P under water: straight up, and along global x at the
+    height ``top`` (the surface less its radius) for the length that does not fit below it
+    (a start shape; statics floats it where its buoyancy carries it)."""
+    rise = min(L, max(top - float(P[2]), 0.0))
+    pts, s = [P], [0.0]
+    if rise > 0.0:
+        pts.append(P + np.array([0.0, 0.0, rise]))
+        s.append(rise)
+    if L - rise > 0.0:
+        pts.append(pts[-1] + np.array([L - rise, 0.0, 0.0]))
+        s.append(L)
+    return _Curve(np.array(s), np.vstack(pts))
 
 
 def _sagged_curve(A: np.ndarray, B: np.ndarray, L: float, up: bool = False) -> _Curve:

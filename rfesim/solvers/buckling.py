@@ -45,13 +45,14 @@ reeving lead or follower load (a follower-loaded cantilever is Beck's column, no
 acts on its RFE, and no RFE from the stretch out to that end is supported. 2 L is exact for
 a clamped other end; a rotationally softer one (the line going on over a support or into a
 tensioned part, a corner join) lowers the load further and a pinned one makes it a
-mechanism, not told apart. Its compression grows from its free end, where it is the load
-at the tip P, to its held end, where it is P plus the weight along it q L: the cantilever
-buckles when P / (pi^2 EI / (2 L)^2) + q L / (7.837 EI / L^2) reaches 1 (Dunkerley's sum of
-the tip load's Euler case, L_eff = 2 L, and Greenhill's column under its own weight, exact
-for either alone, on the safe side for both: ``cantilever_load``). A steel pipe standing
-clamped in air under its own weight buckles at 63 m (12-inch X65, EI = 3.79e7 N m^2,
-1185 N/m); the tip-load rule alone would warn from 43 m. A stretch with two free ends (a
+mechanism, not told apart. Its compression grows from its free end to its held end, each
+rise a load P_j at its height a_j above the held end, which alone buckles it at
+pi^2 EI / (2 a_j)^2 (the part above the load is unloaded and stays straight): the cantilever
+buckles when sum_j P_j / (pi^2 EI / (2 a_j)^2) reaches 1 (Dunkerley's sum, a lower bound,
+exact for one load anywhere, 5.6 % low for a uniform weight against Greenhill's
+q L^3 = 7.837 EI: ``cantilever_load``). A steel pipe standing clamped in air under its own
+weight buckles at 63 m (12-inch X65, EI = 3.79e7 N m^2, 1185 N/m); the tip-load rule alone
+would warn from 43 m. A stretch with two free ends (a
 free-free column compressed by loads along it) keeps the pinned L_eff = L: Euler's end
 conditions do not describe it.
 
@@ -291,8 +292,10 @@ def compressed_stretches(system: System, state: State) -> list[CompressedStretch
             peak = float(compression[sdes].max())
             load, tip = math.pi ** 2 * EI / length ** 2, 0.0
             if free_ends == 1:
-                tip = float(max(compression[run[0].sde if free_a else run[-1].sde], 0.0))
-                load = cantilever_load(EI, length, peak, tip)
+                outward = run if free_a else run[::-1]          # from the free end to the held end
+                profile = [float(compression[st.sde]) for st in outward]
+                tip = max(profile[0], 0.0)
+                load = cantilever_load(EI, [st.length for st in outward], profile)
             a, b = run[0].arc_left, run[-1].arc_right
             if len(names) == 1:
                 a, b = min(a, b), max(a, b)
@@ -354,8 +357,9 @@ def shear_warnings(system: System, state: State) -> list[str]:
     exceeds what that shear holds in line, 12 EI / Delta^2 (rfesim.model.compile.shear_limit;
     docs/theory.md, section 6): its elements shear apart sideways, and an equilibrium statics
     found there is spurious (a 100 m line of EI = 1e4 N m^2 on 20 elements hangs 18 m too deep
-    at half its tension). By default such a line takes the kruszewski shear; a line given
-    ``shear_stiffness: fem`` keeps it and is warned."""
+    at half its tension). By default a line whose expected tension shows it before statics
+    takes the kruszewski shear (rfesim.model.compile._tension_estimate); a line given
+    ``shear_stiffness: fem``, or pulled harder than expected, keeps fem and is warned."""
     from ..model.compile import shear_limit
     st = state.copy()
     st.qd[:] = 0.0
@@ -370,9 +374,9 @@ def shear_warnings(system: System, state: State) -> list[str]:
             out.append(f"line '{li.name}' carries {tension / 1e3:.4g} kN of tension, above the "
                        f"{limit / 1e3:.4g} kN that its fem shear stiffness 12 EI / Delta^3 (eq. 8.89) holds in line "
                        f"(12 EI / Delta^2 at Delta = {li.dx:.4g} m): its elements shear apart sideways and this "
-                       f"equilibrium is spurious; leave out lines.{li.name}.shear_stiffness (the default takes "
-                       f"kruszewski here) or set it to kruszewski (eq. 8.88), or give many more elements (Delta well "
-                       f"below sqrt(12 EI / T), with T the line's true tension, which this equilibrium understates)")
+                       f"equilibrium is spurious; set lines.{li.name}.shear_stiffness to kruszewski (eq. 8.88), or "
+                       f"give many more elements (Delta well below sqrt(12 EI / T), with T the line's true tension, "
+                       f"which this equilibrium understates)")
     return out
 
 
@@ -402,17 +406,23 @@ def dynamic_shear_warnings(model, results) -> list[str]:
 GREENHILL = 7.837   # (q L^3 / EI) at which a cantilever buckles under its own weight q per length
 
 
-def cantilever_load(EI: float, length: float, peak: float, tip: float) -> float:
-    """The largest compression (at the held end) of a cantilever of ``length`` at which it
-    buckles, for the compression ``tip`` at its free end growing linearly to ``peak``: a tip
-    load P and its own weight q L, P / (pi^2 EI / (2 L)^2) + q L / (GREENHILL EI / L^2) = 1
-    (Dunkerley's sum, exact for either alone and on the safe side for both; Greenhill 1881
-    for the weight alone), scaled at fixed proportions to the compression ``peak`` = P + q L."""
-    n_tip = math.pi ** 2 * EI / (2.0 * length) ** 2
-    n_weight = GREENHILL * EI / length ** 2
-    tip = min(max(tip, 0.0), peak)
-    usage = tip / n_tip + (peak - tip) / n_weight
-    return peak / usage if usage > 0.0 else n_tip
+def cantilever_load(EI: float, lengths, compressions) -> float:
+    """The largest compression of a cantilever at which it buckles, its load growing in the
+    proportions of ``compressions``: the axial forces of its SDEs (positive compressive) from
+    the free end to the held end, ``lengths`` their lengths. Each rise of the compression
+    along it is a load P_j at its distance a_j from the held end, which alone buckles it at
+    pi^2 EI / (2 a_j)^2 (the part above a load is unloaded and stays straight); together they
+    buckle it when sum_j P_j (2 a_j)^2 / (pi^2 EI) reaches 1 (Dunkerley's sum, a lower bound:
+    exact for one load anywhere, 5.6 % low for a uniform weight, whose exact limit is
+    q L^3 = GREENHILL EI). Falls in compression toward the held end are left out (safe side)."""
+    a = float(np.sum(lengths))
+    usage, before, peak = 0.0, 0.0, 0.0
+    for length, n in zip(lengths, compressions):
+        rise = n - before
+        if rise > 0.0:
+            usage += rise * (2.0 * a) ** 2 / (math.pi ** 2 * EI)
+        before, peak, a = n, max(peak, n), a - length
+    return peak / usage if usage > 0.0 else math.pi ** 2 * EI / (2.0 * float(np.sum(lengths))) ** 2
 
 
 def buckling_warnings(system: System, state: State) -> list[str]:
@@ -437,9 +447,9 @@ def buckling_warnings(system: System, state: State) -> list[str]:
             n_tip = math.pi ** 2 * c.bending_stiffness / (2.0 * c.length) ** 2
             euler = (f"{c.euler_load / 1e3:.4g} kN (one end free, a cantilever of {c.length:.4g} m: "
                      f"{c.free_end_compression / 1e3:.4g} kN of it at the free end, whose load alone buckles it at "
-                     f"pi^2 EI / (2 L)^2 = {n_tip / 1e3:.4g} kN, and the rest along it, its weight, which alone "
-                     f"buckles it at {GREENHILL} EI / L^2 = {GREENHILL * c.bending_stiffness / c.length ** 2 / 1e3:.4g}"
-                     f" kN (Greenhill), combined by Dunkerley's sum; {stiffness})")
+                     f"pi^2 EI / (2 L)^2 = {n_tip / 1e3:.4g} kN, the rest loaded along it, each load P at its "
+                     f"height a above the held end buckling it alone at pi^2 EI / (2 a)^2, combined by Dunkerley's "
+                     f"sum; {stiffness})")
         else:
             euler = f"pi^2 EI / L^2 = {c.euler_load / 1e3:.4g} kN (pinned ends, {stiffness})"
         messages.append(

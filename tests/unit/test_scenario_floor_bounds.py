@@ -282,6 +282,8 @@ def test_json_schema_states_the_new_bounds():
 
 # ----------------------------------------------------------------------------- 3. bounds by unit
 
+LINEAR = {"kind": "table", "interpolation": "linear"}
+
 BY_UNIT = [
     ("catenary_riser", {"vessels.fpso.position": [1e30, 0.0, 0.0]}, "vessels.fpso.position.0",
      "must lie between -10000000 and 10000000 m (got 1e+30)", "check the units, metres"),
@@ -307,7 +309,6 @@ BY_UNIT = [
 ]
 
 
-LINEAR = {"kind": "table", "interpolation": "linear"}
 BY_COLUMN = [
     # tables: each cell within the bound of its column's unit, time rows at least 1e-6 s apart
     ("catenary_riser", {"vessels.fpso.motion": {**LINEAR, "rows": [[0, 0, 0, 0, 0, 0, 0], [10, 1e300, 0, 0, 0, 0, 0]]}},
@@ -352,6 +353,14 @@ def test_unbounded_field_takes_the_bound_of_its_unit(data, overrides, field, bou
 ])
 def test_values_up_to_the_unit_bounds_pass(overrides):
     assert load("catenary_riser", overrides) is not None
+
+
+@pytest.mark.parametrize("t", [10.0, 1000.0, 3e-6])
+def test_table_rows_a_microsecond_apart_pass(t):
+    # 10.000001 - 10 is 9.9999999925e-07 in floating point: within rounding of 1e-6 s
+    rows = [[t, 0, 0, 0, 0, 0, 0], [t + 1e-6, 1, 0, 0, 0, 0, 0], [t + 1, 1, 0, 0, 0, 0, 0]]
+    sc = load("catenary_riser", {"vessels.fpso.motion": {**LINEAR, "rows": rows}})
+    assert sc.vessels["fpso"].motion.rows[1][0] == t + 1e-6
 
 
 def test_a_scene_far_from_the_origin_passes():

@@ -267,3 +267,52 @@ def test_dynamic_shear_warnings_name_the_time_of_the_peak():
     assert warning.startswith("line 'u' reaches 50 kN of tension at t = 1 s, above the 48 kN")
     tension[2, 7] = 4.7e4
     assert dynamic_shear_warnings(model, results) == []
+
+
+def test_what_hangs_below_a_line_counts_in_its_expected_tension():
+    """The 100 m line of EI = 1e4 N m^2 (fem limit 4.8 kN) carrying a 2000 kg body, or a
+    50 m, 50 kg/m line joined below it, takes the kruszewski shear; before, only its own
+    2 kg/m counted and it kept fem at 21.5 kN (a spurious equilibrium, warned)."""
+    data = {"environment": {"gravity": G},
+            "line_types": {"u": {"EA": 1e8, "EIy": 1e4, "mass_per_length": 2.0, "outer_diameter": 0.1},
+                           "h": {"EA": 1e8, "EIy": 1e6, "mass_per_length": 50.0, "outer_diameter": 0.1}},
+            "lines": {"u": {"type": "u", "length": 100.0, "elements": 20,
+                            "end_a": {"attach": "fixed", "position": [0.0, 0.0, 0.0]},
+                            "end_b": {"attach": "w", "position": [0.0, 0.0, 0.0]}}},
+            "bodies": {"w": {"mass": 2000.0, "radius_of_gyration": 0.5}},
+            "analysis": {"statics": {"enabled": True}}}
+    sc = rfesim.load_scenario(data)
+    assert compile_scenario(sc).lines[0].shear_model == "kruszewski"
+    assert "warning" not in rfesim.statics(sc).message
+    del data["bodies"]
+    data["lines"]["u"]["end_b"] = {"attach": "free"}
+    data["lines"]["c"] = {"type": "h", "length": 50.0, "elements": 10, "end_a": {"attach": "u:end_b"},
+                          "end_b": {"attach": "free"}}
+    model = compile_scenario(rfesim.load_scenario(data))
+    assert [(li.name, li.shear_model) for li in model.lines] == [("u", "kruszewski"), ("c", "fem")]
+
+
+def buoyant(z0: float, length: float, end: str = "end_a") -> dict:
+    line = {"type": "b", "length": length, "elements": 20, "end_a": {"attach": "free"}, "end_b": {"attach": "free"}}
+    line[end] = {"attach": "fixed", "position": [0.0, 0.0, z0]}
+    return {"environment": {"gravity": G, "water": {"density": RHO, "depth": 150.0}},
+            "line_types": {"b": {"EA": 1e8, "EIy": 1e4, "mass_per_length": 5.0, "outer_diameter": 0.2}},
+            "lines": {"l": line}, "analysis": {"statics": {"enabled": True}}}
+
+
+@pytest.mark.parametrize("end", ["end_a", "end_b"])
+def test_a_buoyant_line_held_in_air_hangs_down(end):
+    """Held 30 m above the water, the line is not buoyant where it is: it hangs (from z = 30
+    to 10 m), not standing up as an inverted pendulum."""
+    z = np.asarray(rfesim.statics(buoyant(30.0, 20.0, end)).line("l").position[0])[:, 2]
+    assert z.min() == pytest.approx(10.0, abs=1e-3) and z.max() == pytest.approx(30.0, abs=1e-9)
+
+
+@pytest.mark.parametrize("end", ["end_a", "end_b"])
+def test_a_buoyant_line_longer_than_its_depth_says_why_statics_fails(end):
+    """Held 100 m down, 200 m long, its free end free: the rest floats on the surface with
+    nothing holding it sideways, so statics cannot settle it; the error says so."""
+    with pytest.raises(rfesim.SolverError) as err:
+        rfesim.statics(buoyant(-100.0, 200.0, end))
+    assert "line 'l' is buoyant, held at one end 100 m under the surface" in (err.value.hint or "")
+    assert "no unique static shape" in err.value.hint
