@@ -85,7 +85,7 @@ def _floating_free_end(sc: Scenario) -> list[tuple[str, float, float]]:
     return out
 
 
-def _shear_limited(sc: Scenario, model) -> list[tuple[str, float, float, float, int]]:
+def _shear_limited(model) -> list[tuple[str, float, float, float, int]]:
     """Lines in the fem shear stiffness (eq. 8.89) whose tension would exceed what it holds:
     (name, tension estimate, limit 12 EI / Delta^2, Delta, elements needed).
 
@@ -95,44 +95,21 @@ def _shear_limited(sc: Scenario, model) -> list[tuple[str, float, float, float, 
     pulled by 121 N has a negative eigenvalue in its static tangent, at 119 N it has none), so
     a hanging line carrying more has no stable equilibrium near its physical shape and Newton
     wanders (docs/theory.md, section 6, 'Soft fem shear under tension'). The tension is the
-    elastic catenary's largest for a slack line with both ends placed, else the line's wet
-    weight plus its point loads."""
-    from .catenary import solve_catenary
-    from .model.compile import _submerged_weight
+    one compile expected (rfesim.model.compile._tension_estimate)."""
+    from .model.compile import shear_limit
 
     out = []
-    q0 = model.initial
     for li in model.lines:
-        if li.shear_model != "fem":
-            continue
-        sec = li.section
-        limit = 12.0 * sec.EI_min / li.dx ** 2
-        w = abs(_submerged_weight(sec, sc))
-        line = sc.lines.get(li.name)
-        loads = sum(float(np.linalg.norm(ld.force)) for ld in line.loads) if line is not None else 0.0
-        tension = w * li.length + loads
-        if li.chord is not None:
-            if li.chord >= li.length or w == 0.0:
-                continue
-            i0, i1 = li.rfe_start, li.rfe_stop - 1
-            lo = q0.ref.X[i0] - 0.5 * model.km.rfe_length[i0] * q0.ref.R[i0][:, 0]
-            hi = q0.ref.X[i1] + 0.5 * model.km.rfe_length[i1] * q0.ref.R[i1][:, 0]
-            if hi[2] < lo[2]:
-                lo, hi = hi, lo
-            span = float(np.hypot(*(hi - lo)[:2]))
-            try:
-                cat = solve_catenary(span, float(hi[2] - lo[2]), li.length, w, sec.EA, seabed=False)
-                tension = max(cat.top_tension, cat.anchor_tension) + loads
-            except ValueError:
-                pass
-        if tension > limit:
-            out.append((li.name, tension, limit, li.dx, math.ceil(li.length / math.sqrt(12.0 * sec.EI_min / tension))))
+        tension, limit = li.tension_estimate, shear_limit(li.section, li.dx)
+        if li.shear_model == "fem" and tension > limit:
+            need = math.ceil(li.length / math.sqrt(12.0 * li.section.EI_min / tension))
+            out.append((li.name, tension, limit, li.dx, need))
     return out
 
 
-def _shear_hint(sc: Scenario, model) -> str | None:
+def _shear_hint(model) -> str | None:
     """The hint for lines whose fem shear cannot hold their tension (``_shear_limited``)."""
-    limited = _shear_limited(sc, model) if model is not None else []
+    limited = _shear_limited(model) if model is not None else []
     if not limited:
         return None
     name, tension, limit, dx, need = limited[0]
@@ -169,7 +146,7 @@ def _statics_hint(sc: Scenario, model=None) -> str | None:
                 f"between points {span:.6g} m apart): slack lying on the seabed has no unique static shape; "
                 f"make the line as long as the distance between its ends, lift an end off the seabed, or set "
                 f"analysis.statics.enabled to false")
-    return _shear_hint(sc, model)
+    return _shear_hint(model)
 
 
 EXCESS_LENGTH = 1e-3   # a line longer than the distance between its ends by this fraction has slack
@@ -257,7 +234,7 @@ def _catenary_retry(system: System, sc: Scenario, exc: SolverError, excess, save
     try:
         state, info = solve(catenary.initial)
     except SolverError:
-        shear = _shear_hint(sc, system.model)
+        shear = _shear_hint(system.model)
         raise failed("statics from the catenary start failed too: " + (
             shear if shear is not None else "look at the scene (are the ends where you meant them?), or give "
                                             "more load steps (analysis.statics.load_steps)")) from None

@@ -54,6 +54,8 @@ class LineInfo:
     end_a: object      # the scenario LineEnd
     end_b: object
     chord: float | None = None   # m, distance between the ends at t = 0 when both are placed
+    tension_estimate: float = 0.0   # N, its largest static tension expected before statics (fem lines:
+                                    #   _tension_estimate), against its fem shear limit (shear_limit)
 
     @property
     def nrfe(self) -> int:
@@ -529,8 +531,8 @@ def compile_scenario(sc, start: str | None = None) -> Model:
                 dA = chord / np.linalg.norm(chord)
             else:
                 dA = end_b_of[parent]["frame"][:, 0].copy()
+        tension = _tension_estimate(lname, line, sec, sc, A, B) if shear_model == "fem" else 0.0
         if shear_model == "fem" and line.shear_stiffness is None:
-            tension = _tension_estimate(lname, line, sec, sc, A, B)
             if tension > SHEAR_MARGIN * shear_limit(sec, dx):
                 # the fem shear would not hold this line's tension in line (docs/theory.md, section 6)
                 log.info("line %s: its tension, about %.4g N, is beyond %g of the fem shear limit 12 EI / "
@@ -751,7 +753,8 @@ def compile_scenario(sc, start: str | None = None) -> Model:
         R0_blocks.append(frames)
         lines.append(LineInfo(name=lname, rfe_start=n_total, rfe_stop=n_total + nseg + 1, sde_start=nsde_total,
                               sde_stop=nsde_total + nseg, length=L, elements=nseg, dx=dx, section=sec,
-                              shear_model=shear_model, end_a=line.end_a, end_b=line.end_b, chord=end_distance))
+                              shear_model=shear_model, end_a=line.end_a, end_b=line.end_b, chord=end_distance,
+                              tension_estimate=tension))
         end_b_of[lname] = dict(rfe=n_total + nseg, point=centres[-1] + 0.5 * lengths[-1] * frames[-1][:, 0],
                                frame=frames[-1].copy(), dx=dx, length=lengths[-1], section=sec,
                                shear_model=shear_model, damping=lt.damping, mass=masses[-1], inertia=inertia[-1])
