@@ -35,7 +35,7 @@ from typing import Annotated, Literal, Union
 from pydantic import Field, model_validator
 
 from .schema import (DAMPING_LIMIT, FORCE_LIMIT, LENGTH_LIMIT, MAX_DAMPING, MAX_FORCE, MAX_LENGTH, MAX_STIFFNESS,
-                     STIFFNESS_LIMIT, FieldError, Vector3, _fixed_length_numbers, _Strict, _units, upper_bound)
+                     STIFFNESS_LIMIT, FieldError, Vector3, _fixed_length_numbers, _Strict, _units)
 
 TensionRow = Annotated[list[float], _fixed_length_numbers(2, "[t, tension]"), Field(min_length=2, max_length=2)]
 
@@ -56,16 +56,6 @@ def _check_table(value, field: str, symbol: str, ok, why: str) -> None:
             raise FieldError(f"{field}.{i}.1", f"{v} N: {why}")
 
 
-def _check_size(value, field: str) -> None:
-    """A set force (N) or the forces of a table's rows within +-MAX_FORCE (schema.upper_bound)."""
-    rows = [(field, value)] if isinstance(value, (int, float)) else \
-        [(f"{field}.{i}.1", v) for i, (_, v) in enumerate(value)]
-    for where, v in rows:
-        why = upper_bound(v, MAX_FORCE, "N", FORCE_LIMIT, signed=True)
-        if why:
-            raise FieldError(where, why)
-
-
 def _rows(value) -> list[list[float]]:
     """[[t, value], ...] of a set value (one row at t = 0) or a table."""
     if isinstance(value, (int, float)):
@@ -84,7 +74,6 @@ class TuggerTension(_Strict):
     @model_validator(mode="after")
     def _table(self):
         _check_table(self.tension, "tension", "T", lambda T: T >= 0.0, "a tugger pulls (tension >= 0)")
-        _check_size(self.tension, "tension")
         return self
 
     def rows(self) -> list[list[float]]:
@@ -110,7 +99,6 @@ class TuggerForce(_Strict):
     @model_validator(mode="after")
     def _table(self):
         _check_table(self.force, "force", "P", math.isfinite, "must be a finite force")
-        _check_size(self.force, "force")
         if self.length_min is not None and self.length_max is not None and not self.length_min < self.length_max:
             raise FieldError("length_max", f"{self.length_max} m is not longer than length_min {self.length_min} m")
         return self

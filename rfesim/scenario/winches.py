@@ -36,8 +36,7 @@ from typing import Annotated, Literal, Union
 from pydantic import Field, model_validator
 
 from .schema import (DAMPING_LIMIT, FORCE_LIMIT, INERTIA_LIMIT, LENGTH_LIMIT, MAX_DAMPING, MAX_FORCE, MAX_INERTIA,
-                     MAX_LENGTH, MAX_STIFFNESS, STIFFNESS_LIMIT, FieldError, _fixed_length_numbers, _Strict, _units,
-                     upper_bound)
+                     MAX_LENGTH, MAX_STIFFNESS, STIFFNESS_LIMIT, FieldError, _fixed_length_numbers, _Strict, _units)
 
 DEFAULT_STORED = 1000.0     # m of rope on the drum at the start
 
@@ -123,10 +122,6 @@ class WinchDrum(_Strict):
     @model_validator(mode="after")
     def _times(self):
         _increasing(self.torque, "torque")
-        for i, (_, tau) in enumerate(self.torque):
-            why = upper_bound(tau, MAX_FORCE, "N*m", FORCE_LIMIT, signed=True)
-            if why:
-                raise FieldError(f"torque.{i}.1", why)
         if self.layers is not None and self.layers.rope_diameter >= 2.0 * self.radius:
             raise FieldError("layers.rope_diameter", f"{self.layers.rope_diameter} m does not fit a first layer "
                                                      f"whose turns' centres are at radius {self.radius} m")

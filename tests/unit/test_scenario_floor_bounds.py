@@ -333,6 +333,9 @@ BY_COLUMN = [
      "1e-300 s is shorter than 1e-06 s", "a microsecond"),
     ("column_crane", {"cranes.crane.winch.mode": {"kind": "speed", "rows": [[-1e300, 0], [12, 0.3]]}},
      "winches.crane_winch.mode.rows.0.0", "must lie between -10000000 and 10000000 s (got -1e+300)", "seconds"),
+    ("column_crane", {"cranes.crane.tuggers": {"t1": {"deck_point": [0.0, 20.0, 2.0], "mode": {
+        "kind": "tension", "tension": [[0, 1e3], [5, -1e300]]}}}}, "cranes.crane.tuggers.t1.mode.tension.1.1",
+     "must lie between -1e+15 and 1e+15 N (got -1e+300)", "heaviest offshore lift"),
     ("column_crane", {"cranes.crane.slewing_deg": [[0, 80], [2e7, 90]]}, "cranes.crane.slewing_deg.1.0",
      "must lie between -10000000 and 10000000 s (got 20000000.0)", "seconds"),
 ]
