@@ -224,8 +224,14 @@ def _tension_estimate(lname: str, line, sec: Section, sc, A, B) -> float:
         if d >= line.length:
             tension = sec.EA * (d / line.length - 1.0)
         elif w > 0.0 and span > 1e-6 * line.length:
+            # a heavy line whose lower end rests on the seabed lies on it in part, as its start
+            # shape does (_catenary_curve): the catenary without seabed would sag through it
+            # and overstate the tension
+            seabed_z = sc.environment.seabed_z_at(float(lo[0]), float(lo[1]))
+            on_seabed = _submerged_weight(sec, sc) > 0.0 and seabed_z is not None and \
+                (lo[2] - 0.5 * sec.outer_diameter - seabed_z) < 1e-3 * line.length
             try:
-                cat = solve_catenary(span, float(hi[2] - lo[2]), line.length, w, sec.EA, seabed=False)
+                cat = solve_catenary(span, float(hi[2] - lo[2]), line.length, w, sec.EA, seabed=bool(on_seabed))
                 tension = max(cat.top_tension, cat.anchor_tension)
             except ValueError:
                 pass

@@ -292,6 +292,37 @@ def test_what_hangs_below_a_line_counts_in_its_expected_tension():
     assert [(li.name, li.shear_model) for li in model.lines] == [("u", "kruszewski"), ("c", "fem")]
 
 
+
+def test_a_line_resting_on_the_seabed_expects_the_grounded_catenary():
+    """150 m of 20 kg/m (117 N/m wet) from an anchor on the seabed at 50 m depth to a point
+    100 m away at the surface: part of it lies on the seabed, and its expected tension is the
+    grounded catenary's (5.86 kN), under the fem limit of 8.53 kN (EI = 4e4 N m^2, 7.5 m
+    elements), so it keeps the fem shear. Before, the catenary without seabed (12.7 kN, sagging
+    through the seabed) switched it to kruszewski. Both shears give the same top force."""
+    def anchored(shear=None):
+        line = {"type": "p", "length": 150.0, "elements": 20,
+                "end_a": {"attach": "fixed", "position": [0.0, 0.0, -50.0]},
+                "end_b": {"attach": "fixed", "position": [100.0, 0.0, 0.0]}}
+        if shear:
+            line["shear_stiffness"] = shear
+        return {"environment": {"gravity": G, "water": {"density": RHO, "depth": 50.0},
+                                "seabed": {"normal_stiffness": 1e5, "friction": 0.0}},
+                "line_types": {"p": {"EA": 1e8, "EIy": 4e4, "mass_per_length": 20.0, "outer_diameter": 0.1}},
+                "lines": {"l": line}, "analysis": {"statics": {"enabled": True}}}
+    sc = rfesim.load_scenario(anchored())
+    w = 20.0 * G - RHO * G * math.pi / 4.0 * 0.1 ** 2
+    grounded = solve_catenary(100.0, 50.0, 150.0, w, 1e8, seabed=True)
+    hanging = solve_catenary(100.0, 50.0, 150.0, w, 1e8, seabed=False)
+    limit = 12.0 * 4e4 / 7.5 ** 2
+    assert grounded.top_tension < limit < hanging.top_tension
+    info = compile_scenario(sc).lines[0]
+    assert info.shear_model == "fem"
+    assert info.tension_estimate == pytest.approx(grounded.top_tension, rel=1e-9)
+    fem = end_forces(rfesim.statics(sc))[1]
+    kru = end_forces(rfesim.statics(anchored("kruszewski")))[1]
+    assert fem[2] == pytest.approx(kru[2], rel=3e-3) and fem[0] == pytest.approx(kru[0], rel=0.05)
+
+
 def buoyant(z0: float, length: float, end: str = "end_a") -> dict:
     line = {"type": "b", "length": length, "elements": 20, "end_a": {"attach": "free"}, "end_b": {"attach": "free"}}
     line[end] = {"attach": "fixed", "position": [0.0, 0.0, z0]}
