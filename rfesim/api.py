@@ -41,24 +41,26 @@ def _unsupported_lines(sc: Scenario) -> list[str]:
             if line.end_a.attach == "free" and line.end_b.attach == "free" and name not in used]
 
 
-def _slack_on_seabed(sc: Scenario) -> list[tuple[str, float, float]]:
-    """Lines fixed at both ends on the seabed and longer than the distance between them:
-    (name, length, distance). Their slack has no unique static shape there (with no lateral
-    stiffness it could snake either way), and the catenary start bunches it up in one place."""
-    from .scenario.load import seabed_contact
-
+def _seabed_folds(model) -> list[str]:
+    """What is wrong with heavy lines from the seabed longer than can hang and lie straight
+    (LineInfo.seabed_fold): their slack folds on the seabed, which has no unique static shape
+    (with no lateral stiffness it could snake either way), and the start shape bunches it up."""
     out = []
-    for name, line in sc.lines.items():
-        ends = (line.end_a, line.end_b)
-        lt = sc.line_types.get(line.type)
-        if lt is None or any(e.attach != "fixed" or e.position is None for e in ends):
+    for li in model.lines if model is not None else []:
+        if li.seabed_fold is None:
             continue
-        # an end rests on the seabed when it is no higher above it than a resting line sinks in
-        contacts = [seabed_contact(sc, lt, e.position) for e in ends]
-        grounded = all(c is not None and -c[1] <= c[2] for c in contacts)
-        span = math.dist(line.end_a.position, line.end_b.position)
-        if grounded and line.length > span * (1.0 + 1e-3):
-            out.append((name, line.length, span))
+        length, span, height = li.seabed_fold
+        if height <= 1e-3 * length + 0.5 * li.section.outer_diameter:
+            out.append(f"line '{li.name}' has both ends on the seabed and {length - span:.4g} m of slack "
+                       f"({length:.6g} m between points {span:.6g} m apart): slack lying on the seabed has no "
+                       f"unique static shape; make the line as long as the distance between its ends, lift an "
+                       f"end off the seabed, or set analysis.statics.enabled to false")
+        else:
+            out.append(f"line '{li.name}' runs from the seabed to a point {height:.4g} m up and {span:.4g} m away, "
+                       f"and is {length - span - height:.4g} m longer ({length:.6g} m) than can hang vertically and "
+                       f"lie straight on the seabed ({span + height:.6g} m): the rest folds on the seabed, which "
+                       f"has no unique static shape; shorten the line, move its ends apart, or set "
+                       f"analysis.statics.enabled to false")
     return out
 
 
@@ -139,13 +141,9 @@ def _statics_hint(sc: Scenario, model=None) -> str | None:
                 f"and {length:.6g} m long: the rest floats on the surface, where nothing holds it sideways, so it "
                 f"has no unique static shape; hold its free end too (a position, a tether), or set "
                 f"analysis.statics.enabled to false")
-    slack = _slack_on_seabed(sc)
-    if slack:
-        name, length, span = slack[0]
-        return (f"line '{name}' has both ends on the seabed and {length - span:.4g} m of slack ({length:.6g} m "
-                f"between points {span:.6g} m apart): slack lying on the seabed has no unique static shape; "
-                f"make the line as long as the distance between its ends, lift an end off the seabed, or set "
-                f"analysis.statics.enabled to false")
+    folds = _seabed_folds(model)
+    if folds:
+        return folds[0]
     return _shear_hint(model)
 
 
@@ -207,7 +205,8 @@ def _static_state(system: System, sc: Scenario, progress=None):
             system, sc, state, info,
             lambda st: solve_statics(system, st, tolerance=s.tolerance, max_iterations=s.max_iterations,
                                      seabed_friction=s.seabed_friction))
-    info.warnings = list(info.warnings) + buckling_warnings(system, state) + shear_warnings(system, state)
+    info.warnings = (_seabed_folds(system.model) + list(info.warnings) + buckling_warnings(system, state)
+                     + shear_warnings(system, state))
     for w in info.warnings:
         log.warning("statics: %s", w)
     return state, info

@@ -56,6 +56,8 @@ class LineInfo:
     chord: float | None = None   # m, distance between the ends at t = 0 when both are placed
     tension_estimate: float = 0.0   # N, its largest static tension expected before statics (fem lines:
                                     #   _tension_estimate), against its fem shear limit (shear_limit)
+    seabed_fold: tuple | None = None   # (length, horizontal span, height) m of a heavy line from the seabed
+                                       #   longer than can hang and lie straight (_seabed_fold)
 
     @property
     def nrfe(self) -> int:
@@ -227,15 +229,34 @@ def _tension_estimate(lname: str, line, sec: Section, sc, A, B) -> float:
             # a heavy line whose lower end rests on the seabed lies on it in part, as its start
             # shape does (_catenary_curve): the catenary without seabed would sag through it
             # and overstate the tension
-            seabed_z = sc.environment.seabed_z_at(float(lo[0]), float(lo[1]))
-            on_seabed = _submerged_weight(sec, sc) > 0.0 and seabed_z is not None and \
-                (lo[2] - 0.5 * sec.outer_diameter - seabed_z) < 1e-3 * line.length
+            on_seabed = _submerged_weight(sec, sc) > 0.0 and _grounded(lo, sec, sc, line.length)
             try:
                 cat = solve_catenary(span, float(hi[2] - lo[2]), line.length, w, sec.EA, seabed=bool(on_seabed))
                 tension = max(cat.top_tension, cat.anchor_tension)
             except ValueError:
                 pass
     return tension + extra
+
+
+def _grounded(p: np.ndarray, sec: Section, sc, length: float) -> bool:
+    """Whether the point ``p`` of a line rests on the seabed (as _catenary_curve takes it)."""
+    z = sc.environment.seabed_z_at(float(p[0]), float(p[1]))
+    return z is not None and (p[2] - 0.5 * sec.outer_diameter - z) < 1e-3 * length
+
+
+def _seabed_fold(line, sec: Section, sc, A, B) -> tuple | None:
+    """(length, horizontal span, height) of a heavy line between placed ends, its lower end on
+    the seabed, that is longer than the horizontal span plus the height: more than can hang
+    vertically and lie straight on the seabed. The rest would fold back on the seabed, which
+    has no unique static shape (its start shape bunches it up). None otherwise."""
+    if A is None or B is None or _submerged_weight(sec, sc) <= 0.0:
+        return None
+    lo, hi = (A, B) if A[2] <= B[2] else (B, A)
+    span = float(np.hypot(*(hi - lo)[:2]))
+    height = float(hi[2] - lo[2])
+    if not _grounded(lo, sec, sc, line.length) or line.length <= (span + height) * (1.0 + 1e-3):
+        return None
+    return line.length, span, height
 
 
 def _submerged_weight(sec: Section, sc) -> float:
@@ -760,7 +781,7 @@ def compile_scenario(sc, start: str | None = None) -> Model:
         lines.append(LineInfo(name=lname, rfe_start=n_total, rfe_stop=n_total + nseg + 1, sde_start=nsde_total,
                               sde_stop=nsde_total + nseg, length=L, elements=nseg, dx=dx, section=sec,
                               shear_model=shear_model, end_a=line.end_a, end_b=line.end_b, chord=end_distance,
-                              tension_estimate=tension))
+                              tension_estimate=tension, seabed_fold=_seabed_fold(line, sec, sc, A, B)))
         end_b_of[lname] = dict(rfe=n_total + nseg, point=centres[-1] + 0.5 * lengths[-1] * frames[-1][:, 0],
                                frame=frames[-1].copy(), dx=dx, length=lengths[-1], section=sec,
                                shear_model=shear_model, damping=lt.damping, mass=masses[-1], inertia=inertia[-1])

@@ -71,3 +71,27 @@ def test_no_hint_for_a_line_as_long_as_its_span():
     res = rfesim.statics(rfesim.load_scenario(rope_on_seabed(5.0)))
     assert res.status == 0
     assert np.isfinite(res.line("r").tension[0]).all()
+
+
+def riser_from_seabed(length: float) -> dict:
+    """A 20 kg/m line from an anchor on the seabed at 50 m depth to a point 120 m away at the surface."""
+    return {"environment": {"gravity": 9.81, "water": {"depth": 50.0},
+                            "seabed": {"normal_stiffness": 1e5, "friction": 0.0}},
+            "line_types": {"p": {"EA": 1e8, "EIy": 1e6, "mass_per_length": 20.0, "outer_diameter": 0.1}},
+            "lines": {"l": {"type": "p", "length": length, "elements": 20,
+                            "end_a": {"attach": "fixed", "position": [0.0, 0.0, -50.0]},
+                            "end_b": {"attach": "fixed", "position": [120.0, 0.0, 0.0]}}},
+            "analysis": {"statics": {"enabled": True}}}
+
+
+def test_a_line_too_long_to_hang_and_lie_straight_is_named():
+    """200 m from the seabed to a point 50 m up and 120 m away: 30 m more than can hang
+    vertically and lie straight. Statics settled with the last 50 m standing 4 m deep in the
+    seabed under 1.6 MN of compression, with only a buckling warning; now a warning says why
+    first. 160 m (10 m less than span + height) gets none."""
+    res = rfesim.statics(rfesim.load_scenario(riser_from_seabed(200.0)))
+    assert ("statics warning: line 'l' runs from the seabed to a point 50 m up and 120 m away, and is 30 m "
+            "longer (200 m) than can hang vertically and lie straight on the seabed (170 m)") in res.message
+    res = rfesim.statics(rfesim.load_scenario(riser_from_seabed(160.0)))
+    assert "warning" not in res.message
+    assert compile_scenario(rfesim.load_scenario(riser_from_seabed(160.0))).lines[0].seabed_fold is None
