@@ -32,6 +32,14 @@ def _rotation(roll_pitch_yaw_deg) -> np.ndarray:
                      [-sy, cy * sx, cy * cx]])
 
 
+def _vessel_rotation(sc: dict, res, vessel: str, k: int) -> np.ndarray:
+    """The rotation of ``vessel`` at output k: its heading (the scenario's heading_deg) and
+    its motion (the results' roll, pitch and yaw, taken about the heading's axes:
+    R = R_heading Rz(yaw) Ry(pitch) Rx(roll), rfesim.vessel)."""
+    heading = float(((sc.get("vessels") or {}).get(vessel) or {}).get("heading_deg", 0.0))
+    return _rotation([0.0, 0.0, heading]) @ _rotation(res.vessels[vessel].rotation[k])
+
+
 def _exit_points(sup: dict) -> np.ndarray:
     """Points (attachment frame) where the line leaves a support."""
     kind = sup.get("kind")
@@ -52,7 +60,7 @@ def _exit_points(sup: dict) -> np.ndarray:
     return np.zeros((0, 3))
 
 
-def _tension_past(res, lr, sup: dict, pos: np.ndarray) -> np.ndarray:
+def _tension_past(sc: dict, res, lr, sup: dict, pos: np.ndarray) -> np.ndarray:
     """(nt,) tension of the first SDE past the exit of tensioner ``sup`` (followed with its
     vessel). pos (nt, npoints, 3): end A, the SDEs, end B."""
     tension = np.asarray(lr.tension)
@@ -63,7 +71,7 @@ def _tension_past(res, lr, sup: dict, pos: np.ndarray) -> np.ndarray:
         p = p0
         if att in res.vessels:
             vr = res.vessels[att]
-            p = np.asarray(vr.position[k]) + _rotation(vr.rotation[k]) @ p0
+            p = np.asarray(vr.position[k]) + _vessel_rotation(sc, res, att, k) @ p0
         j = int(np.linalg.norm(pos[k, 1:-1] - p[None, :], axis=1).argmin())   # nearest SDE
         out[k] = tension[k, min(j + 1, tension.shape[1] - 1)]
     return out
@@ -131,7 +139,7 @@ def lay_summary(res, line: str | None = None, *, outer_diameter: float | None = 
             att = sup.get("attach", "fixed")
             if att in res.vessels:
                 vr = res.vessels[att]
-                pts = np.asarray(vr.position[k]) + pts @ _rotation(vr.rotation[k]).T
+                pts = np.asarray(vr.position[k]) + pts @ _vessel_rotation(sc, res, att, k).T
             d = np.linalg.norm(pos[k][None, :, :] - pts[:, None, :], axis=2)
             best = max(best, int(d.argmin(axis=1).max()))
         dep_index[k] = min(best, pos.shape[1] - 2)
@@ -146,14 +154,14 @@ def lay_summary(res, line: str | None = None, *, outer_diameter: float | None = 
             att = item[1].get("attach", "fixed")
             if att in res.vessels:
                 vr = res.vessels[att]
-                p = np.asarray(vr.position[0]) + _rotation(vr.rotation[0]) @ p
+                p = np.asarray(vr.position[0]) + _vessel_rotation(sc, res, att, 0) @ p
             return int(np.linalg.norm(pos[0] - p[None, :], axis=1).argmin())
         last = max(tens, key=exit_arc)
         top = np.asarray(res.tensioners[last[0]].grip_force, float)
         if any(s.get("kind") == "reel" for s in supports.values()):
             # reel-lay: the reel holds a back tension too; the top tension is the line's
             # tension just past the tensioner's exit (the catenary's top)
-            top = _tension_past(res, lr, last[1], pos)
+            top = _tension_past(sc, res, lr, last[1], pos)
     # sagbend / overbend: sign of z'' along the line above the touchdown point
     moment = np.asarray(lr.bend_moment)
     curv = np.asarray(lr.curvature)

@@ -44,10 +44,11 @@ import copy
 import math
 from typing import Annotated, Any, Literal, Union
 
+import numpy as np
 from pydantic import Field, TypeAdapter, ValidationError, model_validator
 
 from .bodies import Body
-from .pipelay import STEEL_DENSITY, STEEL_E, _add, _to_global, _vessel_pose, expand_templates
+from .pipelay import STEEL_DENSITY, STEEL_E, _add, _vessel_pose, expand_templates
 from .schema import (COEFFICIENT, DAMPING_LIMIT, DENSITY_LIMIT, FORCE_LIMIT, MASS_LIMIT, MASS_PER_LENGTH_LIMIT,
                      MAX_COEFFICIENT, MAX_DAMPING, MAX_DENSITY, MAX_FORCE, MAX_MASS, MAX_MASS_PER_LENGTH, MAX_MODULUS,
                      MAX_SECTION_STIFFNESS, MAX_STIFFNESS, MODULUS_LIMIT, SECTION_STIFFNESS_LIMIT, STIFFNESS_LIMIT,
@@ -82,18 +83,18 @@ def _check_profile(value, field: str, lo: float, hi: float, unit: str = "deg") -
 
 
 def _initial(value) -> float:
-    """The profile's value at t = 0 (a table is held constant before its first row)."""
+    """The profile's value at t = 0 as its drive follows it: the monotone cubic (PCHIP) through
+    the table (rfesim.model.joins), held constant before the first row and after the last."""
     if isinstance(value, (int, float)):
         return float(value)
-    ts = [r[0] for r in value]
-    vs = [r[1] for r in value]
+    ts = [float(r[0]) for r in value]
+    vs = [float(r[1]) for r in value]
     if 0.0 <= ts[0]:
-        return float(vs[0])
-    for k in range(1, len(ts)):
-        if ts[k] >= 0.0:
-            u = (0.0 - ts[k - 1]) / (ts[k] - ts[k - 1])
-            return float(vs[k - 1] + u * (vs[k] - vs[k - 1]))
-    return float(vs[-1])
+        return vs[0]
+    if ts[-1] <= 0.0:
+        return vs[-1]
+    from scipy.interpolate import PchipInterpolator
+    return float(PchipInterpolator(ts, vs)(0.0))
 
 
 def _table(value) -> list[list[float]]:
@@ -486,10 +487,36 @@ def _angle_profile(tpl, field: str, to_plane) -> tuple[float, list | None]:
     return _initial(rows), _table(rows)
 
 
-def _rot(vpos, heading, v):
-    """A direction from the vessel frame to global (vessel level at the start)."""
-    c, s = math.cos(heading), math.sin(heading)
-    return [c * v[0] - s * v[1], s * v[0] + c * v[1], v[2]]
+class _Deck:
+    """The vessel's frame at t = 0, where the template places the crane: its rest position and
+    heading with its motion at t = 0 (a heel, a heave), so that the crane starts as built on
+    the deck. Lines and drives given in global directions at t = 0 (the boom's and legs'
+    directions, drive and hinge axes, the payload under the tip) are turned with it, as the
+    pedestal and stubs clamped to the deck are."""
+
+    def __init__(self, p, R):
+        self.p = np.asarray(p, float)
+        self.R = np.asarray(R, float)
+
+    def rot(self, v) -> list[float]:
+        """A direction of the vessel frame, global at t = 0."""
+        return [float(c) for c in self.R @ np.asarray(v, float)]
+
+    def point(self, v) -> list[float]:
+        """A point of the vessel frame, global at t = 0."""
+        return [float(c) for c in self.p + self.R @ np.asarray(v, float)]
+
+
+def _deck(out: dict, vname: str, vpos, heading, env) -> _Deck:
+    """The vessel ``vname``'s frame at t = 0 (its motion there; level at its rest position and
+    heading when the motion cannot be made: its own errors are reported by the validation)."""
+    from ..vessel import make_vessel_motion
+    try:
+        k = make_vessel_motion(Vessel.model_validate((out.get("vessels") or {})[vname]), env).kinematics(0.0)
+        return _Deck(k.p, k.R)
+    except (ValidationError, ValueError, ArithmeticError, KeyError, OSError):
+        c, s = math.cos(heading), math.sin(heading)
+        return _Deck(vpos, [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
 
 
 def _member_type(m: MemberSpec, stiff: float = 1.0) -> dict:
@@ -560,7 +587,7 @@ def _rope_and_winch(out: dict, name: str, tpl, raw: dict, parent: str, tip, vnam
         _add(out, "winches", f"{name}_winch", winch, "winch")
 
 
-def _column(out: dict, name: str, tpl: ColumnCrane, raw: dict, vname: str, vpos, heading) -> None:
+def _column(out: dict, name: str, tpl: ColumnCrane, raw: dict, vname: str, deck: _Deck) -> None:
     ped, boom = f"{name}_pedestal", f"{name}_boom"
     slew0 = math.radians(_initial(tpl.slewing_deg))
     # luffing plane: x along the boom's horizontal projection, z up; the boom angle is the plane angle
@@ -570,17 +597,17 @@ def _column(out: dict, name: str, tpl: ColumnCrane, raw: dict, vname: str, vpos,
     top = [base[0], base[1], base[2] + tpl.pedestal.length]
     d_local = [math.cos(luff0) * math.cos(slew0), math.cos(luff0) * math.sin(slew0), math.sin(luff0)]
     tip_local = [top[k] + tpl.boom.length * d_local[k] for k in range(3)]
-    tip = _to_global(vpos, heading, tip_local)
+    tip = deck.point(tip_local)
     _add(out, "line_types", f"{ped}_section", _member_type(tpl.pedestal), "pedestal")
     _add(out, "line_types", f"{boom}_section", _member_type(tpl.boom), "boom")
-    luffing = _drive("luffing", _rot(vpos, heading, [math.sin(slew0), -math.cos(slew0), 0.0]), luff_table)
+    luffing = _drive("luffing", deck.rot([math.sin(slew0), -math.cos(slew0), 0.0]), luff_table)
     motor = tpl.slewing_motor
     if motor is None:
         _add(out, "lines", ped, {
             "type": f"{ped}_section", "length": tpl.pedestal.length, "elements": tpl.pedestal.count(),
             "end_a": {"attach": vname, "position": base, "direction": [0.0, 0.0, 1.0], "connection": "clamped"},
             "end_b": {"attach": "free"}}, "pedestal")
-        drives = [_drive("slewing", [0.0, 0.0, 1.0], _table(tpl.slewing_deg)), luffing]
+        drives = [_drive("slewing", deck.rot([0.0, 0.0, 1.0]), _table(tpl.slewing_deg)), luffing]
         parent = ped
     else:
         # the pedestal's top is a turret on the slewing ring, turned by the servo motor about the
@@ -595,14 +622,14 @@ def _column(out: dict, name: str, tpl: ColumnCrane, raw: dict, vname: str, vpos,
         stiffness, damping = _servo_gains(tpl, raw, luff0)
         _add(out, "lines", turret, {
             "type": f"{ped}_section", "length": t_len, "elements": 1,
-            "end_a": {"attach": f"{ped}:end_b", "connection": "clamped", "direction": _rot(vpos, heading, [0, 0, 1]),
+            "end_a": {"attach": f"{ped}:end_b", "connection": "clamped", "direction": deck.rot([0, 0, 1]),
                       "motor": {"name": "slewing", "angle": _table(tpl.slewing_deg), "max_torque": motor.max_torque,
                                 "stiffness": motor.stiffness or stiffness,
                                 "damping": motor.damping if motor.damping is not None else damping}},
             "end_b": {"attach": "free"}}, "slewing_motor")
         drives = [luffing]
         parent = turret
-    end_a = {"attach": f"{parent}:end_b", "connection": "clamped", "direction": _rot(vpos, heading, d_local),
+    end_a = {"attach": f"{parent}:end_b", "connection": "clamped", "direction": deck.rot(d_local),
              "drives": drives}
     _add(out, "lines", boom, {"type": f"{boom}_section", "length": tpl.boom.length,
                               "elements": tpl.boom.count(), "end_a": end_a, "end_b": {"attach": "free"}}, "boom")
@@ -622,7 +649,7 @@ def _servo_gains(tpl: ColumnCrane, raw: dict, luff0: float) -> tuple[float, floa
     return inertia * w * w, 2.0 * inertia * w
 
 
-def _a_frame(out: dict, name: str, tpl: AFrame, raw: dict, vname: str, vpos, heading) -> None:
+def _a_frame(out: dict, name: str, tpl: AFrame, raw: dict, vname: str, deck: _Deck) -> None:
     stub, legs, beam = f"{name}_stub", f"{name}_legs", f"{name}_crossbeam"
     ob = math.radians(tpl.outboard_deg)
     xo = [math.cos(ob), math.sin(ob), 0.0]           # outboard, vessel frame
@@ -633,17 +660,17 @@ def _a_frame(out: dict, name: str, tpl: AFrame, raw: dict, vname: str, vpos, hea
     d_local = [math.sin(tilt0) * xo[0], math.sin(tilt0) * xo[1], math.cos(tilt0)]
     # luffing axis: turning the legs outboard (tilt up) is a rotation about z x outboard
     across = [-xo[1], xo[0], 0.0]
-    axis = _rot(vpos, heading, across)
+    axis = deck.rot(across)
     p = tpl.legs.properties()
     damping = {"axial_ratio": tpl.legs.damping_ratio, "bending_ratio": tpl.legs.damping_ratio}
     if tpl.crossbeam is not None:
-        _a_frame_portal(out, name, tpl, raw, vname, vpos, heading, xo, across, axis, d_local, tilt0_deg, tilt_table)
+        _a_frame_portal(out, name, tpl, raw, vname, deck, xo, across, axis, d_local, tilt0_deg, tilt_table)
         return
     hinge = list(tpl.position)
     top_local = [hinge[k] + tpl.legs.length * d_local[k] for k in range(3)]
     beam_len = 0.5
     tip_local = [top_local[k] + beam_len * d_local[k] for k in range(3)]
-    tip = _to_global(vpos, heading, tip_local)
+    tip = deck.point(tip_local)
     # the two legs as one line: twice the axial and in-plane bending stiffness and mass; out of
     # plane the portal is stiffer (the legs' parallel-axis term at half the spacing)
     EI_out = 2.0 * p["EI"] + 2.0 * p["EA"] * (0.5 * tpl.leg_spacing) ** 2
@@ -655,16 +682,16 @@ def _a_frame(out: dict, name: str, tpl: AFrame, raw: dict, vname: str, vpos, hea
     _add(out, "line_types", f"{legs}_section", leg_type, "legs")
     _add(out, "line_types", f"{stub}_section", stub_type, "legs")
     _add(out, "line_types", f"{beam}_section", beam_type, "crossbeam_mass")
-    _a_frame_leg(out, name, tpl, vname, vpos, heading, stub, legs, hinge, xo, axis, d_local, tilt0_deg, tilt_table,
+    _a_frame_leg(out, name, tpl, vname, deck, stub, legs, hinge, xo, axis, d_local, tilt0_deg, tilt_table,
                  1.0, f"{name}_cylinder")
     _add(out, "lines", beam, {"type": f"{beam}_section", "length": beam_len, "elements": 1,
                               "end_a": {"attach": f"{legs}:end_b", "connection": "clamped",
-                                        "direction": _rot(vpos, heading, d_local)},
+                                        "direction": deck.rot(d_local)},
                               "end_b": {"attach": "free"}}, "crossbeam_mass")
     _rope_and_winch(out, name, tpl, raw, beam, tip, vname, legs)
 
 
-def _a_frame_leg(out: dict, name: str, tpl: AFrame, vname: str, vpos, heading, stub: str, legs: str, hinge: list,
+def _a_frame_leg(out: dict, name: str, tpl: AFrame, vname: str, deck: _Deck, stub: str, legs: str, hinge: list,
                  xo: list, axis: list, d_local: list, tilt0_deg: float, tilt_table, share: float,
                  cylinder: str) -> None:
     """A deck stub under the hinge and a leg line on it, luffed by its joint's drive (stroke or
@@ -677,7 +704,7 @@ def _a_frame_leg(out: dict, name: str, tpl: AFrame, vname: str, vpos, heading, s
         "end_a": {"attach": vname, "position": [hinge[0], hinge[1], hinge[2] - stub_len],
                   "direction": [0.0, 0.0, 1.0], "connection": "clamped"},
         "end_b": {"attach": "free"}}, "legs")
-    end_a = {"attach": f"{stub}:end_b", "connection": "clamped", "direction": _rot(vpos, heading, d_local)}
+    end_a = {"attach": f"{stub}:end_b", "connection": "clamped", "direction": deck.rot(d_local)}
     cyl = tpl.cylinder
     if cyl is not None and cyl.force is not None:
         # force-driven: the legs turn freely about the luffing axis (a hinged join) and the
@@ -710,7 +737,7 @@ def _a_frame_leg(out: dict, name: str, tpl: AFrame, vname: str, vpos, heading, s
                               "elements": tpl.legs.count(), "end_a": end_a, "end_b": {"attach": "free"}}, "legs")
 
 
-def _a_frame_portal(out: dict, name: str, tpl: AFrame, raw: dict, vname: str, vpos, heading, xo: list,
+def _a_frame_portal(out: dict, name: str, tpl: AFrame, raw: dict, vname: str, deck: _Deck, xo: list,
                     across: list, axis: list, d_local: list, tilt0_deg: float, tilt_table) -> None:
     """The A-frame as the closed portal it is: two legs on their own hinges ``leg_spacing``
     apart, each with half the cylinders, and the crossbeam in two halves from the legs' tops to
@@ -738,16 +765,16 @@ def _a_frame_portal(out: dict, name: str, tpl: AFrame, raw: dict, vname: str, vp
     for j, (side, suffix) in enumerate(((-1.0, ""), (1.0, "_2"))):
         hinge = [centre[k] + side * half * across[k] for k in range(3)]
         legs = f"{name}_legs{suffix}"
-        _a_frame_leg(out, name, tpl, vname, vpos, heading, f"{name}_stub{suffix}", legs, hinge, xo, axis, d_local,
+        _a_frame_leg(out, name, tpl, vname, deck, f"{name}_stub{suffix}", legs, hinge, xo, axis, d_local,
                      tilt0_deg, tilt_table, 0.5, f"{name}_cylinder{suffix}")
         beam = {"type": f"{name}_crossbeam_section", "length": half, "elements": nbeam,
                 "end_a": {"attach": f"{legs}:end_b", "connection": "clamped",
-                          "direction": _rot(vpos, heading, [-side * c for c in across])},
+                          "direction": deck.rot([-side * c for c in across])},
                 "end_b": {"attach": "free"}}
         if j == 1:
             beam["end_b"] = {"attach": f"{name}_crossbeam:end_b", "connection": "clamped"}
         _add(out, "lines", f"{name}_crossbeam{suffix}", beam, "crossbeam")
-    _rope_and_winch(out, name, tpl, raw, f"{name}_crossbeam", _to_global(vpos, heading, mid_local), vname,
+    _rope_and_winch(out, name, tpl, raw, f"{name}_crossbeam", deck.point(mid_local), vname,
                     f"{name}_legs")
 
 
@@ -762,6 +789,7 @@ def _expand_one(out: dict, name: str, tpl, raw: dict, env) -> None:
     if any(c in name for c in "/:\\") or name.strip() != name:
         raise FieldError("", f"bad crane name {name!r}: no '/', ':' or '\\', no outer spaces")
     vname, vpos, heading = _vessel_pose(out, name, tpl, raw)
-    (_column if tpl.type == "column" else _a_frame)(out, name, tpl, raw, vname, vpos, heading)
+    deck = _deck(out, vname, vpos, heading, env)
+    (_column if tpl.type == "column" else _a_frame)(out, name, tpl, raw, vname, deck)
     if not out.get("name"):
         out["name"] = f"crane: {name} ({tpl.type})"

@@ -127,6 +127,75 @@ def test_a_frame_string_and_tilt_axis():
                        [-math.sin(math.radians(30)), 0.0, math.cos(math.radians(30))], atol=1e-12)
 
 
+
+def heeled(data: dict, vessel: str, roll: float = 0.0, pitch: float = 0.0, heave: float = 0.0) -> dict:
+    """The scene with its vessel held at a roll, pitch and heave from t = 0 (a motion table)."""
+    data.setdefault("vessels", {}).setdefault(vessel, {})["motion"] = {
+        "kind": "table", "interpolation": "linear",
+        "rows": [[0, 0, 0, heave, roll, pitch, 0], [100, 0, 0, heave, roll, pitch, 0]]}
+    return data
+
+
+def rx(deg: float) -> np.ndarray:
+    c, s = math.cos(math.radians(deg)), math.sin(math.radians(deg))
+    return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
+
+
+def test_a_crane_on_a_heeled_vessel_starts_as_built_on_its_deck():
+    """A vessel at 5 deg roll and 0.5 m heave at t = 0: the boom's direction, the drive axes
+    and the tip (the payload under it) turn and move with the deck, as the pedestal clamped
+    to it does. Before, they were placed as on a level deck, and the joint's rest rotation
+    took the heel into the luffing angle for the whole run."""
+    level, heel = expand(column()), expand(heeled(column(), "ship", roll=5.0, heave=0.5))
+    h = math.radians(20.0)
+    R = np.array([[math.cos(h), -math.sin(h), 0.0], [math.sin(h), math.cos(h), 0.0], [0.0, 0.0, 1.0]])
+    turn = R @ rx(5.0) @ R.T               # the level scene's global directions, heeled about the vessel's x
+    boom_l, boom_h = level["lines"]["c_boom"]["end_a"], heel["lines"]["c_boom"]["end_a"]
+    assert np.allclose(boom_h["direction"], turn @ boom_l["direction"], atol=1e-12)
+    for dl, dh in zip(boom_l["drives"], boom_h["drives"]):
+        assert np.allclose(dh["axis"], turn @ np.asarray(dl["axis"]), atol=1e-12)
+    base = np.array([100.0, 50.0, 0.0])
+    tip_l = np.array(level["bodies"]["c_payload"]["position"]) + [0.0, 0.0, 12.5]
+    tip_h = np.array(heel["bodies"]["c_payload"]["position"]) + [0.0, 0.0, 12.5]
+    assert np.allclose(tip_h, base + [0.0, 0.0, 0.5] + turn @ (tip_l - base), atol=1e-9)
+    # an A-frame pitched 5 deg: its legs' direction and tilt axis turn with the deck
+    ry = np.array([[math.cos(math.radians(5)), 0.0, math.sin(math.radians(5))], [0.0, 1.0, 0.0],
+                   [-math.sin(math.radians(5)), 0.0, math.cos(math.radians(5))]])
+    al = expand(a_frame())["lines"]["af_legs"]["end_a"]
+    ah = expand(heeled(a_frame(vessel="v"), "v", pitch=5.0))["lines"]["af_legs"]["end_a"]
+    assert np.allclose(ah["direction"], ry @ np.asarray(al["direction"]), atol=1e-12)
+    assert np.allclose(ah["drives"][0]["axis"], ry @ np.asarray(al["drives"][0]["axis"]), atol=1e-12)
+
+
+def test_a_heeled_crane_in_statics_keeps_its_luffing_angle_to_the_deck():
+    """Statics of the column crane at 5 deg roll: the angle between pedestal and boom is the
+    level crane's (50.35 deg: 40 deg luffing and the boom's sag) within the change of its
+    elastic sag under the heeled gravity (50.32 deg); before, 55.06 deg."""
+    def angle(data):
+        st = rfesim.statics(rfesim.load_scenario(data))
+        p, b = (np.asarray(st.line(n).position[0]) for n in ("c_pedestal", "c_boom"))
+        a, d = p[-1] - p[0], b[-1] - b[0]
+        return math.degrees(math.acos(a @ d / np.linalg.norm(a) / np.linalg.norm(d)))
+
+    data = column(slewing_deg=70.0)
+    data["analysis"] = {"statics": {"enabled": True}}
+    level = angle(copy.deepcopy(data))
+    assert 50.0 < level < 51.0
+    assert angle(heeled(data, "ship", roll=5.0)) == pytest.approx(level, abs=0.15)
+
+
+def test_a_drive_table_from_before_t0_starts_where_its_drive_does():
+    """slewing_deg [[-10, 0], [1, 90], [20, 90]]: the boom starts at the value of the monotone
+    cubic the drive follows (88.83 deg at t = 0), not at the straight line between the rows
+    (81.82 deg), which left it 7 deg short of the table for the whole run."""
+    from scipy.interpolate import PchipInterpolator
+    table = [[-10.0, 0.0], [1.0, 90.0], [20.0, 90.0]]
+    start = float(PchipInterpolator([r[0] for r in table], [r[1] for r in table])(0.0))
+    assert start == pytest.approx(88.828, abs=1e-3)
+    d = expand(column(slewing_deg=table))["lines"]["c_boom"]["end_a"]["direction"]
+    assert math.degrees(math.atan2(d[1], d[0])) == pytest.approx(start + 20.0, abs=1e-9)   # + the heading
+
+
 def test_cylinder_triangle_round_trip_and_lever():
     cyl = CylinderSpec(base=[2.5, -4.0], eye=10.0)
     for deg in (0.0, 20.0, 45.0, 70.0):
