@@ -8,9 +8,9 @@ import pytest
 
 from rfesim.scenario.schema import Environment
 from rfesim.sea.kernel import sea_kinematics_into, sea_spec
-from rfesim.sea.waves import (components_from_time_series, discretise_spectrum, dnv_gamma, jonswap_spectrum,
-                              pierson_moskowitz_spectrum, spectral_moment, wave_components, wave_number,
-                              water_depth)
+from rfesim.sea.waves import (_jonswap_scale, components_from_time_series, discretise_spectrum, dnv_gamma,
+                              jonswap_spectrum, pierson_moskowitz_spectrum, spectral_moment, wave_components,
+                              wave_number, water_depth)
 
 G = 9.81
 
@@ -159,3 +159,19 @@ def test_ramp_starts_the_sea_from_rest():
     e2, v2, a2 = np.zeros(1), np.zeros((1, 3)), np.zeros((1, 3))
     sea_kinematics_into(sea_spec(full), 8.0, p, e2, v2, a2)
     assert eta[0] == pytest.approx(0.5 * e2[0], rel=1e-14)
+
+
+@pytest.mark.parametrize("gamma, sigma_a, sigma_b", [(10.0, 0.07, 0.09), (3.3, 0.2, 0.2), (7.0, 0.15, 0.2)])
+def test_jonswap_has_the_hs_it_was_given_outside_the_dnv_fit(gamma, sigma_a, sigma_b):
+    """Outside the fit of DNV's A_gamma (gamma 10: m0 7 % short; gamma 3.3 or 7 with wider
+    peaks: 36 % and 49 % over) the spectrum is normalised to Hs^2/16; inside it (W2, gamma 3.3,
+    sigma 0.07 / 0.09) the DNV form stays (m0 = 1.00242 m^2 for Hs = 4 m)."""
+    hs, tp = 4.0, 10.0
+
+    def m0(*args):
+        return spectral_moment(lambda w: jonswap_spectrum(w, hs, tp, *args), 0, 0.05, 2000.0, bins=6000)
+
+    assert m0(gamma, sigma_a, sigma_b) == pytest.approx(hs ** 2 / 16.0, rel=1e-6)
+    dnv = (1.0 - 0.287 * math.log(gamma)) * m0(gamma, sigma_a, sigma_b) / _jonswap_scale(gamma, sigma_a, sigma_b)
+    assert abs(dnv / (hs ** 2 / 16.0) - 1.0) > 0.05           # what the DNV factor alone gives
+    assert m0(3.3) == pytest.approx(1.00242, abs=1e-5)
