@@ -275,7 +275,9 @@ def simulate(scenario, *, progress=None):
 
     ``progress(fraction, time)`` is called as the run advances; if it raises, the run stops
     with ``rfesim.CancelledError``. A diverging run raises ``rfesim.SolverError`` whose
-    ``results`` hold everything computed before.
+    ``results`` hold everything computed before; a KeyboardInterrupt in the dynamics (of a
+    scene of absolute-coordinate lines) carries them the same way (``results``, status 2,
+    or None when nothing was recorded yet).
     """
     sc = _scenario(scenario)
     if _other_formulations(sc):
@@ -306,6 +308,14 @@ def simulate(scenario, *, progress=None):
             exc.results.message = _with_warnings(exc.results.message, info) + _dynamic_warnings(model, exc.results)
         raise
     except CancelledError:
+        raise
+    except KeyboardInterrupt as exc:
+        # Ctrl-C (or SIGTERM turned into it by the command line): run_dynamics attached the
+        # results so far (status INTERRUPTED), as to a SolverError
+        part = getattr(exc, "results", None)
+        if part is not None:
+            part.scenario_json, part.version = meta["scenario_json"], __version__
+            part.message = _with_warnings(part.message, info)
         raise
     res = rec.results(status=0, message=_with_warnings(f"finished: {counters.get('steps', 0)} steps", info),
                       counters=dict(counters), **meta)

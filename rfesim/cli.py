@@ -10,11 +10,13 @@
 
 Exit codes: 0 success; 1 bad input (scenario error, missing file); 2 usage error or a
 missing optional component; 3 the solver failed (partial results are still written);
-130 interrupted.
+130 interrupted (Ctrl-C, or SIGTERM during `run` and `sweep`: `run` writes the results
+recorded so far, status 2; `sweep` keeps the rows of the finished cases in its CSV).
 """
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
 import importlib.util
 import logging
@@ -67,6 +69,10 @@ def _output_path(out: str | None, scenario: Path, default_suffix: str | None) ->
             return None
         out = scenario.stem + default_suffix
     p = Path(out)
+    if out.endswith(("/", os.sep)):     # "newdir/": a folder (Path drops the slash), not a file called newdir
+        if p.is_dir():
+            raise CliError(f"error: the output path is a folder: {out} (give a file in it)")
+        raise CliError(f"error: the output folder does not exist: {out}")
     folder = p.parent if str(p.parent) else Path(".")
     if not folder.is_dir():
         raise CliError(f"error: the output folder does not exist: {folder}")
@@ -102,16 +108,19 @@ def _plot_path(plot: str, scenario: Path, out: Path | None) -> Path:
         raise CliError(f"error: --plot and -o name the same file ({p}): the plot would replace the results",
                        EXIT_USAGE)
     suffix = p.suffix.lower().lstrip(".")
-    if suffix:
-        from .plot import _pyplot
+    from .plot import _pyplot
 
-        plt = _pyplot()
-        fig = plt.figure()
-        formats = fig.canvas.get_supported_filetypes()
-        plt.close(fig)
-        if suffix not in formats:
-            raise CliError(f"error: --plot {plot}: matplotlib cannot write '.{suffix}' files; give one of "
-                           + ", ".join("." + f for f in sorted(formats)), EXIT_USAGE)
+    plt = _pyplot()
+    fig = plt.figure()
+    formats = fig.canvas.get_supported_filetypes()
+    plt.close(fig)
+    known = ", ".join("." + f for f in sorted(formats))
+    if not suffix:      # matplotlib would add one of its own and write plot.png for "plot"
+        raise CliError(f"error: --plot {plot}: give the image format as the file's extension, e.g. {plot}.png "
+                       f"(one of {known})", EXIT_USAGE)
+    if suffix not in formats:
+        raise CliError(f"error: --plot {plot}: matplotlib cannot write '.{suffix}' files; give one of {known}",
+                       EXIT_USAGE)
     return p
 
 
@@ -120,6 +129,30 @@ def _write(res, path: Path) -> None:
         res.to_netcdf(path)
     except OSError as exc:
         raise CliError(f"error: could not write {path}: {exc}") from None
+    except Exception as exc:   # h5py's ValueError (a name it cannot take as a group), ...: say so, no traceback
+        raise CliError(f"error: could not write the results to {path} ({type(exc).__name__}: {exc}); "
+                       f"the results of this run are lost") from None
+
+
+@contextlib.contextmanager
+def sigterm_as_interrupt():
+    """Within the block SIGTERM (a batch system stopping the job) raises KeyboardInterrupt,
+    as Ctrl-C does, so that what was computed is kept; in the main thread only."""
+    import signal
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def interrupt(signum, frame):
+        raise KeyboardInterrupt(f"signal {signum}")
+
+    old = signal.signal(signal.SIGTERM, interrupt)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, old if old is not None else signal.SIG_DFL)
 
 
 def _kn(x: float) -> str:
@@ -146,17 +179,21 @@ def _table(header: list[str], rows: list[list[str]], indent: str = "  ") -> list
 
 
 def _line_extremes(res) -> list[str]:
-    """Per line: max top tension, max/min tension, max bend moment over the run."""
+    """Per line: max top tension (the end held on board, rfesim.sweep.line_top_tension, and
+    which force it is), max/min tension, max bend moment over the run."""
     import numpy as np
+
+    from .sweep import line_top_tension
 
     rows = []
     for name, lr in res.lines.items():
         if len(res.time) == 0:
-            rows.append([name, "-", "-", "-", "-"])
+            rows.append([name, "-", "-", "-", "-", "-"])
             continue
-        rows.append([name, _kn(float(np.max(lr.top_tension))), _kn(float(np.max(lr.tension))),
+        top, where = line_top_tension(res, name)
+        rows.append([name, _kn(float(np.nanmax(top))), where, _kn(float(np.max(lr.tension))),
                      _kn(float(np.min(lr.tension))), _kn(float(np.max(lr.bend_moment)))])
-    return _table(["line", "max top tension [kN]", "max tension [kN]", "min tension [kN]",
+    return _table(["line", "max top tension [kN]", "taken at", "max tension [kN]", "min tension [kN]",
                    "max bend moment [kN*m]"], rows)
 
 
@@ -195,9 +232,13 @@ def cmd_check(args) -> int:
         import json
 
         from .scenario import expand, parse_text
+        from .scenario.files import resolve_data_files
         from .scenario.load import _read_file
-        data = parse_text(*_read_file(_scenario_path(args.scenario)))
-        print(json.dumps(expand(data), indent=2))
+        path = _scenario_path(args.scenario)
+        data = parse_text(*_read_file(path))
+        # data files as absolute paths: the printed scenario works saved anywhere
+        data = resolve_data_files(data, path.parent)
+        print(json.dumps(resolve_data_files(expand(data), path.parent), indent=2))
         return EXIT_OK
     from .errors import ScenarioError
     from .scenario.load import check_runnable
@@ -264,15 +305,19 @@ def cmd_run(args) -> int:
     _note_cold_cache()
     bar = _progress_bar(args)
     wall0 = time.perf_counter()
+    failure = interrupted = None
     try:
-        res = rfesim.simulate(sc, progress=bar)
+        with sigterm_as_interrupt():
+            res = rfesim.simulate(sc, progress=bar)
     except rfesim.SolverError as exc:
         failure = exc
-    else:
-        failure = None
+    except KeyboardInterrupt as exc:
+        interrupted = exc
     finally:
         if bar is not None:
             bar.close()
+    if interrupted is not None:
+        return _interrupted(interrupted, out)
     if failure is not None:
         return _solver_failure(failure, out, args.plot)
     wall = time.perf_counter() - wall0
@@ -287,6 +332,21 @@ def cmd_run(args) -> int:
         plot_results(res, args.plot)
         print(f"plot written to {args.plot}")
     return EXIT_OK
+
+
+def _interrupted(exc: KeyboardInterrupt, out: Path | None) -> int:
+    """Ctrl-C or SIGTERM during a run: write the results recorded so far (status 2, "interrupted
+    at t = ..."; rfesim.simulate attaches them to the interruption as ``results``)."""
+    res = getattr(exc, "results", None)
+    if res is None or not len(res.time):
+        _err("interrupted before any results were recorded: nothing written")
+        return EXIT_INTERRUPTED
+    _err(_summary_message(res.message))        # "interrupted at t = ... s"
+    if out is not None:
+        _write(res, out)
+        _err(f"partial results ({len(res.time)} output times, t = {res.time[0]:.6g} .. {res.time[-1]:.6g} s, "
+             f"status {res.status}) written to {out}")
+    return EXIT_INTERRUPTED
 
 
 def _solver_failure(exc, out: Path | None, plot: str | None = None) -> int:
@@ -427,9 +487,23 @@ def cmd_serve(args) -> int:
     if app is None:
         return _missing("the HTTP service", "service.app defines neither 'app' nor 'create_app'")
     print(f"serving rfesim on http://{args.host}:{args.port} (OpenAPI at /docs); Ctrl-C to stop", file=sys.stderr)
-    # a bounded graceful shutdown: open event streams must not hold a stop for ever
-    uvicorn.run(app, host=args.host, port=args.port, log_level="info" if args.verbose else "warning",
-                timeout_graceful_shutdown=10)
+
+    class Server(uvicorn.Server):
+        """Tells the app it is stopping as soon as the signal arrives. uvicorn waits for open
+        connections before the app's lifespan shutdown, so a flag set there would come too
+        late for an open event stream (GET /jobs/{id}/events), which would hold the stop
+        until the graceful timeout and then be cut without its "event: end"."""
+
+        def handle_exit(self, sig, frame) -> None:
+            state = getattr(app, "state", None)
+            if state is not None:
+                state.stopping = True
+            super().handle_exit(sig, frame)
+
+    # a bounded graceful shutdown still: a slow client must not hold a stop for ever
+    config = uvicorn.Config(app, host=args.host, port=args.port, log_level="info" if args.verbose else "warning",
+                            timeout_graceful_shutdown=10)
+    Server(config).run()
     return EXIT_OK
 
 

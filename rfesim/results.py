@@ -26,9 +26,15 @@ CHANNELS: dict[str, tuple[str, str]] = {
     "end_b_moment": ("N*m", "Moment of the line on its end-B attachment (global)"),
     "seabed_force": ("N", "Seabed normal force on each RFE"),
     "seabed_friction": ("N", "Seabed friction force on each RFE (global)"),
-    "von_mises_stress": ("Pa", "Equivalent (von Mises) stress at the outer fibre where axial and bending stress add "
-                               "(eqs. 8.97-8.98; elasto-plastic pipe lines, NaN otherwise)"),
-    "utilisation": ("1", "von_mises_stress over the yield stress (eq. 8.98; 1 = yielding; NaN: no yield stress)"),
+    "von_mises_stress": ("Pa", "Largest von Mises stress in the pipe wall (outer and inner fibre, where axial and "
+                               "bending stress add and where they subtract): axial = true wall tension "
+                               "T_eff + p_i A_i - p_e A_e over the steel area plus bending, Lame hoop and radial "
+                               "stresses, the shear of eq. 8.97. Hydrostatic pressures only: external below the "
+                               "still-water surface (no wave pressure), internal from contents at rest and open at "
+                               "the line's highest point (0 for an empty pipe). Elasto-plastic pipe lines; NaN "
+                               "otherwise"),
+    "utilisation": ("1", "von_mises_stress over the yield stress (1 = first yield, with the hydrostatic pressure as "
+                         "von_mises_stress; NaN: no yield stress)"),
     "residual_curvature": ("1/m", "Curvature the SDE would keep if unloaded to zero moment, from its plastic "
                                   "memory (reeling residual curvature; 0 for elastic lines)"),
     "touchdown_position": ("m", "Touchdown point: where seabed contact begins, seen from end B (NaN: no contact)"),
@@ -45,7 +51,8 @@ CHANNELS: dict[str, tuple[str, str]] = {
                           "run's growth; the hanging rope is that much shorter)"),
     "sde_arc_length": ("m", "Arc length from end A of the SDEs"),
     "vessel_position": ("m", "Position of the vessel origin (global)"),
-    "vessel_rotation": ("deg", "Vessel roll, pitch, yaw (ZYX angles)"),
+    "vessel_rotation": ("deg", "Vessel roll, pitch, yaw of its motion (ZYX angles about its heading's axes: "
+                               "R = R_heading Rz(yaw) Ry(pitch) Rx(roll); heading_deg is not included)"),
     "frequency": ("Hz", "Natural frequency"),
     "roller_reaction": ("N", "Normal contact force of the line on each roller"),
     "roller_force": ("N", "Force of the line on each roller, normal and friction (global)"),
@@ -75,6 +82,15 @@ CHANNELS: dict[str, tuple[str, str]] = {
     "winch_rope_mass_drum": ("kg", "Mass of the rope left on the drum"),
     "winch_drum_radius": ("m", "Radius at which the rope leaves the drum (drum mode; grows with the rope on a "
                                "layered drum); NaN in the other modes"),
+}
+
+# chain joints (rfesim.formulations): units of the coordinates and rates by joint kind
+JOINT_UNITS: dict[str, tuple[str, str]] = {"revolute": ("rad", "rad/s"), "spherical": ("rad", "rad/s"),
+                                           "prismatic": ("m", "m/s"), "fixed": ("1", "1/s")}
+JOINT_LONG_NAMES = {
+    "coordinate": "Joint coordinate(s) of a chain joint: the rotation about its axis (revolute, rad), the slide "
+                  "along it (prismatic, m) or its ZYX angles (spherical, rad)",
+    "rate": "Rate(s) of the chain joint's coordinate(s) (rad/s or m/s, as the coordinates)",
 }
 
 WINCH_CHANNELS = ("payout", "speed", "tension", "suspended_length", "rope_mass_suspended", "rope_mass_drum",
@@ -276,6 +292,28 @@ class TuggerResults:
 
 
 @dataclass
+class JointResults:
+    """Time history of a chain joint's coordinates and rates: rad and rad/s for a revolute
+    joint (a spherical one: its three ZYX angles), m and m/s for a prismatic one; none for a
+    fixed joint."""
+
+    name: str                          # "<chain>.<joint>"
+    coordinate: np.ndarray             # (nt, ncoord) rad or m
+    rate: np.ndarray                   # (nt, ncoord) rad/s or m/s
+    kind: str = ""                     # revolute | prismatic | spherical | fixed ("": not known)
+
+    @property
+    def velocity(self) -> np.ndarray:
+        """(nt, ncoord): the rates of the coordinates (rad/s or m/s)."""
+        return self.rate
+
+    @property
+    def units(self) -> str:
+        """Units of ``coordinate``: rad or m (1 when the kind is not known)."""
+        return JOINT_UNITS.get(self.kind, ("1", "1"))[0]
+
+
+@dataclass
 class VesselResults:
     name: str
     position: np.ndarray              # (nt, 3) m
@@ -296,6 +334,7 @@ class Results:
     reels: dict[str, TensionerResults] = field(default_factory=dict)   # payout and tangential grip force
     winches: dict = field(default_factory=dict)    # WinchResults by winch name
     tuggers: dict = field(default_factory=dict)    # TuggerResults by tugger name
+    joints: dict = field(default_factory=dict)     # JointResults by "<chain>.<joint>" (chains only)
     status: int = 0
     message: str = ""
     counters: dict = field(default_factory=dict)
@@ -342,6 +381,13 @@ class Results:
 
     def vessel(self, name: str) -> VesselResults:
         return self.vessels[name]
+
+    def joint(self, name: str) -> JointResults:
+        try:
+            return self.joints[name]
+        except KeyError:
+            raise KeyError(f"no joint '{name}' in the results (joints: {', '.join(self.joints) or 'none'})") \
+                from None
 
     def __repr__(self) -> str:
         return (f"Results({self.kind}, {len(self.time)} times {self.time[0] if len(self.time) else 0:.4g}.."
@@ -500,6 +546,20 @@ def _write_netcdf(res: Results, path: str) -> None:
                 _var(g, "tension", ("time",), tr.tension, "tugger_tension")
                 _var(g, "length", ("time",), tr.length, "tugger_length")
                 _var(g, "force", ("time", "xyz"), tr.force, "tugger_force")
+        if res.joints:
+            jg = f.create_group("joints")
+            for name, jr in res.joints.items():
+                g = jg.create_group(name)
+                coord = np.asarray(jr.coordinate, dtype=float).reshape(nt, -1)
+                rate = np.asarray(jr.rate, dtype=float).reshape(nt, -1)
+                g.attrs["kind"] = jr.kind
+                g.dimensions = {"time": nt, "coord": coord.shape[1]}
+                _var(g, "time", ("time",), res.time)
+                for ch, data, units in (("coordinate", coord, JOINT_UNITS.get(jr.kind, ("1", "1"))[0]),
+                                        ("rate", rate, JOINT_UNITS.get(jr.kind, ("1", "1"))[1])):
+                    v = g.create_variable(ch, ("time", "coord"), data=data)
+                    v.attrs["units"] = units
+                    v.attrs["long_name"] = JOINT_LONG_NAMES[ch]
         if res.vessels:
             vg = f.create_group("vessels")
             for name, vr in res.vessels.items():
@@ -561,8 +621,14 @@ def open_results(path: str | os.PathLike) -> Results:
                                        line=_s(g.attrs.get("line", "")), at=float(np.ravel(g.attrs.get("at", float("nan")))[0]),
                                        **{ch: g[ch][()] for ch in TUGGER_CHANNELS})
                    for name, g in f.get("tuggers", {}).items()}
+        joints = {}
+        for name, g in f.get("joints", {}).items():
+            if not lines and not len(time):
+                time = g["time"][()]
+            joints[name] = JointResults(name=name, coordinate=g["coordinate"][()], rate=g["rate"][()],
+                                        kind=_s(g.attrs.get("kind", "")))
         return Results(time=time, lines=lines, vessels=vessels, supports=supports, bodies=bodies,
-                       tensioners=tensioners, reels=reels, winches=winches, tuggers=tuggers,
+                       tensioners=tensioners, reels=reels, winches=winches, tuggers=tuggers, joints=joints,
                        status=int(_scalar(attrs.get("status", 0))),
                        message=_s(attrs.get("message", "")), counters=json.loads(_s(attrs.get("counters", "{}"))),
                        scenario_json=_s(attrs.get("scenario", "")), version=_s(attrs.get("rfesim_version", "")),

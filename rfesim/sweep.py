@@ -4,22 +4,33 @@
         --vary vessels.fpso.motion.heave.amplitude=1,2,3 \\
         --vary environment.water.density=1020,1030 -o table.csv
 
-From Python::
+From Python (the local pool starts its worker processes with the ``spawn`` method, which
+imports the main module again: a script needs the ``__main__`` guard)::
 
     from rfesim.sweep import run_sweep
-    rows = run_sweep("scenarios/catenary_riser.json", {"vessels.fpso.motion.heave.amplitude": [1, 2, 3]})
+
+    if __name__ == "__main__":
+        rows = run_sweep("scenarios/catenary_riser.json", {"vessels.fpso.motion.heave.amplitude": [1, 2, 3]})
 
 Cases run in parallel processes: a local process pool by default, or any executor with
 ``submit(fn, *args) -> future`` whose futures have ``.result()`` — a
 ``concurrent.futures`` executor or a ``distributed.Client`` (a Dask cluster, e.g. SLURM
-through dask-jobqueue). Each process uses one numba/BLAS thread.
+through dask-jobqueue). Each process uses one numba/BLAS thread. A local worker process
+that dies (killed, out of memory) fails only the case it was running: the pool is
+started again for the others, and the cases it may have been running are run again,
+alone (run_cases).
 
-Summary columns (SI units): ``max_top_tension`` (N, largest over lines of the force at end
-B), ``max_tension`` / ``min_tension`` (N, effective tension over all SDEs and times),
-``max_bend_moment`` (N*m), ``touchdown_min`` / ``touchdown_max`` (m, range over time of
-the arc length where seabed contact ends, empty when no line touches the seabed),
-``daf`` (dynamic amplification: max top tension over the top tension at t = 0, the
-static one), ``wall_time`` (s), ``status`` (done / failed) and ``message``.
+Summary columns (SI units): ``max_top_tension`` (N, largest over lines of the top tension:
+the force at the end held on board, see :func:`line_top_tension`; the table's
+``top_tension_at`` names the line and the end, e.g. ``riser end B`` or ``lay tensioner``),
+``max_tension`` / ``min_tension`` (N, effective tension over all SDEs and times),
+``max_bend_moment`` (N*m), ``touchdown_min`` / ``touchdown_max`` (m, range over time and
+lines of the results' ``touchdown_arc_length``, the arc length from end A where seabed
+contact begins; empty when no line touches the seabed), ``daf`` (dynamic amplification:
+max top tension over the top tension at t = 0, the static one), ``wall_time`` (s),
+``status`` (done / failed) and ``message``. The CSV file holds every number in full
+precision; it gets each row as its case finishes, so an interrupted sweep (Ctrl-C,
+SIGTERM: exit code 130) keeps the finished cases.
 """
 from __future__ import annotations
 
@@ -53,49 +64,80 @@ def _finite_or_none(x: float) -> float | None:
 
 
 def touchdown_range(res) -> tuple[float | None, float | None]:
-    """(min, max) over time of the touchdown arc length: per line and time, the largest
-    arc length of an RFE in seabed contact (``seabed_force > 0``). (None, None) when no
-    line touches the seabed."""
+    """(min, max) over time and lines of the touchdown arc length (the results'
+    ``touchdown_arc_length``: arc length from end A of the point where seabed contact
+    begins, seen from end B). (None, None) when no line touches the seabed."""
     import numpy as np
 
-    lo, hi = math.inf, -math.inf
-    for lr in res.lines.values():
-        force = np.asarray(lr.seabed_force)
-        if force.size == 0 or not np.any(force > 0.0):
-            continue
-        points = np.asarray(lr.arc_length)
-        rfe_s = 0.5 * (points[:-1] + points[1:])        # RFE i spans points i .. i+1
-        if rfe_s.shape[0] != force.shape[1]:
-            rfe_s = np.linspace(points[0], points[-1], force.shape[1])
-        contact = force > 0.0
-        touching = np.any(contact, axis=1)
-        last = force.shape[1] - 1 - np.argmax(contact[:, ::-1], axis=1)
-        s = rfe_s[last[touching]]
-        lo, hi = min(lo, float(s.min())), max(hi, float(s.max()))
-    if lo > hi:
+    values = [np.asarray(lr.touchdown_arc_length, dtype=float).ravel() for lr in res.lines.values()
+              if lr.touchdown_arc_length is not None]
+    values = np.concatenate(values) if values else np.zeros(0)
+    if not np.any(np.isfinite(values)):
         return None, None
-    return lo, hi
+    return _finite_or_none(np.nanmin(values)), _finite_or_none(np.nanmax(values))
 
 
-def summarize(res) -> dict[str, float | None]:
-    """The summary columns of one run's Results (None where not defined)."""
+def line_top_tension(res, name: str):
+    """``(top, where)``: the top tension of line ``name`` over time, (nt,) N, and which force
+    it is (``"tensioner"``, ``"end A"`` or ``"end B"``).
+
+    The top is the end held on board: for a line with supports (a pipelay line, end A on the
+    vessel and end B pinned on the seabed) the force the tensioner (or collar) holds, or the
+    force at end A without one (rfesim.lay_results.lay_summary); otherwise the force at the
+    end attached to a vessel, end B when both or neither are (a riser's top, as
+    ``LineResults.top_tension``)."""
+    import numpy as np
+
+    lr = res.line(name)
+    try:
+        sc = json.loads(res.scenario_json) if res.scenario_json else {}
+    except ValueError:
+        sc = {}
+    spec = (sc.get("lines") or {}).get(name) or {}
+    supports = {s: v for s, v in (sc.get("supports") or {}).items() if isinstance(v, dict) and v.get("line") == name}
+    if supports and len(res.time):
+        from .lay_results import lay_summary
+
+        try:
+            top = np.asarray(lay_summary(res, name)["top_tension"], dtype=float)
+        except Exception:   # a line type lay_summary cannot read: the force at the end on board below
+            top = None
+        if top is not None and top.shape == (len(res.time),):
+            held = any(v.get("kind") == "tensioner" and s in res.tensioners for s, v in supports.items())
+            return top, "tensioner" if held else "end A"
+    vessels = sc.get("vessels") or {}
+    on_vessel = [((spec.get(end) or {}).get("attach") in vessels) for end in ("end_a", "end_b")]
+    if on_vessel[0] and not on_vessel[1]:
+        return np.linalg.norm(np.asarray(lr.end_a_force), axis=-1), "end A"
+    return np.asarray(lr.top_tension), "end B"
+
+
+def _summary(res) -> tuple[dict[str, float | None], str | None]:
+    """The summary columns and where the max top tension is (``"<line> <end>"``)."""
     import numpy as np
 
     out: dict[str, float | None] = {c: None for c in SUMMARY_COLUMNS}
     if len(res.time) == 0 or not res.lines:
-        return out
-    top = {name: np.asarray(lr.top_tension) for name, lr in res.lines.items()}
-    best = max(top, key=lambda n: np.nanmax(top[n]) if top[n].size else -np.inf)
-    max_top = float(np.nanmax(top[best]))
+        return out, None
+    top = {name: line_top_tension(res, name) for name in res.lines}
+    best = max(top, key=lambda n: np.nanmax(top[n][0]) if top[n][0].size else -np.inf)
+    best_top, where = top[best]
+    max_top = float(np.nanmax(best_top))
     out["max_top_tension"] = _finite_or_none(max_top)
     out["max_tension"] = _finite_or_none(max(np.nanmax(lr.tension) for lr in res.lines.values()))
     out["min_tension"] = _finite_or_none(min(np.nanmin(lr.tension) for lr in res.lines.values()))
     out["max_bend_moment"] = _finite_or_none(max(np.nanmax(lr.bend_moment) for lr in res.lines.values()))
     out["touchdown_min"], out["touchdown_max"] = touchdown_range(res)
-    static_top = float(top[best][0])
+    static_top = float(best_top[0])
     if static_top > 1e-9 * max(1.0, abs(max_top)) and math.isfinite(static_top):
         out["daf"] = _finite_or_none(max_top / static_top)
-    return out
+    return out, f"{best} {where}"
+
+
+def summarize(res) -> dict[str, float | None]:
+    """The summary columns of one run's Results (None where not defined). The top tension
+    is that of the end held on board (:func:`line_top_tension`)."""
+    return _summary(res)[0]
 
 
 # --------------------------------------------------------------------------- one load case
@@ -103,8 +145,8 @@ def summarize(res) -> dict[str, float | None]:
 def run_case(case: dict, index: int = 0) -> dict[str, Any]:
     """Run one load case (a scenario dict) and summarise it; runs in a worker process.
 
-    Returns ``{"case", "status", "message", "wall_time", **summary}``; a run that diverges
-    is summarised from its partial results with status "failed".
+    Returns ``{"case", "status", "message", "wall_time", "top_tension_at", **summary}``; a
+    run that diverges is summarised from its partial results with status "failed".
     """
     import rfesim
 
@@ -119,9 +161,26 @@ def run_case(case: dict, index: int = 0) -> dict[str, Any]:
     except rfesim.ScenarioError as exc:
         res = None
         row.update(status="failed", message=f"scenario error: {exc}")
-    row.update(summarize(res) if res is not None else {c: None for c in SUMMARY_COLUMNS})
+    summary, where = _summary(res) if res is not None else ({c: None for c in SUMMARY_COLUMNS}, None)
+    row.update(summary)
+    row["top_tension_at"] = where
     row["wall_time"] = time.perf_counter() - wall0
     return row
+
+
+def _run_case_marked(case: dict, index: int, marker: str, fn=run_case) -> dict[str, Any]:
+    """``fn(case, index)`` (:func:`run_case`) in a local worker process, first leaving the
+    file ``marker``: the case had started when its worker died (run_cases)."""
+    with open(marker, "w") as f:
+        f.write(str(os.getpid()))
+    return fn(case, index)
+
+
+def _worker_init() -> None:
+    """Local worker processes ignore Ctrl-C: the main process stops them (run_cases)."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
 # --------------------------------------------------------------------------- the grid
@@ -178,11 +237,38 @@ def _split_top_level(text: str) -> list[str]:
 
 
 def grid(vary: dict[str, list]) -> list[dict[str, Any]]:
-    """Every combination of the varied values, the last path varying fastest."""
+    """Every combination of the varied values, the last path varying fastest.
+
+    Refused (ScenarioError naming both paths): a varied path inside another one, compared
+    by dotted parts (``analysis.dynamics`` and ``analysis.dynamics.duration``, not
+    ``lines.riser`` and ``lines.riser2``). The overrides of a case are applied one after
+    the other, so one of the two would silently replace the other's values while the table
+    still listed them."""
+    from .errors import ScenarioError
+
     if not vary:
         return [{}]
     paths = list(vary)
+    parts = [tuple(str(p).split(".")) for p in paths]
+    overlaps = []
+    for i, a in enumerate(parts):
+        for j, b in enumerate(parts):
+            if i != j and len(a) < len(b) and b[:len(a)] == a:
+                overlaps.append((str(paths[j]), f"is inside the varied path '{paths[i]}': vary either "
+                                                f"'{paths[i]}' or '{paths[j]}' (one would replace the other's "
+                                                f"values in every load case)"))
+    if overlaps:
+        raise ScenarioError(overlaps)
     return [dict(zip(paths, combo)) for combo in itertools.product(*(vary[p] for p in paths))]
+
+
+def _scenario_folder(scenario) -> Path | None:
+    """The folder relative data-file paths are taken from: a scenario file's own folder
+    (None for text, a dict or a Scenario: the current directory, as load_scenario does)."""
+    if isinstance(scenario, os.PathLike) or (isinstance(scenario, str) and "\n" not in scenario
+                                              and not scenario.lstrip().startswith(("{", "["))):
+        return Path(scenario).parent
+    return None
 
 
 def _base_dict(scenario) -> dict:
@@ -195,11 +281,11 @@ def _base_dict(scenario) -> dict:
     if isinstance(scenario, dict):
         return scenario
     if isinstance(scenario, (str, os.PathLike)):
-        text_like = isinstance(scenario, str) and ("\n" in scenario or scenario.lstrip().startswith(("{", "[")))
-        data = parse_text(scenario) if text_like else parse_text(*_read_file(Path(scenario)))
-        if not text_like:                        # data files are relative to the scenario file
+        folder = _scenario_folder(scenario)
+        data = parse_text(scenario) if folder is None else parse_text(*_read_file(Path(scenario)))
+        if folder is not None:                   # data files are relative to the scenario file
             from .scenario.files import resolve_data_files
-            data = resolve_data_files(data, Path(scenario).parent)
+            data = resolve_data_files(data, folder)
     else:
         data = scenario
     if not isinstance(data, dict):
@@ -207,18 +293,75 @@ def _base_dict(scenario) -> dict:
     return data
 
 
+def _named_maps() -> tuple[str, ...]:
+    """The scenario's top-level maps of named objects (vessels, lines, line_types, ...)."""
+    import typing
+
+    from .scenario import Scenario
+
+    return tuple(name for name, f in Scenario.model_fields.items() if typing.get_origin(f.annotation) is dict)
+
+
+def check_vary_paths(base: dict, vary: dict[str, list]) -> None:
+    """Refuse (ScenarioError naming the path) a varied path into an entry of a named map
+    (``vessels.X.…``, ``lines.X.…``, ...) that the base scenario does not have, neither
+    itself nor from its pipelay or crane templates: a misspelled name would add a new,
+    unused object and run the base case unchanged. ``map.X`` alone, given whole objects as
+    values, adds them on purpose and is allowed."""
+    import difflib
+
+    from .errors import ScenarioError
+
+    errors = []
+    expanded = None
+    for path, values in vary.items():
+        parts = str(path).split(".")
+        if len(parts) < 2 or parts[0] not in _named_maps():
+            continue
+        group, name = parts[0], parts[1]
+        have = base.get(group) if isinstance(base.get(group), dict) else {}
+        if name in have:
+            continue
+        if len(parts) == 2 and all(isinstance(v, dict) for v in values):
+            continue                              # a whole new entry
+        if expanded is None:                      # names the templates make (pipelay, cranes)
+            try:
+                from .scenario import expand
+                expanded = expand(base)
+            except Exception:   # a template that does not expand: validation says why, per case
+                expanded = base
+        made = expanded.get(group) if isinstance(expanded.get(group), dict) else {}
+        if name in made:
+            continue
+        known = sorted(set(have) | set(made))
+        close = difflib.get_close_matches(name, known, n=1)
+        hint = f"; did you mean '{group}.{close[0]}'?" if close else ""
+        errors.append((str(path), f"--vary names {group} entry '{name}', which the scenario does not have "
+                                  f"({group}: {', '.join(known) or 'none'}){hint}"))
+    if errors:
+        raise ScenarioError(errors)
+
+
 def build_cases(scenario, vary: dict[str, list], overrides: dict | None = None) -> list[tuple[dict, dict]]:
     """Validate every load case; ``[(case values, scenario dict), ...]``.
 
-    Raises ScenarioError naming the case and the field when a case is not valid."""
+    Relative data-file paths among the varied values (``vessels.barge.motion.file``) are
+    taken from the scenario file's folder, as the scenario's own. Raises ScenarioError
+    naming the case and the field when a case is not valid, and naming the path when a
+    varied path names an object the scenario does not have (:func:`check_vary_paths`)."""
     from .errors import ScenarioError
     from .scenario import load_scenario
+    from .scenario.files import resolve_data_files
     from .scenario.load import apply_overrides
 
     base = _base_dict(scenario)
+    folder = _scenario_folder(scenario)
+    check_vary_paths(base, vary)
     cases = []
     for values in grid(vary):
         data = apply_overrides(base, {**(overrides or {}), **values})
+        if folder is not None:
+            data = resolve_data_files(data, folder)
         try:
             load_scenario(data)
         except ScenarioError as exc:
@@ -245,52 +388,180 @@ def worker_environment() -> Iterator[None]:
 
 
 def local_executor(workers: int | None = None):
-    """A process pool (spawn start method) of ``workers`` processes (default: the cores)."""
+    """A process pool (spawn start method) of ``workers`` processes (default: the cores);
+    its processes ignore Ctrl-C (the main process stops them)."""
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor
 
     n = max(1, workers or os.cpu_count() or 1)
-    return ProcessPoolExecutor(max_workers=n, mp_context=multiprocessing.get_context("spawn"))
+    return ProcessPoolExecutor(max_workers=n, mp_context=multiprocessing.get_context("spawn"),
+                               initializer=_worker_init)
 
 
 def run_sweep(scenario, vary: dict[str, list], executor=None, *, overrides: dict | None = None,
               workers: int | None = None, on_row=None) -> list[dict[str, Any]]:
     """Run every load case of ``vary`` (dotted path -> values, a grid) and return one row
-    per case: ``case``, the varied values, the summary columns, ``wall_time``, ``status``.
+    per case, in case order: ``case``, the varied values, the summary columns,
+    ``top_tension_at``, ``wall_time``, ``status``, ``message``.
 
     ``executor``: None for a local process pool, or anything with ``submit(fn, *args)``
     returning a future with ``.result()`` (``concurrent.futures`` executors,
-    ``distributed.Client``). ``on_row(row)`` is called as each row arrives, in case order.
-    Raises ScenarioError (naming the case and the field) before anything runs if a case
-    is not valid.
+    ``distributed.Client``). ``on_row(row)`` is called as each case finishes (in the order
+    they finish). Raises ScenarioError (naming the case and the field) before anything runs
+    if a case is not valid. The local pool starts processes with ``spawn``: call it under
+    ``if __name__ == "__main__":`` in a script.
     """
     return run_cases(build_cases(scenario, vary, overrides), executor, workers=workers, on_row=on_row)
 
 
+LOST_WORKER = ("its worker process died (killed, or out of memory): it was run again alone, and its process "
+               "died again")
+
+
+def _failed(i: int, message: str) -> dict[str, Any]:
+    return {"case": i, "status": "failed", "message": message, "wall_time": None, "top_tension_at": None,
+            **{c: None for c in SUMMARY_COLUMNS}}
+
+
 def run_cases(cases: list[tuple[dict, dict]], executor=None, *, workers: int | None = None,
               on_row=None) -> list[dict[str, Any]]:
-    """Run validated cases from :func:`build_cases` on ``executor`` (see run_sweep)."""
-    own = executor is None
-    if own:
-        executor = local_executor(min(len(cases), workers or os.cpu_count() or 1))
+    """Run validated cases from :func:`build_cases` on ``executor`` (see run_sweep); the
+    rows in case order.
+
+    A case whose run raises fails alone. On a local process pool (``executor`` None or a
+    ``ProcessPoolExecutor``) a worker process that dies breaks the whole pool: the cases
+    that had not started yet go to a new pool, and those that had (one of them was on the
+    dead worker) are run again one at a time in a pool of their own; a case fails only if
+    its process dies again there. A KeyboardInterrupt stops the workers and propagates
+    (``on_row`` has had the finished rows)."""
+    from concurrent.futures import ProcessPoolExecutor
+
+    rows: dict[int, dict] = {}
+
+    def finish(i: int, result: dict) -> None:
+        row = {"case": i, **cases[i][0], **{k: v for k, v in result.items() if k != "case"}}
+        rows[i] = row
+        if on_row is not None:
+            on_row(row)
+
+    if executor is None or isinstance(executor, ProcessPoolExecutor):
+        n = workers or getattr(executor, "_max_workers", None) or os.cpu_count() or 1
+        _run_local(cases, executor, n, finish)
+    else:
+        _run_on(executor, cases, finish)
+    return [rows[i] for i in sorted(rows)]
+
+
+def _run_on(executor, cases, finish) -> None:
+    """Any executor: each case's failure its own (a Dask cluster reschedules the cases of a
+    lost worker itself)."""
+    with worker_environment():
+        futures = {_submit(executor, run_case, data, i): i for i, (_, data) in enumerate(cases)}
+    for fut in _completed(executor, list(futures)):
+        i = futures[fut]
+        try:
+            result = fut.result()
+        except KeyboardInterrupt:
+            raise
+        except Exception as exc:   # this case fails, the others go on
+            result = _failed(i, f"{type(exc).__name__}: {exc}")
+        finish(i, result)
+
+
+def _completed(executor, futures: list):
+    """The futures as they finish (concurrent.futures, Dask), else in order."""
+    from concurrent.futures import Future, as_completed
+
+    if futures and all(isinstance(f, Future) for f in futures):
+        return as_completed(futures)
     try:
-        with worker_environment():     # processes the pool starts now inherit one thread each
-            futures = [_submit(executor, run_case, data, i) for i, (_, data) in enumerate(cases)]
-        rows = []
-        for i, ((values, _), fut) in enumerate(zip(cases, futures)):
+        from distributed import Client
+        from distributed import as_completed as dask_completed
+    except ImportError:
+        return futures
+    return dask_completed(futures) if isinstance(executor, Client) else futures
+
+
+def _stop(executor) -> None:
+    """Shut a local pool down without waiting for the cases it runs (an interruption)."""
+    processes = dict(getattr(executor, "_processes", None) or {})
+    executor.shutdown(wait=False, cancel_futures=True)
+    for p in processes.values():
+        with contextlib.suppress(Exception):
+            p.terminate()
+
+
+def _run_local(cases, given, workers: int, finish, fn=run_case) -> None:
+    """Run ``fn(case, index)`` (:func:`run_case`) for each case on local process pools,
+    surviving dead worker processes (run_cases); ``finish(index, result)`` as each ends."""
+    import shutil
+    import tempfile
+    from concurrent.futures import as_completed
+    from concurrent.futures.process import BrokenProcessPool
+
+    markers = Path(tempfile.mkdtemp(prefix="rfesim-sweep-"))
+    pool = given
+    try:
+        pending, suspects, blind = list(range(len(cases))), [], 0
+        while pending:
+            if pool is None:
+                with worker_environment():      # processes the pool starts now inherit one thread each
+                    pool = local_executor(min(len(pending), workers))
             try:
-                result = fut.result()
-            except Exception as exc:   # a lost worker, a broken pool: this case fails, the others go on
-                result = {"case": i, "status": "failed", "message": f"{type(exc).__name__}: {exc}",
-                          "wall_time": None, **{c: None for c in SUMMARY_COLUMNS}}
-            row = {"case": i, **values, **{k: v for k, v in result.items() if k != "case"}}
-            rows.append(row)
-            if on_row is not None:
-                on_row(row)
-        return rows
+                with worker_environment():
+                    futures = {pool.submit(_run_case_marked, cases[i][1], i, str(markers / f"{i}"), fn): i
+                               for i in pending}
+            except BrokenProcessPool:           # a given pool broken before
+                futures = {}
+            broken = [i for i in pending if i not in futures.values()]
+            for fut in as_completed(futures):
+                i = futures[fut]
+                try:
+                    result = fut.result()
+                except BrokenProcessPool:
+                    broken.append(i)
+                    continue
+                except KeyboardInterrupt:
+                    raise
+                except Exception as exc:   # this case fails, the others go on
+                    result = _failed(i, f"{type(exc).__name__}: {exc}")
+                finish(i, result)
+            if pool is not given:
+                pool.shutdown(wait=True, cancel_futures=True)
+            pool = None
+            started = sorted(i for i in broken if (markers / f"{i}").exists())
+            pending = sorted(i for i in broken if i not in started)
+            suspects += started
+            if broken and not started:
+                blind += 1               # the pool broke with no case started: after 3 times, alone each
+                if blind >= 3:
+                    suspects += pending
+                    pending = []
+        for i in sorted(suspects):      # alone, so that a dead process names its case
+            (markers / f"{i}").unlink(missing_ok=True)
+            if pool is None:
+                with worker_environment():
+                    pool = local_executor(1)
+            try:
+                result = pool.submit(_run_case_marked, cases[i][1], i, str(markers / f"{i}"), fn).result()
+            except BrokenProcessPool:
+                pool.shutdown(wait=True, cancel_futures=True)
+                pool = None
+                result = _failed(i, LOST_WORKER)
+            except KeyboardInterrupt:
+                raise
+            except Exception as exc:
+                result = _failed(i, f"{type(exc).__name__}: {exc}")
+            finish(i, result)
+    except BaseException:
+        if pool is not None and pool is not given:
+            _stop(pool)
+            pool = None
+        raise
     finally:
-        if own:
-            executor.shutdown(wait=True, cancel_futures=True)
+        if pool is not None and pool is not given:
+            pool.shutdown(wait=True, cancel_futures=True)
+        shutil.rmtree(markers, ignore_errors=True)
 
 
 def _submit(executor, fn, *args):
@@ -305,11 +576,15 @@ def _submit(executor, fn, *args):
 
 # --------------------------------------------------------------------------- table output
 
+RESULT_COLUMNS = ("case", *SUMMARY_COLUMNS, "top_tension_at", "wall_time", "status", "message")
+
+
 def columns(vary: dict[str, list]) -> list[str]:
-    return ["case", *vary, *SUMMARY_COLUMNS, "wall_time", "status", "message"]
+    return ["case", *vary, *SUMMARY_COLUMNS, "top_tension_at", "wall_time", "status", "message"]
 
 
 def _cell(value) -> str:
+    """A value for the console table (6 significant digits)."""
     if value is None:
         return ""
     if isinstance(value, float):
@@ -319,20 +594,64 @@ def _cell(value) -> str:
     return str(value)
 
 
+def _csv_cell(value) -> str:
+    """A value for the CSV file: numbers in full precision (repr: read back exactly)."""
+    if isinstance(value, float):
+        return repr(value)
+    return _cell(value)
+
+
+def _distinct_cells(values: list) -> list[str]:
+    """Console cells of a varied column: 6 significant digits, more where two different
+    numbers would otherwise look the same (1025.0001 and 1025.0004)."""
+    numbers = {v for v in values if isinstance(v, float) and math.isfinite(v)}
+    digits = 6
+    while digits < 17 and len({f"{v:.{digits}g}" for v in numbers}) < len(numbers):
+        digits += 1
+    return [f"{v:.{digits}g}" if isinstance(v, float) else _cell(v) for v in values]
+
+
 def write_csv(rows: list[dict], cols: list[str], path: str | os.PathLike) -> None:
+    """The table as CSV, written atomically (a temporary file beside it, then renamed)."""
     tmp = Path(f"{os.fspath(path)}.tmp")
     with open(tmp, "w", newline="", encoding="utf-8") as f:
         writer = csv.writer(f)
         writer.writerow(cols)
         for row in rows:
-            writer.writerow([_cell(row.get(c)) for c in cols])
+            writer.writerow([_csv_cell(row.get(c)) for c in cols])
     os.replace(tmp, path)
+
+
+class RowWriter:
+    """A CSV file that gets each row as its case finishes (flushed at once): an interrupted
+    sweep keeps the finished cases. ``finish(rows)`` rewrites it in case order."""
+
+    def __init__(self, path: str | os.PathLike, cols: list[str]):
+        self.path, self.cols = path, cols
+        self.file = open(path, "w", newline="", encoding="utf-8")
+        self.writer = csv.writer(self.file)
+        self.writer.writerow(cols)
+        self.file.flush()
+
+    def add(self, row: dict) -> None:
+        self.writer.writerow([_csv_cell(row.get(c)) for c in self.cols])
+        self.file.flush()
+
+    def close(self) -> None:
+        if not self.file.closed:
+            self.file.close()
+
+    def finish(self, rows: list[dict]) -> None:
+        self.close()
+        write_csv(rows, self.cols, self.path)
 
 
 def format_table(rows: list[dict], cols: list[str]) -> str:
     header = [c + (f" [{SUMMARY_UNITS[c]}]" if c in SUMMARY_UNITS else "") for c in cols if c != "message"]
     keys = [c for c in cols if c != "message"]
-    body = [[_cell(r.get(c)) for c in keys] for r in rows]
+    by_column = [_distinct_cells([r.get(c) for r in rows]) if c not in RESULT_COLUMNS
+                 else [_cell(r.get(c)) for r in rows] for c in keys]
+    body = [list(cells) for cells in zip(*by_column)] if rows else []
     widths = [max(len(h), *(len(b[i]) for b in body)) if body else len(h) for i, h in enumerate(header)]
     lines = ["  ".join(h.rjust(w) for h, w in zip(header, widths))]
     lines += ["  ".join(c.rjust(w) for c, w in zip(b, widths)) for b in body]
@@ -359,9 +678,28 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
+def _address_problem(address: str) -> str | None:
+    """Why ``address`` is not a Dask scheduler address (unknown scheme, no port), or None.
+    Checked before connecting: what Client raises for a bad address depends on the state of
+    the process's event loop."""
+    from distributed.comm.addressing import parse_address, parse_host_port
+    from distributed.comm.registry import get_backend
+
+    try:
+        scheme, loc = parse_address(address, strict=False)
+        get_backend(scheme)
+        if scheme in ("tcp", "tls", "ws", "wss"):
+            parse_host_port(loc)
+    except (ValueError, TypeError) as exc:
+        return str(exc)
+    return None
+
+
 def main(argv: list[str] | None = None) -> int:
     """``rfesim sweep``; returns 0 when every case finished, 3 when some failed, 1 on bad
-    input, 2 on a usage error."""
+    input, 2 on a usage error, 130 when interrupted (Ctrl-C, SIGTERM): the CSV file then
+    holds the cases that had finished."""
+    from .cli import CliError, _output_path, sigterm_as_interrupt
     from .errors import ScenarioError
 
     parser = build_parser()
@@ -374,22 +712,13 @@ def main(argv: list[str] | None = None) -> int:
     except ValueError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
+    output = None
     if args.output:
-        folder = Path(args.output).resolve().parent
-        if not folder.is_dir():
-            print(f"error: the output folder does not exist: {folder}", file=sys.stderr)
-            return 1
-        if Path(args.output).is_dir():
-            print(f"error: the output path is a folder: {args.output} (give a file, e.g. {args.output}/table.csv)",
-                  file=sys.stderr)
-            return 1
-        from .cli import CliError, check_writable
-
-        try:
-            check_writable(Path(args.output))
+        try:       # the checks of `rfesim run -o`: the folder exists, not a folder, not the scenario, writable
+            output = _output_path(args.output, Path(args.scenario), None)
         except CliError as exc:
             print(str(exc), file=sys.stderr)
-            return 1
+            return exc.code
     for n, flag in ((args.local_cluster, "--local-cluster"), (args.workers, "--workers")):
         if n is not None and n < 1:
             print(f"error: {flag} must be at least 1", file=sys.stderr)
@@ -406,38 +735,63 @@ def main(argv: list[str] | None = None) -> int:
              f"a local pool of {min(len(cases), args.workers or os.cpu_count() or 1)} processes")
     print(f"{len(cases)} load cases on {where}", file=sys.stderr)
     wall0 = time.perf_counter()
+    cols = columns(vary)
+    finished: list[dict] = []
+    writer: RowWriter | None = None
 
     def report(row):
-        print(f"  case {row['case']}: {row['status']} ({_cell(row.get('wall_time'))} s)", file=sys.stderr)
+        finished.append(row)
+        if writer is not None:
+            writer.add(row)
+        t = row.get("wall_time")
+        detail = f" ({_cell(t)} s)" if t is not None else f": {row.get('message', '')}"
+        print(f"  case {row['case']}: {row['status']}{detail}", file=sys.stderr)
 
-    with contextlib.ExitStack() as stack:
-        executor = None
-        if args.scheduler or args.local_cluster:
-            try:
-                from distributed import Client, LocalCluster
-            except ImportError:
-                print("error: Dask is not installed: pip install 'rfesim[service]' (dask[distributed])",
-                      file=sys.stderr)
-                return 2
-            if args.scheduler:
+    try:
+        with sigterm_as_interrupt(), contextlib.ExitStack() as stack:
+            executor = None
+            if args.scheduler or args.local_cluster:
                 try:
-                    executor = stack.enter_context(Client(args.scheduler, timeout=30))
-                except (OSError, TimeoutError) as exc:
-                    print(f"error: cannot reach the Dask scheduler {args.scheduler}: {exc}", file=sys.stderr)
+                    from distributed import Client, LocalCluster
+                except ImportError:
+                    print("error: Dask is not installed: pip install 'rfesim[service]' (dask[distributed])",
+                          file=sys.stderr)
                     return 2
-            else:
-                with worker_environment():
-                    cluster = stack.enter_context(LocalCluster(
-                        n_workers=args.local_cluster, threads_per_worker=1, processes=True,
-                        host="127.0.0.1", dashboard_address=None))
-                executor = stack.enter_context(Client(cluster))
-        rows = run_cases(cases, executor, workers=args.workers, on_row=report)
-    cols = columns(vary)
+                if args.scheduler:
+                    bad = _address_problem(args.scheduler)
+                    if bad:                                 # not an address: "notanaddress", "foo://..."
+                        print(f"error: --scheduler {args.scheduler!r} is not a Dask scheduler address ({bad}); "
+                              f"give one such as tcp://head-node:8786", file=sys.stderr)
+                        return 2
+                    try:
+                        executor = stack.enter_context(Client(args.scheduler, timeout=30))
+                    except (OSError, TimeoutError) as exc:
+                        print(f"error: cannot reach the Dask scheduler {args.scheduler}: {exc}", file=sys.stderr)
+                        return 2
+                else:
+                    with worker_environment():
+                        cluster = stack.enter_context(LocalCluster(
+                            n_workers=args.local_cluster, threads_per_worker=1, processes=True,
+                            host="127.0.0.1", dashboard_address=None))
+                    executor = stack.enter_context(Client(cluster))
+            if output is not None:
+                writer = RowWriter(output, cols)
+                stack.callback(writer.close)
+            rows = run_cases(cases, executor, workers=args.workers, on_row=report)
+    except KeyboardInterrupt:
+        if writer is not None:
+            writer.close()
+        done = sorted(finished, key=lambda r: r["case"])
+        if done:
+            print(format_table(done, cols))
+        print(f"interrupted: {len(done)} of {len(cases)} cases done"
+              + (f", their rows are in {output}" if output is not None else ""), file=sys.stderr)
+        return 130
     print(format_table(rows, cols))
     print(f"{len(rows)} cases, wall time {time.perf_counter() - wall0:.3g} s", file=sys.stderr)
-    if args.output:
-        write_csv(rows, cols, args.output)
-        print(f"table written to {args.output}", file=sys.stderr)
+    if writer is not None:
+        writer.finish(rows)             # the whole table again, in case order
+        print(f"table written to {output}", file=sys.stderr)
     return 0 if all(r["status"] == "done" for r in rows) else 3
 
 

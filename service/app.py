@@ -281,7 +281,9 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                             status_code=500)
 
     # ------------------------------------------------------------------ health
-    @app.get("/health", response_model=Health, tags=["service"], summary="Liveness and queue size (no token)")
+    # HEAD too: load balancers and uptime probes often check liveness with HEAD
+    @app.api_route("/health", methods=["GET", "HEAD"], response_model=Health, tags=["service"],
+                   summary="Liveness and queue size (no token)")
     def health():
         h = manager().health()
         return {"status": "ok", "version": rfesim.__version__, "executor": h["executor"], "queued": h["queued"],
@@ -373,7 +375,10 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                     return
                 payload = {"id": job_id, "status": job["status"], "progress": float(job["progress"] or 0.0),
                            "simulated_time": job["sim_time"], "message": job["message"]}
-                if job["status"] in TERMINAL:
+                # the service stopping (flag set when the stop signal arrives, rfesim serve): end
+                # the stream now, with the job as it is (queued or running: it is re-queued and
+                # runs again after the restart), so the stop does not wait for the job
+                if job["status"] in TERMINAL or app.state.stopping:
                     yield f"event: end\ndata: {json.dumps(payload)}\n\n"
                     return
                 if payload != last:
@@ -383,7 +388,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                 elif time.monotonic() - beat > 15.0:
                     yield ": keep-alive\n\n"
                     beat = time.monotonic()
-                if app.state.stopping or await request.is_disconnected():
+                if await request.is_disconnected():
                     return
                 await asyncio.sleep(0.25)
 
@@ -410,7 +415,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         path = results_file(job_id)
         names = [c.strip() for c in channels.split(",") if c.strip()] if channels else None
         try:
-            out = results_json.read_results(path, names, every, settings.max_result_values)
+            plan = results_json.plan_results(path, names, every, settings.max_result_values)
         except results_json.UnknownChannels as exc:
             raise validate.Invalid([(["query", "channels"], str(exc))]) from None
         except results_json.TooLarge as exc:
@@ -418,8 +423,11 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         except OSError as exc:
             raise _conflict(f"the results file of job {job_id} cannot be read: {exc}") from None
         job = manager().get(job_id)
-        out = {"id": job_id, "status": job["status"], "message": job["message"], **out}
-        return Response(json.dumps(out, separators=(",", ":"), allow_nan=False), media_type="application/json")
+        head = {"id": job_id, "status": job["status"], "message": job["message"]}
+        # streamed a block of output times at a time (Starlette iterates this generator in its
+        # thread pool): a whole answer built in memory took ~1 GB for 14 M values and held the
+        # GIL long enough to stall /health for seconds
+        return StreamingResponse(results_json.stream_results(plan, head), media_type="application/json")
 
     @app.get("/jobs/{job_id}/results.nc", tags=["results"], responses={
         200: {"description": "The netCDF-4 results file", "content": {"application/x-netcdf": {}}},

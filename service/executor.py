@@ -333,6 +333,7 @@ class DaskExecutor(JobExecutor):
         self._progress = None
         self._q: queue.Queue = queue.Queue()
         self._running: dict[str, tuple[Any, Path]] = {}
+        self._cancel_events: dict[str, str] = {}     # job id -> its distributed.Event (this hand-out's)
         self._cancelled: set[str] = set()
         self._threads = (0, 0.0)
         self._last_poll = 0.0
@@ -359,10 +360,18 @@ class DaskExecutor(JobExecutor):
         return max(0, self._nthreads() - len(self._running))
 
     def submit(self, job_id: str, spec: dict, results_path: Path) -> bool:
+        # one cancel flag per hand-out, not per job: the flag lives on the scheduler, which
+        # outlives this service, and a clean stop sets it for every running job (shutdown);
+        # a flag named after the job alone would cancel the re-queued job at once after a
+        # restart of the service
+        submission = uuid.uuid4().hex[:12]
+        cancel_event = f"rfesim-cancel-{job_id}-{submission}"
         fut = self.client.submit(worker_module.dask_task, {**spec, "id": job_id,
-                                                           "progress_queue": self.progress_queue},
-                                 key=f"rfesim-job-{job_id}-{uuid.uuid4().hex[:8]}", pure=False, retries=0)
+                                                           "progress_queue": self.progress_queue,
+                                                           "cancel_event": cancel_event},
+                                 key=f"rfesim-job-{job_id}-{submission}", pure=False, retries=0)
         self._running[job_id] = (fut, Path(results_path))
+        self._cancel_events[job_id] = cancel_event
         fut.add_done_callback(lambda f, job_id=job_id: self._q.put(("done", job_id)))
         self._q.put(("started", job_id))
         return True
@@ -374,7 +383,7 @@ class DaskExecutor(JobExecutor):
         if item is None:
             return
         try:
-            Event(f"rfesim-cancel-{job_id}", client=self.client).set()
+            Event(self._cancel_events[job_id], client=self.client).set()
             self._cancelled.add(job_id)
         except Exception as exc:
             log.warning("could not signal the cancel of %s: %s", job_id, exc)
@@ -418,12 +427,13 @@ class DaskExecutor(JobExecutor):
 
     def _collect(self, job_id: str) -> dict:
         fut, path = self._running.pop(job_id)
+        cancel_event = self._cancel_events.pop(job_id)
         if job_id in self._cancelled:               # drop the flag from the scheduler
             self._cancelled.discard(job_id)
             try:
                 from distributed import Event
 
-                Event(f"rfesim-cancel-{job_id}", client=self.client).clear()
+                Event(cancel_event, client=self.client).clear()
             except Exception:
                 pass
         base = {"summary": None, "has_results": False, "wall_time": None, "progress": None, "sim_time": None}

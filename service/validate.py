@@ -131,19 +131,40 @@ def to_json(value: Any, loc: list) -> str:
 
 
 def output_times(sc) -> int:
-    """An upper bound of the output times a run stores (as the dynamics driver picks them)."""
+    """The output times a run stores, as the dynamics driver picks them: its own
+    :func:`rfesim.solvers.dynamics.output_schedule` (an output interval shorter than the
+    step keeps the interval and shortens the step), plus the output at the start."""
+    from rfesim.solvers.dynamics import output_schedule
+
     dyn = sc.analysis.dynamics
     if not (dyn.enabled and dyn.duration > 0):
         return 1
     T = float(dyn.duration)
     integ = dyn.integrator
+    adaptive = integ.kind == "adaptive"
     step = getattr(integ, "time_step", None)
-    if dyn.output_interval is not None:
-        interval = max(float(dyn.output_interval), float(step or 0.0))
-        return int(math.floor(T / interval + 1e-9)) + 2
-    if integ.kind == "adaptive":
-        return 1002
-    return 10_002
+    if dyn.output_interval is None and not adaptive and not step:
+        # RK4 with its step estimated from the stiffest SDE at run time: without an output
+        # interval the driver stores every step up to 10000 outputs, then every few steps
+        return 10_002
+    # the step only matters without an output interval (then it is the given fixed step);
+    # the adaptive driver ignores it
+    _, n_out, _ = output_schedule(T, float(step or T), dyn.output_interval, adaptive)
+    return n_out + 1
+
+
+def rfe_count(sc) -> tuple[int, dict[str, int]]:
+    """RFEs of a validated Scenario, and per group (``lines``, ``chains``): what its
+    results hold per output time. A line or a flexible chain link of n elements has n + 1
+    RFEs; a rigid chain link is output as a line of one element (2 RFEs)."""
+    groups = {"lines": sum(line.elements + 1 for line in sc.lines.values())}
+    chains = 0
+    for chain in (getattr(sc, "chains", None) or {}).values():
+        for link in chain.links.values():
+            chains += 2 if link.rigid else int(link.elements) + 1
+    if chains:
+        groups["chains"] = chains
+    return sum(groups.values()), groups
 
 
 def check_limits(sc, settings, prefix: list | None = None) -> None:
@@ -154,19 +175,25 @@ def check_limits(sc, settings, prefix: list | None = None) -> None:
 
     for field, reason in check_runnable(sc):        # what a run refuses (rfesim.scenario.load)
         errors.append((prefix + [field], reason))
-    nrfe = sum(line.elements + 1 for line in sc.lines.values())
+    nrfe, groups = rfe_count(sc)
     if nrfe > settings.max_rfes:
-        errors.append((prefix + ["lines"], f"the scenario has {nrfe} RFEs (sum over lines of elements + 1); this "
-                                           f"service takes at most {settings.max_rfes} (RFESIM_MAX_RFES)"))
+        # name the group holding most of them (the field to make smaller)
+        field = max(groups, key=groups.get)
+        parts = [f"{n} in {g}" for g, n in groups.items() if n]
+        where = f" ({', '.join(parts)})" if len(parts) > 1 else ""
+        errors.append((prefix + [field], f"the scenario has {nrfe} RFEs{where}: sum over "
+                                         f"lines and flexible chain links of elements + 1, 2 per rigid chain link; "
+                                         f"this service takes at most {settings.max_rfes} (RFESIM_MAX_RFES)"))
     dyn = sc.analysis.dynamics
     if dyn.enabled and dyn.duration > settings.max_duration:
         errors.append((prefix + ["analysis", "dynamics", "duration"],
                        f"{dyn.duration:g} s is longer than this service simulates ({settings.max_duration:g} s; "
                        f"RFESIM_MAX_DURATION)"))
-    values = output_times(sc) * max(1, nrfe)
+    ntimes = output_times(sc)
+    values = ntimes * max(1, nrfe)
     if not errors and values > settings.max_output_values:
         errors.append((prefix + ["analysis", "dynamics", "output_interval"],
-                       f"{output_times(sc)} output times x {nrfe} RFEs = {values} stored values, more than this "
+                       f"{ntimes} output times x {nrfe} RFEs = {values} stored values, more than this "
                        f"service keeps for one job ({settings.max_output_values}; RFESIM_MAX_OUTPUT_VALUES): "
                        f"give a longer output_interval"))
     if errors:
@@ -221,7 +248,11 @@ def prepare_sweep(data: Any, settings, scenarios_dir: Path | None) -> tuple[dict
         raise Invalid([(["vary"], "must be a non-empty mapping of dotted scenario paths to lists of values")])
     errors = []
     for path, values in vary.items():
-        if not path.strip() or len(path) > 500:
+        # a YAML body can have keys that are not text (``1:``, ``2.5:``, ``~:``)
+        if not isinstance(path, str):
+            errors.append((["vary", str(path)], f"must be a dotted scenario path such as 'lines.pipe.elements' "
+                                                f"(text), got {type(path).__name__} {path!r}"))
+        elif not path.strip() or len(path) > 500:
             errors.append((["vary", path], "must be a dotted scenario path such as 'lines.pipe.elements'"))
         elif not isinstance(values, list) or not values:
             errors.append((["vary", path], "must be a non-empty list of values"))
@@ -233,9 +264,13 @@ def prepare_sweep(data: Any, settings, scenarios_dir: Path | None) -> tuple[dict
     if ncases > limit:
         raise Invalid([(["vary"], f"{ncases} load cases; this service takes at most {limit} at once "
                                   f"(RFESIM_MAX_QUEUED_JOBS)")])
+    try:
+        points = grid(vary)               # refuses a varied path inside another one
+    except ScenarioError as exc:
+        raise Invalid([(["vary", f], r) for f, r in exc.errors]) from None
     name = scenario.get("name", "") if isinstance(scenario, dict) else ""
     cases = []
-    for values in grid(vary):
+    for values in points:
         where = ", ".join(f"{k}={json.dumps(v)}" for k, v in values.items())
         try:
             case = apply_overrides(scenario, {**overrides, **values})

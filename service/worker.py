@@ -214,14 +214,15 @@ def dask_task(spec: dict) -> dict[str, Any]:
     """Run one job on a Dask worker; the outcome carries the results file as bytes.
 
     Progress goes to the ``distributed.Queue`` named in the spec, at most once a second;
-    the cancel flag is the ``distributed.Event`` ``rfesim-cancel-<job id>``, checked twice a
-    second."""
+    the cancel flag is the ``distributed.Event`` named in the spec (``cancel_event``: one
+    per hand-out of the job, so a flag set when the service stopped does not cancel the job
+    handed out again after its restart), checked twice a second."""
     set_thread_environment()
     from distributed import Event, Queue
 
     job_id = spec["id"]
     progress_queue = Queue(spec["progress_queue"]) if spec.get("progress_queue") else None
-    cancel = Event(f"rfesim-cancel-{job_id}")
+    cancel = Event(spec.get("cancel_event") or f"rfesim-cancel-{job_id}")
     state = {"sent": 0.0, "checked": 0.0}
 
     def progress(fraction: float, t: float) -> None:

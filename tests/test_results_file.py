@@ -230,3 +230,42 @@ def assert_same_results(back, res) -> None:
     assert back.version == res.version
     assert back.scenario_json == res.scenario_json
     assert back.counters == json.loads(json.dumps(res.counters))
+
+
+def test_chain_joints_round_trip(tmp_path):
+    """The README's double pendulum (0.2 s): /joints/<chain>.<joint> with units by the joint's
+    kind (rad for revolute, m for prismatic) and long_name, read back by open_results."""
+    pendulum = {"environment": {"gravity": 9.81},
+                "chains": {"pendulum": {
+                    "links": {"upper": {"rigid": True, "length": 1.0, "mass": 1.0},
+                              "lower": {"rigid": True, "length": 1.0, "mass": 1.0},
+                              "slider": {"rigid": True, "length": 0.5, "mass": 1.0}},
+                    "joints": {"top": {"kind": "revolute", "parent": "base", "child": "upper",
+                                       "direction": [0, 0, -1], "axis": [0, 1, 0], "initial": 0.3},
+                               "middle": {"kind": "revolute", "parent": "upper", "child": "lower",
+                                          "axis": [0, 1, 0]},
+                               "slide": {"kind": "prismatic", "parent": "lower", "child": "slider",
+                                         "axis": [1, 0, 0], "stiffness": 100.0}}}},
+                "analysis": {"statics": {"enabled": False},
+                             "dynamics": {"duration": 0.2, "integrator": {"kind": "rk4", "time_step": 0.002}}}}
+    res = rfesim.simulate(pendulum)
+    top = res.joints["pendulum.top"]
+    assert top.kind == "revolute" and top.coordinate[0, 0] == pytest.approx(0.3)
+    assert top.coordinate.shape == top.velocity.shape == (len(res.time), 1)
+    path = tmp_path / "pendulum.nc"
+    res.to_netcdf(path)
+    back = rfesim.open_results(path)
+    assert sorted(back.joints) == ["pendulum.middle", "pendulum.slide", "pendulum.top"]
+    for name, jr in res.joints.items():
+        jb = back.joint(name)
+        assert jb.kind == jr.kind
+        np.testing.assert_array_equal(jb.coordinate, jr.coordinate)
+        np.testing.assert_array_equal(jb.rate, jr.rate)
+    ds = xr.open_dataset(path, engine="h5netcdf", group="joints/pendulum.top")
+    assert ds["coordinate"].attrs["units"] == "rad" and ds["rate"].attrs["units"] == "rad/s"
+    assert "revolute" in ds["coordinate"].attrs["long_name"]
+    np.testing.assert_array_equal(ds["time"].values, res.time)
+    slide = xr.open_dataset(path, engine="h5netcdf", group="joints/pendulum.slide")
+    assert slide["coordinate"].attrs["units"] == "m" and slide["rate"].attrs["units"] == "m/s"
+    with h5py.File(path, "r") as f:
+        assert f["joints/pendulum.middle/coordinate"].shape == (len(res.time), 1)

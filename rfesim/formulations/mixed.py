@@ -50,7 +50,7 @@ from ..solvers.kernels import REBASE_THRESHOLD, genalpha_parameters, jacobian_fd
 from ..solvers.residual import residual_norm
 from ..solvers.system import System
 from .chain import ChainData, evaluate, fill_prescribed
-from .scene import _chain_lines, _chain_unit, _Kinematics, JointResults
+from .scene import _chain_lines, _chain_unit, _Kinematics, JointResults, joint_kinds
 
 log = logging.getLogger("rfesim")
 
@@ -742,12 +742,12 @@ class _Recorded:
             pt.force.times = pt.moment.times = times
             pt.force.table = np.array([f for f, _ in hist[:len(times)]]).reshape(-1, 3)
             pt.moment.table = np.array([m for _, m in hist[:len(times)]]).reshape(-1, 3)
-        joints = {}
+        joints, kinds = {}, joint_kinds(sc)
         for k, unit in enumerate(ms.units):
             Q, QD, QDD = (np.array(a[:len(times)]) for a in (self.Q[k], self.QD[k], self.QDD[k]))
             res.lines.update(_chain_lines(unit, times, Q, QD, QDD))
             for jname, idx in unit.joints.items():
-                joints[jname] = JointResults(jname, Q[:, idx], QD[:, idx])
+                joints[jname] = JointResults(jname, Q[:, idx], QD[:, idx], kinds.get(jname, ""))
         for pt in ms.points:
             pt.force.table = pt.moment.table = None
         res.joints = joints

@@ -30,7 +30,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import CancelledError, SolverError
-from ..results import LineResults, Results
+from ..results import JointResults, LineResults, Results
 from ..scenario.chains import line_frame, planar_axes
 from . import planar as pl
 from . import planar_kernels as pk
@@ -485,28 +485,26 @@ def _planar_lines(u: PlanarUnit, times, Q, QD, QDD) -> dict:
     return {u.name: _line_results(u.name, arc, frames)}
 
 
-@dataclass
-class JointResults:
-    """Time history of a chain joint's coordinates (rad or m) and rates."""
-    name: str
-    coordinate: np.ndarray        # (nt, ncoord)
-    rate: np.ndarray              # (nt, ncoord)
+def joint_kinds(sc) -> dict[str, str]:
+    """``"<chain>.<joint>"`` -> the joint's kind (revolute, prismatic, spherical, fixed): the
+    units of its coordinates in the results (rfesim.results.JointResults)."""
+    return {f"{cname}.{jname}": j.kind for cname, spec in (getattr(sc, "chains", None) or {}).items()
+            for jname, j in spec.joints.items()}
 
 
 def _results(sc, scene, times, histories, *, kind, message, counters, version):
     lines, joints = {}, {}
+    kinds = joint_kinds(sc)
     for unit, (Q, QD, QDD) in zip(scene.chains, histories[:len(scene.chains)]):
         lines.update(_chain_lines(unit, times, Q, QD, QDD))
         for jname, idx in unit.joints.items():
-            joints[jname] = JointResults(jname, Q[:, idx], QD[:, idx])
+            joints[jname] = JointResults(jname, Q[:, idx], QD[:, idx], kinds.get(jname, ""))
     for u, (Q, QD, QDD) in zip(scene.planars, histories[len(scene.chains):]):
         lines.update(_planar_lines(u, times, Q, QD, QDD))
     ordered = {k: lines[k] for k in sc.lines if k in lines}
     ordered.update({k: v for k, v in lines.items() if k not in ordered})
-    res = Results(time=np.asarray(times, float), lines=ordered, status=0, message=message, counters=counters,
-                  scenario_json=sc.model_dump_json(), version=version, kind=kind)
-    res.joints = joints
-    return res
+    return Results(time=np.asarray(times, float), lines=ordered, joints=joints, status=0, message=message,
+                   counters=counters, scenario_json=sc.model_dump_json(), version=version, kind=kind)
 
 
 # ============================================================================ statics

@@ -26,7 +26,8 @@ length (J/m). The parameters are ``params[i] = [n, k_inf, k_1..k_n, r_1..r_n]``
 history; it writes the trial history. The caller copies trial -> committed after each
 accepted step.
 
-Stress outputs (eqs. 8.97-8.98): ``pipe_stress`` / ``pipe_stress_into``.
+Stress outputs (eqs. 8.97-8.98, with hydrostatic pressure: docs/theory.md, "Stresses"):
+``pipe_stress`` / ``pipe_stress_into``.
 """
 from __future__ import annotations
 
@@ -125,43 +126,72 @@ def plastic_bending_energy(params, hist, i, kappa_y, kappa_z):
 
 
 @njit(cache=True)
-def pipe_stress(fx, fy, fz, mx, my, mz, area, enclosed_area, outer_radius, inertia, t_min, out):
-    """Stresses of an SDE from its forces (N) and moments (N*m) in {i'} (eqs. 8.97-8.98).
+def pipe_stress(fx, fy, fz, mx, my, mz, area, enclosed_area, outer_radius, inner_radius, inertia, t_min,
+                p_ext, p_int, out):
+    """Stresses of an SDE from its forces (N) and moments (N*m) in {i'} (eqs. 8.97-8.98)
+    and the external and internal pressures p_ext, p_int (Pa) at the SDE.
 
-    out (6,): [sigma_x, sigma_g, tau_xy, tau_xz, sigma_eq_898, sigma_eq_fibre] (Pa):
-    sigma_x = F_x/A; tau_g = M_x/(2 A_m t_min) (Bredt, A_m the area enclosed by the wall's
-    mid-line); tau_xy = F_y/A + tau_g/2, tau_xz = F_z/A + tau_g/2 (eq. 8.97);
+    F_x is the effective tension (buoyancy acts on the closed outer volume, docs/theory.md
+    section 4); the steel wall carries the true wall tension
+    T = F_x + p_int A_i - p_ext A_e (A_e = pi r_o^2, A_i = pi r_i^2).
+
+    out (6,): [sigma_x, sigma_g, tau_xy, tau_xz, sigma_eq_898, sigma_vm] (Pa):
+    sigma_x = T/A the true-wall axial stress (= F_x/A without pressure);
+    tau_g = M_x/(2 A_m t_min) (Bredt, A_m the area enclosed by the wall's mid-line);
+    tau_xy = F_y/A + tau_g/2, tau_xz = F_z/A + tau_g/2 (eq. 8.97);
     sigma_g = |M_b| r_o / I the elastic-equivalent bending stress at the outer fibre;
-    sigma_eq_898 = sqrt(3 J_2 + sigma_g^2) with J_2 of the tensor 8.97 (eq. 8.98 as written);
-    sigma_eq_fibre = sqrt((|sigma_x| + sigma_g)^2 + 3 (tau_xy^2 + tau_xz^2)): von Mises at
-    the outer fibre where axial and bending stress add (>= the former).
+    sigma_eq_898 = sqrt(3 J_2 + sigma_g^2) with J_2 of the tensor 8.97 (eq. 8.98 as written,
+    no hoop or radial stress);
+    sigma_vm: the largest von Mises stress of the full tensor (axial sigma_x + bending,
+    Lame hoop and radial stresses of the thick wall, the shears above) at the outer and
+    inner fibres, each where axial and bending stress add and where they subtract.
+    Without pressure it is sqrt((|sigma_x| + sigma_g)^2 + 3 (tau_xy^2 + tau_xz^2)).
     """
-    sx = fx / area                                        # eq. 8.97
+    ro2 = outer_radius * outer_radius
+    ri2 = inner_radius * inner_radius
+    t_true = fx + p_int * math.pi * ri2 - p_ext * math.pi * ro2    # true wall tension
+    sx = t_true / area                                    # eq. 8.97 with the true wall tension
     tg = mx / (2.0 * enclosed_area * t_min)               # eq. 8.97: torsion shear
     txy = fy / area + 0.5 * tg
     txz = fz / area + 0.5 * tg
     sg = math.sqrt(my * my + mz * mz) * outer_radius / inertia
+    shear = 3.0 * (txy * txy + txz * txz)
     j2 = sx * sx / 3.0 + txy * txy + txz * txz            # J_2 of the tensor 8.97
     out[0] = sx
     out[1] = sg
     out[2] = txy
     out[3] = txz
     out[4] = math.sqrt(3.0 * j2 + sg * sg)                # eq. 8.98
-    sn = abs(sx) + sg
-    out[5] = math.sqrt(sn * sn + 3.0 * (txy * txy + txz * txz))
+    # Lame: sigma_r = a - b / r^2, sigma_h = a + b / r^2, sigma_r(r_i) = -p_int, sigma_r(r_o) = -p_ext
+    den = ro2 - ri2
+    a = (p_int * ri2 - p_ext * ro2) / den
+    b = (p_int - p_ext) * ri2 * ro2 / den
+    worst = 0.0
+    for f in range(2):                                    # outer, inner fibre
+        r2 = ro2 if f == 0 else ri2
+        sh = a + b / r2
+        sr = a - b / r2
+        sb = sg if f == 0 else sg * inner_radius / outer_radius
+        for side in range(2):                             # bending adds to / subtracts from sigma_x
+            sxx = sx + sb if side == 0 else sx - sb
+            v = sxx * sxx + sh * sh + sr * sr - sxx * sh - sh * sr - sr * sxx + shear
+            if v > worst:
+                worst = v
+    out[5] = math.sqrt(worst)
 
 
 @njit(cache=True, _nrt=True)
-def pipe_stress_into(sigma, geometry, out):
+def pipe_stress_into(sigma, geometry, p_ext, p_int, out):
     """Stresses of every SDE. sigma (nsde, 6): [F_x, F_y, F_z, M_x, M_y, M_z] in {i'}
-    (N, N*m); geometry (nsde, 6): [A (m^2), A_m (m^2), r_o (m), I (m^4), t_min (m),
-    sigma_0 (Pa)] (``stress_geometry``); out (nsde, 7): ``pipe_stress`` columns and the
-    utilisation sigma_eq_fibre / sigma_0 (eq. 8.98: yielding at 1)."""
+    (N, N*m), F_x the effective tension; geometry (nsde, 7): [A (m^2), A_m (m^2), r_o (m),
+    I (m^4), t_min (m), sigma_0 (Pa), r_i (m)] (``stress_geometry``); p_ext, p_int (nsde,):
+    external and internal pressure at the SDE (Pa); out (nsde, 7): ``pipe_stress`` columns
+    and the utilisation sigma_vm / sigma_0 (yielding at 1)."""
     tmp = np.empty(6)
     for s in range(sigma.shape[0]):
         g = geometry[s]
         pipe_stress(sigma[s, 0], sigma[s, 1], sigma[s, 2], sigma[s, 3], sigma[s, 4], sigma[s, 5],
-                    g[0], g[1], g[2], g[3], g[4], tmp)
+                    g[0], g[1], g[2], g[6], g[3], g[4], p_ext[s], p_int[s], tmp)
         for k in range(6):
             out[s, k] = tmp[k]
         out[s, 6] = tmp[5] / g[5]
@@ -181,16 +211,16 @@ class PlasticSection:
     plastic_moment: float         # N*m, sigma_y (D^3 - d^3)/6
     break_curvatures: np.ndarray  # (n,) 1/m, polyline break points
     break_moments: np.ndarray     # (n,) N*m, fibre-model M at the breaks
-    stress_geometry: np.ndarray   # (6,) row for pipe_stress_into
+    stress_geometry: np.ndarray   # (7,) row for pipe_stress_into
     law: StressStrainLaw
     wall: PipeWall
 
 
 def stress_geometry(wall: PipeWall, yield_stress: float) -> np.ndarray:
-    """Row [A, A_m, r_o, I, t_min, sigma_0] of ``pipe_stress_into``."""
+    """Row [A, A_m, r_o, I, t_min, sigma_0, r_i] of ``pipe_stress_into``."""
     mid = wall.outer_radius - 0.5 * wall.wall_thickness
     return np.array([wall.area, math.pi * mid * mid, wall.outer_radius, wall.inertia,
-                     wall.wall_thickness, yield_stress])
+                     wall.wall_thickness, yield_stress, wall.outer_radius - wall.wall_thickness])
 
 
 def break_curvatures(law: StressStrainLaw, wall: PipeWall, segments: int, max_curvature_ratio: float):

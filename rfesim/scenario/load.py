@@ -420,13 +420,19 @@ def check_references(sc: Scenario) -> list[tuple[str, str]]:
     """Cross-field checks: names a scenario uses must exist and be consistent."""
     errors: list[tuple[str, str]] = []
     vessel_names = set(sc.vessels)
-    for group in ("vessels", "line_types", "lines", "winches", "tuggers"):
-        for name in getattr(sc, group, {}):
+    for group, named in sc:
+        if not isinstance(named, dict):
+            continue
+        # every named map (vessels, lines, bodies, supports, ...): names are references
+        # ("<line>:end_b") and groups of the results file (/lines/<name>), where '.' and '..'
+        # would be the group itself and its parent
+        for name in named:
             if not name:
                 errors.append((group, "a name is empty: give every entry a non-empty name"))
-            elif any(c in name for c in "/:\\") or name.strip() != name:
-                errors.append((f"{group}.{name}", f"bad name {name!r}: names must be non-empty and must not "
-                                                  f"contain '/', ':' or '\\' or outer spaces"))
+            elif any(c in name for c in "/:\\") or name.strip() != name or name in (".", ".."):
+                errors.append((f"{group}.{name}", f"bad name {name!r}: names must be non-empty, must not "
+                                                  f"contain '/', ':' or '\\' or outer spaces, and must not be "
+                                                  f"'.' or '..'"))
     for name in vessel_names:
         if name in RESERVED_ATTACH:
             errors.append((f"vessels.{name}", f"'{name}' is a reserved attachment word; rename the vessel"))
@@ -719,8 +725,19 @@ def _parse_json(text: str) -> Any:
         return json.loads(text, parse_constant=float, object_pairs_hook=_unique_json_object)
     except json.JSONDecodeError as exc:
         raise ScenarioError([("", f"invalid JSON at line {exc.lineno} column {exc.colno}: {exc.msg}")]) from None
+    except ScenarioError:
+        raise                                     # a key given twice (ScenarioError is a ValueError too)
     except RecursionError:
         raise ScenarioError([("", "invalid JSON: nested too deeply")]) from None
+    except ValueError as exc:
+        # Python refuses to convert an integer literal of more than sys.get_int_max_str_digits()
+        # digits (4300 by default, a guard against quadratic-time conversion) with a message
+        # about set_int_max_str_digits that means nothing to the author of a scenario
+        import sys
+
+        what = (f"a number with more than {sys.get_int_max_str_digits()} digits (write it in exponent form, "
+                f"e.g. 1.5e300)" if "integer string conversion" in str(exc) else str(exc))
+        raise ScenarioError([("", f"invalid JSON: {what}")]) from None
 
 
 # YAML anchors and aliases (&name, *name) make a document a graph: a 400-byte "billion
@@ -815,8 +832,17 @@ def _parse_yaml(text: str) -> Any:
         mark = getattr(exc, "problem_mark", None)
         where = f" at line {mark.line + 1} column {mark.column + 1}" if mark is not None else ""
         raise ScenarioError([("", f"invalid YAML{where}: {getattr(exc, 'problem', None) or exc}")]) from None
+    except ScenarioError:
+        raise                                     # refused by our loader (ScenarioError is a ValueError too)
     except RecursionError:
         raise ScenarioError([("", "invalid YAML: nested too deeply")]) from None
+    except ValueError as exc:
+        # Python's cap on the digits of an integer literal (see _parse_json)
+        import sys
+
+        what = (f"a number with more than {sys.get_int_max_str_digits()} digits (write it in exponent form, "
+                f"e.g. 1.5e300)" if "integer string conversion" in str(exc) else str(exc))
+        raise ScenarioError([("", f"invalid YAML: {what}")]) from None
     errors = _bool_keys(data)
     if errors:
         raise ScenarioError(errors)

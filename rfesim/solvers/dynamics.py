@@ -205,8 +205,9 @@ class Recorder:
                           | {ch: np.zeros(nt) for ch in ("connection_tension", "submerged_fraction", "buoyancy",
                                                          "deck_force")}
                           for b in model.bodies}
-        # stress outputs (eqs. 8.97-8.98) of elasto-plastic pipe lines
+        # stress outputs (eqs. 8.97-8.98 with hydrostatic pressure) of elasto-plastic pipe lines
         self._stress_geometry = {}
+        self._contents_density = {}
         for li in model.lines:
             lt = model.scenario.line_types[model.scenario.lines[li.name].type]
             material = getattr(lt, "material", None)
@@ -214,6 +215,7 @@ class Recorder:
                 from ..materials.sde_plastic import plastic_params
                 row = plastic_params(material, li.section).stress_geometry
                 self._stress_geometry[li.name] = np.tile(row, (li.elements, 1))
+                self._contents_density[li.name] = float(getattr(lt, "contents_density", 0.0) or 0.0)
 
     def record(self, state: State, qdd: np.ndarray) -> None:
         if self.k >= self.nt:
@@ -307,15 +309,17 @@ class Recorder:
 
     def _record_line_extras(self, k: int, km, ws) -> None:
         """The line channels of a seabed and of elasto-plastic pipe, line by line."""
-        for li in self.system.model.lines:
+        for j, li in enumerate(self.system.model.lines):
             d = self.line_data[li.name]
             if km.has_seabed:           # zero (as allocated) without a seabed
                 d["seabed_force"][k] = ws.contact_force[li.rfe_start:li.rfe_stop]
                 d["seabed_friction"][k] = ws.friction_force[li.rfe_start:li.rfe_stop]
             if li.name in self._stress_geometry:
-                from ..materials.sde_plastic import pipe_stress_into
-                out = np.zeros((li.elements, 7))
-                pipe_stress_into(ws.sigma[li.sde_start:li.sde_stop], self._stress_geometry[li.name], out)
+                from ..materials.sde_plastic import N_STRESS, pipe_stress_into
+                p_ext, p_int = self._sde_pressures(j, li, km, ws)
+                out = np.zeros((li.elements, N_STRESS))
+                pipe_stress_into(ws.sigma[li.sde_start:li.sde_stop], self._stress_geometry[li.name], p_ext, p_int,
+                                 out)
                 d["von_mises_stress"][k] = out[:, 5]
                 d["utilisation"][k] = out[:, 6]
             if km.has_plastic:
@@ -324,6 +328,25 @@ class Recorder:
                 td = touchdown(km, ws, li)
                 if td is not None:
                     d["touchdown_arc_length"][k], d["touchdown_position"][k] = td
+
+    def _sde_pressures(self, j: int, li, km, ws):
+        """Hydrostatic external and internal pressure (Pa) at the SDEs of line j (docs/theory.md,
+        "Stresses"), at the SDE points of this evaluation (ws.sde_point):
+        p_ext = rho_w g (surface level - z) below the still-water surface, else 0 (no wave
+        pressure); p_int = rho_c g (z_top - z), the contents at rest and open (zero gauge
+        pressure) at the line's highest point z_top now (its end points and SDE points, the
+        rows of the line in self._pts_all written by record_outputs); 0 for an empty pipe."""
+        z = ws.sde_point[li.sde_start:li.sde_stop, 2]
+        p_ext = np.zeros(li.elements)
+        if km.has_water and km.water_density > 0.0:
+            p_ext = km.water_density * km.gravity * np.maximum(km.water_level - z, 0.0)
+        p_int = np.zeros(li.elements)
+        rho_c = self._contents_density[li.name]
+        if rho_c > 0.0:
+            row = int(self._line_ranges[j, 4])
+            z_top = float(self._pts_all[row:row + li.elements + 2, 2].max())
+            p_int = rho_c * km.gravity * (z_top - z)
+        return p_ext, p_int
 
     def _record_tuggers(self, k: int, ws) -> None:
         """Tension, length and force on the body of each tugger line (rfesim.loads.tugger)."""
@@ -725,6 +748,9 @@ def output_schedule(T: float, h: float, output_interval: float | None, adaptive:
     return out_dt, n_out, h
 
 
+INTERRUPTED = 2    # Results.status of a run stopped by KeyboardInterrupt (as a cancelled run)
+
+
 def run_dynamics(system: System, state: State, settings, progress=None, recorder: Recorder | None = None,
                  counters: Counters | None = None) -> tuple[State, Recorder, Counters]:
     """Integrate from state.t over settings.duration, recording at output times."""
@@ -801,203 +827,210 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
             except Exception as exc:  # a callback that raises stops the run as cancelled
                 raise CancelledError(str(exc)) from exc
 
-    z = lambda *s: np.zeros(s)  # noqa: E731
-    if integ.kind == "generalized-alpha":
-        am, af, beta, gamma = genalpha_parameters(integ.rho_inf)
-        force_ref = system.force_scale(st)
-        floor = 100.0 * system.roundoff_force(st) / force_ref
-        tol = max(float(integ.tolerance), floor)
-        flags = np.zeros(4, np.int64)   # kernels.ga_advance; [3]: a halved step (a third attempt)
-        qdd_prev = st.qdd.copy()
-        analytic = integ.jacobian == "analytic"
-        from .fastcall import FastCall
-        ga_call = FastCall(ga_advance)      # one call per output interval: skip numba's typing of ~50 arguments
+    try:
+        z = lambda *s: np.zeros(s)  # noqa: E731
+        if integ.kind == "generalized-alpha":
+            am, af, beta, gamma = genalpha_parameters(integ.rho_inf)
+            force_ref = system.force_scale(st)
+            floor = 100.0 * system.roundoff_force(st) / force_ref
+            tol = max(float(integ.tolerance), floor)
+            flags = np.zeros(4, np.int64)   # kernels.ga_advance; [3]: a halved step (a third attempt)
+            qdd_prev = st.qdd.copy()
+            analytic = integ.jacobian == "analytic"
+            from .fastcall import FastCall
+            ga_call = FastCall(ga_advance)      # one call per output interval: skip numba's typing of ~50 arguments
 
-        def one_step(trial, t0, hh):
-            return ga_call(km, vs, att, ws, trial.q, trial.qd, trial.qdd, trial.aux, trial.ref, t0, hh, 1, am, af,
-                           beta, gamma, tol, integ.max_iterations, integ.jacobian_reuse, mask, system.length_scale,
-                           force_ref, system.J, system.Fac, system.Q0, system.V0, system.r, system.dq,
-                           system.qd_buf, system.A_buf, system.qp, system.rp, system.hs, flags, stats, fail,
-                           analytic, system.Ks, system.Kds, system.T, system.Fsde, system.Msde, qdd_prev)
+            def one_step(trial, t0, hh):
+                return ga_call(km, vs, att, ws, trial.q, trial.qd, trial.qdd, trial.aux, trial.ref, t0, hh, 1, am, af,
+                               beta, gamma, tol, integ.max_iterations, integ.jacobian_reuse, mask, system.length_scale,
+                               force_ref, system.J, system.Fac, system.Q0, system.V0, system.r, system.dq,
+                               system.qd_buf, system.A_buf, system.qp, system.rp, system.hs, flags, stats, fail,
+                               analytic, system.Ks, system.Kds, system.T, system.Fsde, system.Msde, qdd_prev)
 
-        def redo(saved, saved_history, nsteps, status):
-            """The output interval from ``saved`` again, step by step, halving a failing step
-            down to h/64; the step that failed (Newton) starts at h/2: at h it was just given
-            two attempts with fresh Jacobians, and a third one at h fails the same way."""
-            j_failed = int(round((float(fail[0]) - saved.t) / h)) - 1 if status == 1 else -1
-            st = saved
-            system.set_history(saved_history)
-            stats[:] = 0
-            flags[0] = 0
-            flags[2] = 0
-            status = 0
-            for j in range(nsteps):
-                t_step0 = saved.t + j * h
-                ok = False
-                step_history = system.history()
-                for level in range(1 if j == j_failed else 0, 7):
-                    sub = 2 ** level
-                    trial = st.copy()
-                    system.set_history(step_history)
-                    trial.t = t_step0
-                    flags[0] = 0
-                    flags[3] = 1 if level > 0 else 0
-                    s2 = 0
-                    for m in range(sub):
-                        s2 = ga_call(km, vs, att, ws, trial.q, trial.qd, trial.qdd, trial.aux, trial.ref,
-                                     t_step0 + m * h / sub, h / sub, 1, am, af, beta, gamma, tol,
-                                     integ.max_iterations, integ.jacobian_reuse, mask, system.length_scale,
-                                     force_ref, system.J, system.Fac, system.Q0, system.V0, system.r,
-                                     system.dq, system.qd_buf, system.A_buf, system.qp, system.rp, system.hs,
-                                     flags, stats, fail, analytic, system.Ks, system.Kds, system.T,
-                                     system.Fsde, system.Msde, qdd_prev)
-                        if s2 != 0:
-                            break
-                    if s2 == 0:
-                        st = trial
-                        ok = True
-                        if level > 0:
-                            counters["step_halvings"] = counters.get("step_halvings", 0) + 1
-                        break
-                    status = s2
+            def redo(saved, saved_history, nsteps, status):
+                """The output interval from ``saved`` again, step by step, halving a failing step
+                down to h/64; the step that failed (Newton) starts at h/2: at h it was just given
+                two attempts with fresh Jacobians, and a third one at h fails the same way."""
+                j_failed = int(round((float(fail[0]) - saved.t) / h)) - 1 if status == 1 else -1
+                st = saved
+                system.set_history(saved_history)
+                stats[:] = 0
                 flags[0] = 0
-                flags[3] = 0
-                if not ok:
-                    st.t = t_step0
-                    counters.add(stats)
-                    _raise(system, fail, status, make_results)
-                st.t = t_step0 + h
-            return st
+                flags[2] = 0
+                status = 0
+                for j in range(nsteps):
+                    t_step0 = saved.t + j * h
+                    ok = False
+                    step_history = system.history()
+                    for level in range(1 if j == j_failed else 0, 7):
+                        sub = 2 ** level
+                        trial = st.copy()
+                        system.set_history(step_history)
+                        trial.t = t_step0
+                        flags[0] = 0
+                        flags[3] = 1 if level > 0 else 0
+                        s2 = 0
+                        for m in range(sub):
+                            s2 = ga_call(km, vs, att, ws, trial.q, trial.qd, trial.qdd, trial.aux, trial.ref,
+                                         t_step0 + m * h / sub, h / sub, 1, am, af, beta, gamma, tol,
+                                         integ.max_iterations, integ.jacobian_reuse, mask, system.length_scale,
+                                         force_ref, system.J, system.Fac, system.Q0, system.V0, system.r,
+                                         system.dq, system.qd_buf, system.A_buf, system.qp, system.rp, system.hs,
+                                         flags, stats, fail, analytic, system.Ks, system.Kds, system.T,
+                                         system.Fsde, system.Msde, qdd_prev)
+                            if s2 != 0:
+                                break
+                        if s2 == 0:
+                            st = trial
+                            ok = True
+                            if level > 0:
+                                counters["step_halvings"] = counters.get("step_halvings", 0) + 1
+                            break
+                        status = s2
+                    flags[0] = 0
+                    flags[3] = 0
+                    if not ok:
+                        st.t = t_step0
+                        counters.add(stats)
+                        _raise(system, fail, status, make_results)
+                    st.t = t_step0 + h
+                return st
 
-        fast = recorder.kernel_records()
-        if fast:
-            from .recording import ga_run
-            run_call = FastCall(ga_run)
-            rec = recorder.kernel_arrays()
-            save = (st.q.copy(), st.qd.copy(), st.qdd.copy(), st.aux.copy(), st.ref.R.copy(), st.ref.X.copy(),
-                    stats.copy())
-            hist = system.history()
-            done = np.zeros(1, np.int64)
-            per_out = int(round(out_dt / h))
-        k_out = 1
-        chunk = 4
-        while k_out <= n_out:
+            fast = recorder.kernel_records()
             if fast:
-                # the compiled run records a chunk of output intervals (rfesim.solvers.recording);
-                # an interval that fails comes back rolled back, for the redo below
-                row0 = recorder.k
-                m = min(chunk, n_out - k_out + 1, recorder.nt - row0)
-                if m <= 0:
-                    fast = False        # the recorder is full (a recorder handed in): Python from here
-                else:
-                    tw = _time.perf_counter()
-                    status = run_call(km, vs, att, ws, st.q, st.qd, st.qdd, st.aux, st.ref, t_start, out_dt, k_out, m,
-                                      h, per_out, am, af, beta, gamma, tol, integ.max_iterations,
-                                      integ.jacobian_reuse, mask, system.length_scale, force_ref, system.J,
-                                      system.Fac, system.Q0, system.V0, system.r, system.dq, system.qd_buf,
-                                      system.A_buf, system.qp, system.rp, system.hs, flags, stats, fail, analytic,
-                                      system.Ks, system.Kds, system.T, system.Fsde, system.Msde, qdd_prev, save,
-                                      hist, rec, row0, done)
-                    nd = int(done[0])
-                    recorder.finish_rows(row0, row0 + nd)
-                    recorder.k = row0 + nd
-                    k_out += nd
-                    st.t = t_start + (k_out - 1) * out_dt
+                from .recording import ga_run
+                run_call = FastCall(ga_run)
+                rec = recorder.kernel_arrays()
+                save = (st.q.copy(), st.qd.copy(), st.qdd.copy(), st.aux.copy(), st.ref.R.copy(), st.ref.X.copy(),
+                        stats.copy())
+                hist = system.history()
+                done = np.zeros(1, np.int64)
+                per_out = int(round(out_dt / h))
+            k_out = 1
+            chunk = 4
+            while k_out <= n_out:
+                if fast:
+                    # the compiled run records a chunk of output intervals (rfesim.solvers.recording);
+                    # an interval that fails comes back rolled back, for the redo below
+                    row0 = recorder.k
+                    m = min(chunk, n_out - k_out + 1, recorder.nt - row0)
+                    if m <= 0:
+                        fast = False        # the recorder is full (a recorder handed in): Python from here
+                    else:
+                        tw = _time.perf_counter()
+                        status = run_call(km, vs, att, ws, st.q, st.qd, st.qdd, st.aux, st.ref, t_start, out_dt,
+                                          k_out, m, h, per_out, am, af, beta, gamma, tol, integ.max_iterations,
+                                          integ.jacobian_reuse, mask, system.length_scale, force_ref, system.J,
+                                          system.Fac, system.Q0, system.V0, system.r, system.dq, system.qd_buf,
+                                          system.A_buf, system.qp, system.rp, system.hs, flags, stats, fail, analytic,
+                                          system.Ks, system.Kds, system.T, system.Fsde, system.Msde, qdd_prev, save,
+                                          hist, rec, row0, done)
+                        nd = int(done[0])
+                        recorder.finish_rows(row0, row0 + nd)
+                        recorder.k = row0 + nd
+                        k_out += nd
+                        st.t = t_start + (k_out - 1) * out_dt
+                        counters.add(stats)
+                        stats[:] = 0
+                        if status == 0:
+                            # chunks of about a tenth of a second of wall time between progress reports
+                            # (and cancellations): grown at most twofold a call, cut at once when the
+                            # intervals get dearer
+                            per = (_time.perf_counter() - tw) / max(nd, 1)
+                            chunk = max(1, min(2 * chunk, 4096, int(0.1 / per) if per > 0.0 else 4096))
+                            report(st.t)
+                            continue
+                        # the failed interval (state, history and counters rolled back) is redone below
+                        saved = st.copy()
+                        saved_history = system.history()
+                t_target = t_start + k_out * out_dt
+                if controllers:
+                    # winches: one step at a time with the controllers' hooks (rfesim.solvers.controlled)
+                    from .controlled import advance_controlled
+                    try:
+                        st, status, t_fail = advance_controlled(system, st, t_target, h, one_step, flags, counters)
+                    except SolverError as exc:
+                        if exc.results is None:
+                            counters.add(stats)
+                            exc.results = make_results(status=1, message=str(exc))
+                        raise
                     counters.add(stats)
                     stats[:] = 0
-                    if status == 0:
-                        # chunks of about a tenth of a second of wall time between progress reports
-                        # (and cancellations): grown at most twofold a call, cut at once when the
-                        # intervals get dearer
-                        per = (_time.perf_counter() - tw) / max(nd, 1)
-                        chunk = max(1, min(2 * chunk, 4096, int(0.1 / per) if per > 0.0 else 4096))
-                        report(st.t)
-                        continue
-                    # the failed interval (state, history and counters rolled back) is redone below
+                    if status != 0:
+                        _raise(system, fail, status, make_results)
+                    recorder.record(st, st.qdd)
+                    check_slip()
+                    if km.has_motors and rebase_motors(km, ws):
+                        flags[0] = 0           # the factorised Jacobian belongs to the old rest rotation
+                    report(st.t)
+                    k_out += 1
+                    continue
+                nsteps = int(round((t_target - st.t) / h))
+                if not fast:
                     saved = st.copy()
                     saved_history = system.history()
-            t_target = t_start + k_out * out_dt
-            if controllers:
-                # winches: one step at a time with the controllers' hooks (rfesim.solvers.controlled)
-                from .controlled import advance_controlled
-                try:
-                    st, status, t_fail = advance_controlled(system, st, t_target, h, one_step, flags, counters)
-                except SolverError as exc:
-                    if exc.results is None:
-                        counters.add(stats)
-                        exc.results = make_results(status=1, message=str(exc))
-                    raise
+                    status = ga_call(km, vs, att, ws, st.q, st.qd, st.qdd, st.aux, st.ref, st.t, h, nsteps, am, af,
+                                     beta, gamma, tol, integ.max_iterations, integ.jacobian_reuse, mask,
+                                     system.length_scale, force_ref, system.J, system.Fac, system.Q0, system.V0,
+                                     system.r, system.dq, system.qd_buf, system.A_buf, system.qp, system.rp, system.hs,
+                                     flags, stats, fail, analytic, system.Ks, system.Kds, system.T, system.Fsde,
+                                     system.Msde, qdd_prev)
+                if status != 0:
+                    st = redo(saved, saved_history, nsteps, status)
+                st.t = t_target
                 counters.add(stats)
                 stats[:] = 0
-                if status != 0:
-                    _raise(system, fail, status, make_results)
                 recorder.record(st, st.qdd)
                 check_slip()
                 if km.has_motors and rebase_motors(km, ws):
                     flags[0] = 0           # the factorised Jacobian belongs to the old rest rotation
                 report(st.t)
                 k_out += 1
-                continue
-            nsteps = int(round((t_target - st.t) / h))
-            if not fast:
-                saved = st.copy()
-                saved_history = system.history()
-                status = ga_call(km, vs, att, ws, st.q, st.qd, st.qdd, st.aux, st.ref, st.t, h, nsteps, am, af,
-                                 beta, gamma, tol, integ.max_iterations, integ.jacobian_reuse, mask,
-                                 system.length_scale, force_ref, system.J, system.Fac, system.Q0, system.V0, system.r,
-                                 system.dq, system.qd_buf, system.A_buf, system.qp, system.rp, system.hs, flags,
-                                 stats, fail, analytic, system.Ks, system.Kds, system.T, system.Fsde, system.Msde,
-                                 qdd_prev)
-            if status != 0:
-                st = redo(saved, saved_history, nsteps, status)
-            st.t = t_target
-            counters.add(stats)
-            stats[:] = 0
-            recorder.record(st, st.qdd)
-            check_slip()
-            if km.has_motors and rebase_motors(km, ws):
-                flags[0] = 0           # the factorised Jacobian belongs to the old rest rotation
-            report(st.t)
-            k_out += 1
-    elif integ.kind == "rk4":
-        k_q, k_v = z(4, n, 6), z(4, n, 6)
-        qs, vbuf, acc = z(n, 6), z(n, 6), z(n, 6)
-        for k_out in range(1, n_out + 1):
-            t_target = t_start + k_out * out_dt
-            nsteps = int(round((t_target - st.t) / h))
-            status = rk4_advance(km, vs, att, ws, st.q, st.qd, st.qdd, st.ref, st.t, h, nsteps, mask, k_q, k_v, qs,
-                                 vbuf, acc, stats, fail)
-            counters.add(stats, ("steps", "evaluations", "unused", "rebases"))
-            stats[:] = 0
-            if status != 0:
-                st.t = float(fail[0])
-                _raise(system, fail, status, make_results, "RK4: ", rk4_hint)
-            st.t = t_target
-            recorder.record(st, st.qdd)
-            check_slip()
-            if km.has_motors:
-                rebase_motors(km, ws)
-            report(st.t)
-    else:
-        k_q, k_v = z(7, n, 6), z(7, n, 6)
-        qs, vbuf, acc = z(n, 6), z(n, 6), z(n, 6)
-        hout = np.array([h])
-        h_max = float(integ.max_step) if integ.max_step else np.inf
-        for k_out in range(1, n_out + 1):
-            t_target = t_start + k_out * out_dt
-            status = dp_advance(km, vs, att, ws, st.q, st.qd, st.qdd, st.ref, st.t, t_target, hout[0], h_max,
-                                float(integ.rtol), float(integ.atol), mask, k_q, k_v, qs, vbuf, acc, _DP_A, _DP_B,
-                                _DP_C, _DP_E, stats, fail, hout)
-            counters.add(stats, ("steps", "evaluations", "rejected_steps", "rebases"))
-            stats[:] = 0
-            if status != 0:
-                st.t = float(fail[0])
-                _raise(system, fail, status, make_results, "adaptive RK: ")
-            st.t = t_target
-            recorder.record(st, st.qdd)
-            check_slip()
-            if km.has_motors:
-                rebase_motors(km, ws)
-            report(st.t)
+        elif integ.kind == "rk4":
+            k_q, k_v = z(4, n, 6), z(4, n, 6)
+            qs, vbuf, acc = z(n, 6), z(n, 6), z(n, 6)
+            for k_out in range(1, n_out + 1):
+                t_target = t_start + k_out * out_dt
+                nsteps = int(round((t_target - st.t) / h))
+                status = rk4_advance(km, vs, att, ws, st.q, st.qd, st.qdd, st.ref, st.t, h, nsteps, mask, k_q, k_v, qs,
+                                     vbuf, acc, stats, fail)
+                counters.add(stats, ("steps", "evaluations", "unused", "rebases"))
+                stats[:] = 0
+                if status != 0:
+                    st.t = float(fail[0])
+                    _raise(system, fail, status, make_results, "RK4: ", rk4_hint)
+                st.t = t_target
+                recorder.record(st, st.qdd)
+                check_slip()
+                if km.has_motors:
+                    rebase_motors(km, ws)
+                report(st.t)
+        else:
+            k_q, k_v = z(7, n, 6), z(7, n, 6)
+            qs, vbuf, acc = z(n, 6), z(n, 6), z(n, 6)
+            hout = np.array([h])
+            h_max = float(integ.max_step) if integ.max_step else np.inf
+            for k_out in range(1, n_out + 1):
+                t_target = t_start + k_out * out_dt
+                status = dp_advance(km, vs, att, ws, st.q, st.qd, st.qdd, st.ref, st.t, t_target, hout[0], h_max,
+                                    float(integ.rtol), float(integ.atol), mask, k_q, k_v, qs, vbuf, acc, _DP_A, _DP_B,
+                                    _DP_C, _DP_E, stats, fail, hout)
+                counters.add(stats, ("steps", "evaluations", "rejected_steps", "rebases"))
+                stats[:] = 0
+                if status != 0:
+                    st.t = float(fail[0])
+                    _raise(system, fail, status, make_results, "adaptive RK: ")
+                st.t = t_target
+                recorder.record(st, st.qdd)
+                check_slip()
+                if km.has_motors:
+                    rebase_motors(km, ws)
+                report(st.t)
+    except KeyboardInterrupt as exc:
+        # Ctrl-C (or a SIGTERM the command line turns into it): the results so far go with the
+        # interruption, as they go with a SolverError (rfesim.api.simulate, rfesim.cli)
+        t = float(recorder.time[recorder.k - 1]) if recorder.k else st.t
+        exc.results = make_results(status=INTERRUPTED, message=f"interrupted at t = {t:.6g} s")
+        raise
     counters["wall_time"] = _time.perf_counter() - wall0
     return st, recorder, counters

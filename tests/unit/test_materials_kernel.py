@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import rfesim
-from rfesim.materials.sde_plastic import (N_OUT, pack_params, pipe_stress_into, plastic_bending_all_into,
+from rfesim.materials.sde_plastic import (N_OUT, N_STRESS, pack_params, pipe_stress_into, plastic_bending_all_into,
                                           plastic_bending_energy, plastic_bending_into, plastic_params,
                                           plastic_section, stress_geometry)
 from rfesim.materials.section import FibreSection, PipeWall, moment_curvature
@@ -295,40 +295,103 @@ def test_plastic_params_from_a_scenario_line_type():
 
 # ----------------------------------------------------------------------------- stresses, eqs. 8.97-8.98
 
-def reference_stress(forces, wall, sigma0):
-    """Tensor of eq. 8.97, J_2 from its deviator, eq. 8.98; and von Mises at the worst
-    point found by scanning the outer circumference."""
+def lame(wall, p_ext, p_int):
+    """Thick-wall (Lame) stresses sigma_r = a - b/r^2, sigma_h = a + b/r^2 with a, b solved
+    from the boundary conditions sigma_r(r_i) = -p_int, sigma_r(r_o) = -p_ext."""
+    ri, ro = 0.5 * wall.inner_diameter, wall.outer_radius
+    a, b = np.linalg.solve([[1.0, -1.0 / ri ** 2], [1.0, -1.0 / ro ** 2]], [-p_int, -p_ext])
+    return (lambda r: a + b / r ** 2), (lambda r: a - b / r ** 2)
+
+
+def reference_stress(forces, wall, sigma0, p_ext=0.0, p_int=0.0):
+    """Tensor of eq. 8.97, J_2 from its deviator, eq. 8.98 (with the true-wall axial stress);
+    and the von Mises stress at the worst point found by scanning the circumference at the
+    outer and the inner fibre, with the full 3-D tensor: the true wall tension
+    F_x + p_int pi r_i^2 - p_ext pi r_o^2 over A plus the bending stress at the point (axial),
+    the Lame hoop and radial stresses, the shears of eq. 8.97."""
     fx, fy, fz, mx, my, mz = forces
     area = wall.area
+    ro, ri = wall.outer_radius, 0.5 * wall.inner_diameter
     mid = wall.outer_radius - 0.5 * wall.wall_thickness
     tau_g = mx / (2.0 * math.pi * mid ** 2 * wall.wall_thickness)
-    sx = fx / area
+    sx = (fx + p_int * math.pi * ri ** 2 - p_ext * math.pi * ro ** 2) / area
     txy = fy / area + 0.5 * tau_g
     txz = fz / area + 0.5 * tau_g
     tensor = np.array([[sx, txy, txz], [txy, 0.0, 0.0], [txz, 0.0, 0.0]])
     dev = tensor - np.trace(tensor) / 3.0 * np.eye(3)
     j2 = 0.5 * np.sum(dev * dev)
     sg = math.hypot(my, mz) * wall.outer_radius / wall.inertia
+    hoop, radial = lame(wall, p_ext, p_int)
     phi = np.linspace(0.0, 2.0 * math.pi, 200001)
-    y, z = wall.outer_radius * np.cos(phi), wall.outer_radius * np.sin(phi)
-    normal = sx + (my * z - mz * y) / wall.inertia
-    fibre = np.max(np.sqrt(normal ** 2 + 3.0 * (txy ** 2 + txz ** 2)))
-    return np.array([sx, sg, txy, txz, math.sqrt(3.0 * j2 + sg ** 2), fibre, fibre / sigma0])
+    c, s = np.cos(phi), np.sin(phi)
+    worst = 0.0
+    for r in (ro, ri):
+        y, z = r * c, r * s
+        t = np.zeros((phi.size, 3, 3))
+        t[:, 0, 0] = sx + (my * z - mz * y) / wall.inertia
+        t[:, 0, 1] = t[:, 1, 0] = txy
+        t[:, 0, 2] = t[:, 2, 0] = txz
+        e_r = np.stack((np.zeros_like(c), c, s), axis=1)
+        e_h = np.stack((np.zeros_like(c), -s, c), axis=1)
+        t += hoop(r) * e_h[:, :, None] * e_h[:, None, :] + radial(r) * e_r[:, :, None] * e_r[:, None, :]
+        d = t - np.trace(t, axis1=1, axis2=2)[:, None, None] / 3.0 * np.eye(3)
+        worst = max(worst, float(np.max(np.sqrt(1.5 * np.sum(d * d, axis=(1, 2))))))
+    return np.array([sx, sg, txy, txz, math.sqrt(3.0 * j2 + sg ** 2), worst, worst / sigma0])
 
 
 def test_stress_outputs_match_reference():
+    """Without pressure: eq. 8.97-8.98 and the von Mises stress at the outer fibre."""
     rng = np.random.default_rng(2)
     nsde = 6
     sigma = np.column_stack((rng.normal(scale=2e6, size=(nsde, 3)), rng.normal(scale=3e5, size=(nsde, 3))))
     geometry = np.tile(stress_geometry(WALL, SY), (nsde, 1))
-    out = np.zeros((nsde, 7))
-    pipe_stress_into(sigma, geometry, out)
+    out = np.zeros((nsde, N_STRESS))
+    zero = np.zeros(nsde)
+    pipe_stress_into(sigma, geometry, zero, zero, out)
     for s in range(nsde):
         ref = reference_stress(sigma[s], WALL, SY)
         np.testing.assert_allclose(out[s, :5], ref[:5], rtol=1e-12, atol=1e-6)
         np.testing.assert_allclose(out[s, 5:], ref[5:], rtol=1e-8)
         assert out[s, 5] >= out[s, 4] - 1e-6                 # fibre combination is the conservative one
+        # the outer fibre where axial and bending stress add (no pressure: the inner fibre is below)
+        sn = abs(out[s, 0]) + out[s, 1]
+        assert out[s, 5] == pytest.approx(math.sqrt(sn * sn + 3.0 * (out[s, 2] ** 2 + out[s, 3] ** 2)), rel=1e-14)
+        assert out[s, 0] == sigma[s, 0] / WALL.area
     # the first-yield moment alone gives utilisation 1
     pipe_stress_into(np.array([[0.0, 0.0, 0.0, 0.0, 0.0, SY * WALL.inertia / WALL.outer_radius]]),
-                     geometry[:1], out[:1])
+                     geometry[:1], zero[:1], zero[:1], out[:1])
     assert out[0, 6] == pytest.approx(1.0, rel=1e-14)
+
+
+@pytest.mark.parametrize("wall", [WALL, PipeWall(0.2, 0.03, E)], ids=["x65", "thick"])
+def test_stress_outputs_with_pressure_match_reference(wall):
+    """Random forces and external / internal pressures (external up to 30 MPa, some SDEs
+    empty, some at equal pressures) against the circumferential scan of both fibres."""
+    rng = np.random.default_rng(7)
+    nsde = 12
+    sigma = np.column_stack((rng.normal(scale=2e6, size=(nsde, 3)), rng.normal(scale=2e5, size=(nsde, 3))))
+    sigma[:3, 3:] *= 1e-3                                     # nearly pure pressure and tension
+    p_ext = rng.uniform(0.0, 30e6, nsde)
+    p_int = rng.uniform(0.0, 30e6, nsde)
+    p_int[3:6] = 0.0                                          # empty pipe
+    p_int[6:8] = p_ext[6:8]                                   # flooded
+    p_ext[8] = 0.0                                            # in air, pressurised
+    geometry = np.tile(stress_geometry(wall, SY), (nsde, 1))
+    out = np.zeros((nsde, N_STRESS))
+    pipe_stress_into(sigma, geometry, p_ext, p_int, out)
+    for s in range(nsde):
+        ref = reference_stress(sigma[s], wall, SY, p_ext[s], p_int[s])
+        np.testing.assert_allclose(out[s, :5], ref[:5], rtol=1e-12, atol=1e-6)
+        np.testing.assert_allclose(out[s, 5:], ref[5:], rtol=1e-8)
+
+
+def test_equal_pressures_leave_the_effective_tension_stress():
+    """p_int = p_ext = p: sigma_h = sigma_r = -p through the wall and sigma_x = T_eff/A - p, so
+    the von Mises stress is that of the effective tension alone: |T_eff/A| + sigma_g (no shear)."""
+    geometry = stress_geometry(WALL, SY)[None]
+    out = np.zeros((1, N_STRESS))
+    for fx, m in ((3e6, 0.0), (-1e6, 2e5), (2e5, 1e5)):
+        p = np.array([12e6])
+        pipe_stress_into(np.array([[fx, 0.0, 0.0, 0.0, m, 0.0]]), geometry, p, p, out)
+        assert out[0, 0] == pytest.approx(fx / WALL.area - p[0], rel=1e-12)
+        assert out[0, 5] == pytest.approx(abs(fx) / WALL.area + m * WALL.outer_radius / WALL.inertia, rel=1e-9)
