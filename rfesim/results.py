@@ -346,48 +346,34 @@ class Results:
     def success(self) -> bool:
         return self.status == 0
 
-    def line(self, name: str) -> LineResults:
+    def _named(self, group: str, what: str, name: str):
+        """``self.<group>[name]``, or a KeyError that lists the names there are."""
         try:
-            return self.lines[name]
+            return getattr(self, group)[name]
         except KeyError:
-            raise KeyError(f"no line '{name}' in the results (lines: {', '.join(self.lines)})") from None
+            names = ", ".join(getattr(self, group)) or "none"
+            raise KeyError(f"no {what} '{name}' in the results ({group}: {names})") from None
+
+    def line(self, name: str) -> LineResults:
+        return self._named("lines", "line", name)
 
     def body(self, name: str):
-        try:
-            return self.bodies[name]
-        except KeyError:
-            raise KeyError(f"no body '{name}' in the results (bodies: {', '.join(self.bodies) or 'none'})") from None
+        return self._named("bodies", "body", name)
 
     def winch(self, name: str) -> WinchResults:
-        try:
-            return self.winches[name]
-        except KeyError:
-            raise KeyError(f"no winch '{name}' in the results (winches: {', '.join(self.winches) or 'none'})") \
-                from None
+        return self._named("winches", "winch", name)
 
     def tugger(self, name: str) -> TuggerResults:
-        try:
-            return self.tuggers[name]
-        except KeyError:
-            raise KeyError(f"no tugger '{name}' in the results (tuggers: {', '.join(self.tuggers) or 'none'})") \
-                from None
+        return self._named("tuggers", "tugger", name)
 
     def support(self, name: str) -> SupportResults:
-        try:
-            return self.supports[name]
-        except KeyError:
-            raise KeyError(f"no support '{name}' in the results (supports: {', '.join(self.supports) or 'none'})") \
-                from None
+        return self._named("supports", "support", name)
 
     def vessel(self, name: str) -> VesselResults:
-        return self.vessels[name]
+        return self._named("vessels", "vessel", name)
 
     def joint(self, name: str) -> JointResults:
-        try:
-            return self.joints[name]
-        except KeyError:
-            raise KeyError(f"no joint '{name}' in the results (joints: {', '.join(self.joints) or 'none'})") \
-                from None
+        return self._named("joints", "joint", name)
 
     def __repr__(self) -> str:
         return (f"Results({self.kind}, {len(self.time)} times {self.time[0] if len(self.time) else 0:.4g}.."

@@ -16,24 +16,9 @@ import pytest
 
 import rfesim
 from rfesim.cli import main
+from test_cli import CANTILEVER      # the CLI tests' 10 m cantilever (pytest puts tests/ on sys.path)
 
-SCENARIOS = Path(__file__).resolve().parents[2] / "scenarios"
-
-# a 10 m cantilever of 10 elements, clamped at end A, tip load at end B, no gravity
-CANTILEVER = {
-    "schema_version": 1,
-    "name": "cli cantilever",
-    "environment": {"gravity": 0.0},
-    "line_types": {"beam": {"EA": 1.0e8, "EIy": 1.0e5, "mass_per_length": 50.0}},
-    "lines": {"pipe": {"type": "beam", "length": 10.0, "elements": 10,
-                       "end_a": {"attach": "fixed", "position": [0.0, 0.0, 0.0], "direction": [1.0, 0.0, 0.0],
-                                 "connection": "clamped"},
-                       "end_b": {"attach": "free"},
-                       "loads": [{"at": "end_b", "force": [0.0, 0.0, -100.0]}]}},
-    "analysis": {"statics": {"enabled": True},
-                 "dynamics": {"duration": 2.0, "output_interval": 0.05,
-                              "integrator": {"kind": "generalized-alpha", "time_step": 0.01, "rho_inf": 0.8}}},
-}
+SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"
 
 
 @pytest.fixture
