@@ -134,17 +134,22 @@ def _statics_hint(sc: Scenario, model=None) -> str | None:
                 f"(both ends free): unless the seabed, rollers or buoyancy hold it there is no static "
                 f"equilibrium; attach an end, or set analysis.statics.enabled to false and start the dynamics "
                 f"from the given shape")
-    floating = _floating_free_end(sc)
-    if floating:
-        name, length, depth = floating[0]
-        return (f"line '{name}' is buoyant, held at one end {depth:.4g} m under the surface with its other end free, "
-                f"and {length:.6g} m long: the rest floats on the surface, where nothing holds it sideways, so it "
-                f"has no unique static shape; hold its free end too (a position, a tether), or set "
-                f"analysis.statics.enabled to false")
-    folds = _seabed_folds(model)
-    if folds:
-        return folds[0]
+    shapeless = _no_static_shape(sc, model)
+    if shapeless:
+        return shapeless[0]
     return _shear_hint(model)
+
+
+def _no_static_shape(sc: Scenario, model) -> list[str]:
+    """What makes lines of the scene have no unique static shape: a buoyant line floating
+    free on the surface (_floating_free_end), slack folding on the seabed (_seabed_folds).
+    The hint of a statics that fails, and a warning when Newton settles on some shape anyway
+    (which one is a matter of round-off)."""
+    out = [f"line '{name}' is buoyant, held at one end {depth:.4g} m under the surface with its other end free, "
+           f"and {length:.6g} m long: the rest floats on the surface, where nothing holds it sideways, so it "
+           f"has no unique static shape; hold its free end too (a position, a tether), or set "
+           f"analysis.statics.enabled to false" for name, length, depth in _floating_free_end(sc)]
+    return out + _seabed_folds(model)
 
 
 EXCESS_LENGTH = 1e-3   # a line longer than the distance between its ends by this fraction has slack
@@ -205,7 +210,7 @@ def _static_state(system: System, sc: Scenario, progress=None):
             system, sc, state, info,
             lambda st: solve_statics(system, st, tolerance=s.tolerance, max_iterations=s.max_iterations,
                                      seabed_friction=s.seabed_friction))
-    info.warnings = (_seabed_folds(system.model) + list(info.warnings) + buckling_warnings(system, state)
+    info.warnings = (_no_static_shape(sc, system.model) + list(info.warnings) + buckling_warnings(system, state)
                      + shear_warnings(system, state))
     for w in info.warnings:
         log.warning("statics: %s", w)

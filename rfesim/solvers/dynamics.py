@@ -62,8 +62,52 @@ def highest_frequency(system: System, state: State, iterations: int = 60) -> flo
     return math.sqrt(max(lam, 0.0)) * 1.1
 
 
+def highest_damping_rate(system: System, state: State, iterations: int = 60) -> float:
+    """Largest eigenvalue (1/s) of M^-1 C, C the damping matrix (minus the derivative of the
+    forces by the velocities) of the model at rest at the state: power iteration on central
+    differences of the accelerations in the velocities, times 1.1 as ``highest_frequency``.
+
+    A mode damped beyond critical has a real eigenvalue up to c/m, however low its natural
+    frequency: the critically damped body connection (rfesim.model.bodies) acts on the line's
+    end RFE through its half-length arm, where the RFE's rotation carries about a quarter of
+    its mass, and sets -3.6e5 1/s on a 20 m rope with EA 5.9e7 N and 1 m elements, 3.7 times
+    its highest natural frequency (docs/theory.md, the RK4 integrator)."""
+    st = state.copy()
+    st.qd[:] = 0.0
+    mask = system.mask
+    if not mask.any():
+        return 0.0
+    rng = np.random.default_rng(2)
+    x = rng.standard_normal((system.n, 6))
+    x[~mask] = 0.0
+    eps = 1e-6          # m/s, rad/s on the largest component: linear dampers are exact, drag ~ eps
+    lam = 0.0
+    for _ in range(iterations):
+        x /= np.abs(x).max()
+        st.qd[:] = eps * x
+        a_p = system.accelerations(st)
+        st.qd[:] = -eps * x
+        a_m = system.accelerations(st)
+        z = (a_m - a_p) / (2.0 * eps)
+        z[~mask] = 0.0
+        nz = np.linalg.norm(z)
+        nx = np.linalg.norm(x)
+        if not (nz > 0.0 and math.isfinite(nz)):
+            break
+        lam = nz / nx
+        x = z
+    # (the workspace is left evaluated at rest, as highest_frequency leaves it)
+    st.qd[:] = 0.0
+    system.evaluate(st)
+    return lam * 1.1
+
+
+RK4_REAL_LIMIT = 2.785      # RK4 reaches -2.785 on the negative real axis
+
+
 def stable_rk4_step(system: System, state: State, safety: float) -> float:
-    """Default RK4 step: safety * 2.8 / omega_max (RK4 reaches 2*sqrt(2) on the imaginary axis)."""
+    """Default RK4 step: safety * 2.8 / omega_max (RK4 reaches 2*sqrt(2) on the imaginary axis),
+    and at most safety * 2.785 / the largest damping rate (the negative real axis)."""
     w = highest_frequency(system, state)
     km = system.km
     if km.has_seabed:
@@ -73,11 +117,18 @@ def stable_rk4_step(system: System, state: State, safety: float) -> float:
     if km.has_rollers:
         # a roller acts on one RFE at a time (two at an SDE): k / m of the lightest RFE
         w = max(w, 1.1 * float(np.sqrt(2.0 * km.roller_k.max() / max(km.rfe_mass.min(), 1e-300))))
-    if w <= 0.0:
+    # a mode damped past critical has a real eigenvalue -c/m (at most) beyond omega_max
+    g = highest_damping_rate(system, state)
+    if w <= 0.0 and g <= 0.0:
         return 0.01
-    # SDE damping moves eigenvalues off the imaginary axis; keep inside the region
-    zeta = _max_damping_ratio(system)
-    return safety * 2.8 / (w * math.sqrt(1.0 + 4.0 * zeta * zeta))
+    step = math.inf
+    if w > 0.0:
+        # SDE damping moves eigenvalues off the imaginary axis; keep inside the region
+        zeta = _max_damping_ratio(system)
+        step = 2.8 / (w * math.sqrt(1.0 + 4.0 * zeta * zeta))
+    if g > 0.0:
+        step = min(step, RK4_REAL_LIMIT / g)
+    return safety * step
 
 
 def _max_damping_ratio(system: System) -> float:
@@ -774,14 +825,16 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
     if integ.kind == "generalized-alpha":
         h = float(integ.time_step)
     elif integ.kind == "rk4":
-        h = float(integ.time_step) if integ.time_step else stable_rk4_step(system, st, integ.safety)
+        # the stability limit: 2.8 / the highest natural frequency, or 2.785 / the highest
+        # damping rate (an overdamped mode's real eigenvalue) if shorter
+        limit = stable_rk4_step(system, st, 1.0)
+        h = float(integ.time_step) if integ.time_step else integ.safety * limit
         if integ.time_step:
             # an explicit step beyond the stability limit grows without bound: say so now, and
             # name the limit if the run then diverges
-            limit = stable_rk4_step(system, st, 1.0)
             if h > limit:
                 rk4_hint = (f"the RK4 step {h:.3g} s is longer than its stability limit, about {limit:.3g} s "
-                            f"(2.8 / the highest natural frequency): give "
+                            f"(2.8 / the highest natural frequency, 2.785 / the highest damping rate): give "
                             f"analysis.dynamics.integrator.time_step below it, leave it out (the default is "
                             f"{integ.safety:g} x the limit) or use the implicit generalized-alpha")
                 log.warning(rk4_hint)
@@ -791,6 +844,12 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
     # output times
     out_dt, n_out, h = output_schedule(T, h, settings.output_interval, integ.kind == "adaptive")
     counters["time_step"] = h
+    if integ.kind == "rk4" and not integ.time_step:
+        # the default step diverging all the same: the estimate missed a mode (named if the run fails)
+        rk4_hint = (f"the default RK4 step {h:.3g} s is within {integ.safety:g} x its estimated stability limit, "
+                    f"about {limit:.3g} s (2.8 / the highest natural frequency, 2.785 / the highest damping "
+                    f"rate), and still diverged: give analysis.dynamics.integrator.time_step well below it (or a "
+                    f"lower analysis.dynamics.integrator.safety) or use the implicit generalized-alpha")
     if km.has_motors:
         _check_motor_rates(km, out_dt)
     if recorder is None:

@@ -88,10 +88,14 @@ def test_a_line_too_long_to_hang_and_lie_straight_is_named():
     """200 m from the seabed to a point 50 m up and 120 m away: 30 m more than can hang
     vertically and lie straight. Statics settled with the last 50 m standing 4 m deep in the
     seabed under 1.6 MN of compression, with only a buckling warning; now a warning says why
-    first. 160 m (10 m less than span + height) gets none."""
-    res = rfesim.statics(rfesim.load_scenario(riser_from_seabed(200.0)))
-    assert ("statics warning: line 'l' runs from the seabed to a point 50 m up and 120 m away, and is 30 m "
-            "longer (200 m) than can hang vertically and lie straight on the seabed (170 m)") in res.message
+    first, or the failure says why (whether Newton settles on such a shape is a matter of
+    round-off). 160 m (10 m less than span + height) gets none."""
+    try:
+        text = rfesim.statics(rfesim.load_scenario(riser_from_seabed(200.0))).message
+    except rfesim.SolverError as exc:
+        text = str(exc)
+    assert ("line 'l' runs from the seabed to a point 50 m up and 120 m away, and is 30 m "
+            "longer (200 m) than can hang vertically and lie straight on the seabed (170 m)") in text
     res = rfesim.statics(rfesim.load_scenario(riser_from_seabed(160.0)))
     assert "warning" not in res.message
     assert compile_scenario(rfesim.load_scenario(riser_from_seabed(160.0))).lines[0].seabed_fold is None

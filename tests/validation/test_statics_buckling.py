@@ -121,7 +121,7 @@ def test_compressed_line_on_the_seabed_is_supported():
     assert len(info.warnings) == 1 and len(stretches) == 1
     assert stretches[0].length == pytest.approx(20.0, rel=1e-12)
     assert stretches[0].compression == pytest.approx(10.0 * PUSHED_EULER, rel=1e-6)
-    assert stretches[0].euler_load == pytest.approx(PUSHED_EULER / 4.0, rel=1e-12)     # end B free: a cantilever
+    assert stretches[0].euler_load == pytest.approx(PUSHED_EULER / 4.0, rel=1e-9)      # end B free: a cantilever (to round-off)
 
 
 @pytest.mark.parametrize("factor", [0.5, 0.2])
