@@ -341,14 +341,20 @@ def _dynamic_warnings(model, results) -> str:
 
 
 def modes(scenario, n: int | None = None) -> ModalResults:
-    """Natural frequencies (Hz) and mode shapes about the static equilibrium."""
+    """Natural frequencies (Hz) and mode shapes about the static equilibrium.
+
+    n: the number of lowest modes, a positive integer (default analysis.modal.modes, else
+    10; ScenarioError naming n otherwise); above the number of moving coordinates all modes
+    are given and ModalResults.message says so. Unstable modes have negative frequencies
+    (see ModalResults)."""
     sc = _scenario(scenario)
+    from .solvers.modal import checked_mode_count
+    nmodes = checked_mode_count(n, default=sc.analysis.modal.modes if sc.analysis.modal else 10)
     if _other_formulations(sc):
         from .formulations import scene
-        return scene.modes(sc, n)
+        return scene.modes(sc, nmodes)
     system = System(compile_scenario(sc))
     state = system.model.initial
     if sc.analysis.statics.enabled:
         state, _ = _static_state(system, sc)
-    nmodes = n or (sc.analysis.modal.modes if sc.analysis.modal else 10)
     return modal_analysis(system, state, nmodes)

@@ -412,11 +412,15 @@ def cmd_modes(args) -> int:
     freqs = np.asarray(md.frequencies_hz, dtype=float)
     rows = []
     for k, f in enumerate(freqs, start=1):
-        period = f"{1.0 / f:.6g}" if f > 0 else "inf"
+        period = f"{1.0 / f:.6g}" if f > 0 else ("inf" if f == 0 else "unstable")
         rows.append([str(k), f"{f:.6g}", period])
     print(f"{sc.name}: {len(freqs)} modes")
     for line in _table(["mode", "frequency [Hz]", "period [s]"], rows):
         print(line)
+    # the unstable-mode warning is already logged by rfesim.modes; the other notes are not
+    for note in (getattr(md, "message", "") or "").split("; "):
+        if note and not note.startswith("the static state is unstable"):
+            _err(f"note: {note}")
     return EXIT_OK
 
 

@@ -489,7 +489,7 @@ def accelerations(model: ChainModel, data: ChainData, t: float, q, qd):
     fill_prescribed(model, t, q, qd, qdd)
     f = evaluate(model, data, t, q, qd, qdd)
     if not solve_free(data.A, f, model.free, model.lam, data.Aff, data.rhs, data.x):
-        raise np.linalg.LinAlgError(f"mass matrix not positive definite at t={t}")
+        raise np.linalg.LinAlgError(f"mass matrix not positive definite at t = {t:.6g} s")
     qdd[model.free] = data.x
     return qdd
 
@@ -562,11 +562,72 @@ def stiffness_matrix(model: ChainModel, t: float, q, data: ChainData | None = No
     return K
 
 
+MAX_ROTATION_STEP = 0.5     # rad, largest rotation of a chain_statics Newton update
+
+
+def _rotation_mask(model: ChainModel) -> np.ndarray:
+    """(nq,) True for angle coordinates (revolute, spherical, the angles of free RFEs)."""
+    rot = np.zeros(model.nq, dtype=bool)
+    for b in range(model.nbodies):
+        k, s, n = int(model.kind[b]), int(model.qstart[b]), int(model.qcount[b])
+        if k in (REVOLUTE, SPHERICAL):
+            rot[s:s + n] = True
+        elif n == 6:                         # FREE_ZYX / FREE_LINEAR: x, y, z, phi_x, phi_y, phi_z
+            rot[s + 3:s + 6] = True
+    return rot
+
+
+def newton_step(K: np.ndarray, r: np.ndarray, rcond: float = 1e-12) -> np.ndarray:
+    """Newton step dx of K dx = r that never raises on zero-stiffness directions.
+
+    A chain can have directions of (numerically) zero stiffness: the spin of a pinned line
+    about its own axis at the spherical joint, the torsion of a cable with GJ ~ 0, a free
+    joint with nothing holding it. K is Jacobi-scaled (each coordinate by the square root
+    of its diagonal stiffness, floored at 1e-8 of the largest so unloaded coordinates stay
+    comparable) and solved by the pseudo-inverse: singular values below rcond of the
+    largest are dropped, so such directions get no step (their equilibrium is arbitrary and
+    they stay where they are), as the absolute-coordinate statics' regularisation does.
+    A well-conditioned K takes the ordinary LU solve."""
+    n = len(r)
+    if n == 0:
+        return np.zeros(0)
+    d = np.abs(np.diag(K))
+    dmax = float(d.max()) if np.all(np.isfinite(d)) else 0.0
+    if not dmax > 0.0 or not np.all(np.isfinite(K)):
+        return np.zeros(n) if not dmax > 0.0 and np.all(np.isfinite(K)) else np.full(n, np.nan)
+    s = 1.0 / np.sqrt(np.maximum(d, 1e-8 * dmax))
+    Ks = K * s[:, None] * s[None, :]
+    U, sv, Vt = np.linalg.svd(Ks)
+    keep = sv > rcond * sv[0]
+    y = Vt[keep].T @ ((U[:, keep].T @ (s * r)) / sv[keep])
+    return s * y
+
+
+def _load_scale(model: ChainModel, data: ChainData, t: float) -> float:
+    """Force scale of the applied loads, N*m: (total weight + point forces) x the largest
+    body reach from the base + point moments; the residual tolerance of chain_statics is
+    relative to it (as planar statics does)."""
+    m = model.inertia[:, 3, 3]
+    reach = np.linalg.norm(data.T[:, :3, 3] - data.T[:, None, :3, 3].mean(axis=0), axis=-1).max() \
+        if model.nbodies else 0.0
+    size = max(reach, sum(float(info.link.length) for info in model.links.values()), 1.0)
+    weight = float(m.sum()) * float(np.linalg.norm(model.gravity))
+    forces = sum(float(np.linalg.norm(_value(F, t))) for F in model.load_force)
+    moments = sum(float(np.linalg.norm(_value(M, t))) for M in model.load_moment)
+    total = (weight + forces) * size + moments
+    return total if total > 0.0 else 1.0
+
+
 def chain_statics(model: ChainModel, t: float = 0.0, q0=None, *, load_steps: int = 1, tol: float = 1e-9,
                   max_iter: int = 60) -> ChainStatics:
     """Static equilibrium f(q, 0) = 0 over the unknowns by Newton's method with a
     central-difference Jacobian, backtracking, and gravity and loads ramped in load_steps.
-    tol: on the Newton step (rad or m, relative to max(1, |q|))."""
+
+    Converged when the Newton step is below tol (rad or m, relative to max(1, |q|)) or the
+    residual is below tol x the load scale (weight and point forces x the chain's size +
+    point moments, N*m; `_load_scale`): a residual at round-off can leave a step above tol
+    in a nearly stiffness-free direction. Zero-stiffness directions (the spin of a pinned
+    line about its axis) get no step (`newton_step`)."""
     data = ChainData(model)
     q = np.zeros(model.nq) if q0 is None else np.array(q0, float)
     fill_prescribed_positions(model, t, q)
@@ -576,21 +637,28 @@ def chain_statics(model: ChainModel, t: float = 0.0, q0=None, *, load_steps: int
     rechained = len(model.sde_left) > 0
     locked = np.ones(model.nq, dtype=bool)
     locked[model.free] = False
+    rot = _rotation_mask(model)[model.free]
     for step in range(1, load_steps + 1):
         scale = step / load_steps
         r = _residual(model, data, t, qf, q, scale)
+        fscale = _load_scale(model, data, t) * scale
         K = stiffness_matrix(model, t, _with(q, model.free, qf), data, scale=scale)
-        dx = np.linalg.solve(K, r)
+        dx = newton_step(K, r)
         ok = False
         for it in range(max_iter):
             total += 1
-            small = tol * max(1.0, np.max(np.abs(qf)))
+            small = tol * max(1.0, np.max(np.abs(qf), initial=0.0))
             if np.max(np.abs(dx), initial=0.0) <= small:
                 qf = qf + dx
                 r = _residual(model, data, t, qf, q, scale)
                 ok = True
                 break
-            alpha = 1.0
+            if it > 0 and np.max(np.abs(r), initial=0.0) <= tol * fscale:
+                ok = True
+                break
+            # at most MAX_ROTATION_STEP rad of rotation per iteration (a slack line's first
+            # steps can be many radians), then backtracking
+            alpha = min(1.0, MAX_ROTATION_STEP / max(float(np.max(np.abs(dx[rot]), initial=0.0)), 1e-300))
             while True:      # accept when the next Newton step is shorter (affine covariant, Deuflhard)
                 trial = qf + alpha * dx
                 if rechained:
@@ -598,7 +666,7 @@ def chain_statics(model: ChainModel, t: float = 0.0, q0=None, *, load_steps: int
                 rt = _residual(model, data, t, trial, q, scale)
                 if np.all(np.isfinite(rt)):
                     Kt = stiffness_matrix(model, t, _with(q, model.free, trial), data, scale=scale)
-                    dt = np.linalg.solve(Kt, rt)
+                    dt = newton_step(Kt, rt)
                     if np.linalg.norm(dt) <= np.linalg.norm(dx) or alpha < 1e-3:
                         break
                 elif alpha < 1e-3:
@@ -622,9 +690,15 @@ def _with(q, idx, vals):
 
 def chain_modes(model: ChainModel, q, t: float = 0.0):
     """Natural frequencies (rad/s, ascending) and mode shapes (nq, nf) of the free
-    coordinates linearised about an equilibrium q: K x = w^2 A x."""
+    coordinates linearised about an equilibrium q: K x = w^2 A x.
+
+    An unstable direction (w^2 < 0: negative stiffness) gives a negative frequency
+    -sqrt(-w^2) (rfesim.solvers.modal.signed_omega); round-off zero modes give 0."""
+    from ..solvers.modal import signed_omega
     data = ChainData(model)
     q = np.array(q, float)
+    if len(model.free) == 0:
+        return np.zeros(0), np.zeros((model.nq, 0))
     K = stiffness_matrix(model, t, q, data)
     K = 0.5 * (K + K.T)
     A, _ = equations(model, t, q, np.zeros(model.nq), data)
@@ -632,7 +706,7 @@ def chain_modes(model: ChainModel, q, t: float = 0.0):
     w2, vec = scipy.linalg.eigh(K, Aff)
     shapes = np.zeros((model.nq, len(w2)))
     shapes[model.free] = vec
-    return np.sqrt(np.maximum(w2, 0.0)), shapes
+    return signed_omega(w2, float(np.abs(w2).max())), shapes
 
 
 @dataclass
@@ -647,6 +721,7 @@ class ChainResult:
     message: str
     nsteps: int
     nfev: int
+    failure_time: float | None = None   # s, where a failed run stopped (success False)
 
     def coordinate(self, name: str) -> np.ndarray:
         return self.q[:, self.model.index(name)]
@@ -670,7 +745,9 @@ def simulate_chain(model: ChainModel | Chain, t_end: float, dt: float, q0=None, 
     """Integrate A q'' = f over the unknowns with the classical fixed-step RK4 from t = 0.
 
     Explicit: dt must resolve the highest frequency of the model (dt < 2.8 / w_max); the
-    flexible links' dofs selection removes coordinates that are not needed.
+    flexible links' dofs selection removes coordinates that are not needed. A step above
+    that limit makes the state diverge: the run stops (success False, message and
+    failure_time say where) with the history recorded so far, never raises.
     """
     if isinstance(model, Chain):
         model = model.compile()
@@ -695,8 +772,16 @@ def simulate_chain(model: ChainModel | Chain, t_end: float, dt: float, q0=None, 
     yv = qd[fr].copy()
     message = "completed"
     success = True
+    failure_time = None
     for n in range(nsteps + 1):
-        qdd, qq, vv = rhs(t, yq, yv)
+        try:
+            qdd, qq, vv = rhs(t, yq, yv)
+        except np.linalg.LinAlgError as exc:         # a diverged state: stop with what was recorded
+            success, message, failure_time = False, str(exc), t
+            break
+        if not (np.all(np.isfinite(yq)) and np.all(np.isfinite(yv)) and np.all(np.isfinite(qdd))):
+            success, message, failure_time = False, f"non-finite state at t = {t:.6g} s", t
+            break
         if n % output_every == 0 or n == nsteps:
             ts.append(t)
             qs.append(qq)
@@ -704,20 +789,24 @@ def simulate_chain(model: ChainModel | Chain, t_end: float, dt: float, q0=None, 
             qdds.append(qdd)
         if n == nsteps:
             break
-        if not (np.all(np.isfinite(yq)) and np.all(np.isfinite(yv))):
-            success, message = False, f"non-finite state at t={t:.6g} s"
+        try:
+            k1q, k1v = yv, qdd[fr]
+            k2q = yv + 0.5 * dt * k1v
+            k2v = rhs(t + 0.5 * dt, yq + 0.5 * dt * k1q, k2q)[0][fr]
+            k3q = yv + 0.5 * dt * k2v
+            k3v = rhs(t + 0.5 * dt, yq + 0.5 * dt * k2q, k3q)[0][fr]
+            k4q = yv + dt * k3v
+            k4v = rhs(t + dt, yq + dt * k3q, k4q)[0][fr]
+        except np.linalg.LinAlgError as exc:
+            success, message, failure_time = False, str(exc), t
             break
-        k1q, k1v = yv, qdd[fr]
-        k2q = yv + 0.5 * dt * k1v
-        k2v = rhs(t + 0.5 * dt, yq + 0.5 * dt * k1q, k2q)[0][fr]
-        k3q = yv + 0.5 * dt * k2v
-        k3v = rhs(t + 0.5 * dt, yq + 0.5 * dt * k2q, k3q)[0][fr]
-        k4q = yv + dt * k3v
-        k4v = rhs(t + dt, yq + dt * k3q, k4q)[0][fr]
         yq = yq + dt / 6.0 * (k1q + 2 * k2q + 2 * k3q + k4q)
         yv = yv + dt / 6.0 * (k1v + 2 * k2v + 2 * k3v + k4v)
         t = (n + 1) * dt
         if progress is not None:
             progress(t / t_end)
-    return ChainResult(model, np.array(ts), np.array(qs), np.array(qds), np.array(qdds), success, message,
-                       nsteps, data.nfev)
+    shape = (0, nq)
+    return ChainResult(model, np.array(ts), np.array(qs).reshape(-1, nq) if qs else np.zeros(shape),
+                       np.array(qds).reshape(-1, nq) if qds else np.zeros(shape),
+                       np.array(qdds).reshape(-1, nq) if qdds else np.zeros(shape), success, message, nsteps,
+                       data.nfev, failure_time)

@@ -248,12 +248,21 @@ def linear_modes(link: ClassicalLink, n_modes: int = 6):
     idx = np.flatnonzero(free)
     Kf = K[idx][:, idx]
     Mf = sp.diags(mass[idx])
-    k = min(n_modes, len(idx) - 2)
-    w2, vec = sla.eigsh(Kf.tocsc(), k=k, M=Mf.tocsc(), sigma=0.0, which="LM")
-    order = np.argsort(w2)
+    from ..solvers.modal import signed_omega
+    if n_modes < 1:
+        raise ValueError(f"n_modes: must be a positive integer, got {n_modes}")
+    k = min(n_modes, len(idx))
+    stiff = np.abs(Kf.diagonal()) / np.maximum(mass[idx], 1e-300)
+    if k >= len(idx) - 1:             # eigsh needs k < n - 1: all modes by the dense solver
+        import scipy.linalg
+        w2, vec = scipy.linalg.eigh(Kf.toarray(), np.diag(mass[idx]), subset_by_index=[0, k - 1])
+        order = np.arange(k)
+    else:
+        w2, vec = sla.eigsh(Kf.tocsc(), k=k, M=Mf.tocsc(), sigma=0.0, which="LM")
+        order = np.argsort(w2)
     shapes = np.zeros((len(mass), k))
     shapes[idx] = vec[:, order]
-    return np.sqrt(np.maximum(w2[order], 0.0)), shapes
+    return signed_omega(w2[order], float(stiff.max()) if stiff.size else 0.0), shapes
 
 
 @njit(cache=True)

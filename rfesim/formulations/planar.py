@@ -467,14 +467,15 @@ def _force_scale(model: PlanarModel) -> float:
 
 @dataclass
 class PlanarModes:
-    frequencies_hz: np.ndarray      # (nmodes,)
+    frequencies_hz: np.ndarray      # (nmodes,), negative for unstable modes (omega^2 < 0)
     shapes: np.ndarray              # (nmodes, n+3) generalised-coordinate shapes, zero on prescribed coordinates
 
 
 def planar_modes(model: PlanarModel, q=None, count: int = 10) -> PlanarModes:
     """Natural frequencies about a static state q (default: statics of the model): K x =
     omega^2 A x on the free coordinates, K = C + load stiffness (exact tangent of eqs.
-    8.61-8.64 at zero velocity), A of eq. 8.57. End B must be free."""
+    8.61-8.64 at zero velocity), A of eq. 8.57. End B must be free. An unstable mode
+    (omega^2 < 0) has a negative frequency -sqrt(-omega^2) / (2 pi), listed first."""
     if model.end_b != pk.FREE:
         raise ValueError("end_b: planar_modes supports a free end B only")
     if q is None:
@@ -497,7 +498,9 @@ def planar_modes(model: PlanarModel, q=None, count: int = 10) -> PlanarModes:
     count = min(count, lam.size)
     shapes = np.zeros((count, m))
     shapes[:, free] = vec[:, :count].T
-    return PlanarModes(frequencies_hz=np.sqrt(np.maximum(lam[:count], 0.0)) / (2 * math.pi), shapes=shapes)
+    from ..solvers.modal import signed_omega
+    omega = signed_omega(lam[:count], float(np.abs(lam).max()) if lam.size else 0.0)
+    return PlanarModes(frequencies_hz=omega / (2 * math.pi), shapes=shapes)
 
 
 # ====================================================================== dynamics

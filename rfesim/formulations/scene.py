@@ -23,6 +23,7 @@ the SDE spacing; forces and moments on the end-A attachment and on links carried
 """
 from __future__ import annotations
 
+import logging
 import math
 import time as _time
 from dataclasses import dataclass, field
@@ -51,6 +52,9 @@ from .chain import (
 from .classical import ClassicalLink, linear_modes
 from .links import BeamProperties, RigidLink
 from .modified import ModifiedLink
+
+
+log = logging.getLogger("rfesim")
 
 
 def uses_formulations(sc) -> bool:
@@ -542,9 +546,15 @@ def statics(sc, progress=None):
 # ============================================================================ dynamics
 RK4_LIMIT = 2.785      # RK4 stability limit on the imaginary axis, h * omega_max
 DENSE_LIMIT = 400      # coordinates: largest model whose highest frequency is found by a dense eigen-solve
+RIGID_STEPS_PER_PERIOD = 40   # default step of all-rigid chains: at most T_min / 40 (accuracy, not stability)
+FALLBACK_OUTPUTS = 1000       # default step without any positive frequency: duration / 1000 ...
+FALLBACK_ROTATION = 0.01      # ... and at most 0.01 rad of the fastest initial joint rotation per step
 
 
 def _omega_max(scene, states) -> float:
+    """Largest |omega| (rad/s) of the linearisation about the start states: the stability
+    scale of the explicit step. An unstable direction (negative omega^2, e.g. a pendulum
+    started above the horizontal) counts with its growth rate sqrt(-omega^2)."""
     w = 0.0
     for unit, q in zip(scene.chains, states):
         if len(unit.model.free) > DENSE_LIMIT:
@@ -552,14 +562,62 @@ def _omega_max(scene, states) -> float:
                               f"analysis.dynamics.integrator.time_step (the step estimate needs a dense "
                               f"eigen-solve, limited to {DENSE_LIMIT} coordinates)")
         if len(unit.model.free):
-            w = max(w, float(chain_modes(unit.model, q)[0].max()))
+            w = max(w, float(np.abs(chain_modes(unit.model, q)[0]).max()))
     for u, q in zip(scene.planars, states[len(scene.chains):]):
-        w = max(w, 2 * math.pi * float(pl.planar_modes(u.model, q, count=u.model.ncoord).frequencies_hz.max()))
-    return w
+        f = pl.planar_modes(u.model, q, count=u.model.ncoord).frequencies_hz
+        if f.size:
+            w = max(w, 2 * math.pi * float(np.abs(f).max()))
+    return w if math.isfinite(w) else 0.0
+
+
+def _all_rigid(scene) -> bool:
+    """True when every unit is a chain of rigid links only (its highest frequency is a
+    physical pendulum-like motion, not a discretisation artefact)."""
+    return bool(scene.chains) and not scene.planars and all(
+        isinstance(info.link, RigidLink) for u in scene.chains for info in u.model.links.values())
+
+
+def default_step(scene, states, rates, dyn) -> tuple[float, str]:
+    """Default fixed step (s) of a scene without integrator.time_step, and how it was chosen.
+
+    safety x RK4_LIMIT / omega_max (the stability limit, omega_max from `_omega_max`);
+    for chains of rigid links only, whose highest frequency is physical, also at most
+    T_min / RIGID_STEPS_PER_PERIOD (RK4 near its stability limit damps a 1 rad double
+    pendulum swing by 70 % in 5 s; at T_min / 40 its angles stay within 1.5e-4 rad of a
+    converged run over 5 s, amplitude error 1e-5).
+    Without any non-zero frequency (no gravity, no springs): duration / 1000, at most the
+    output interval, and at most 0.01 rad of the fastest initial joint rotation per step."""
+    integ = dyn.integrator
+    w = _omega_max(scene, states)
+    if w > 0.0:
+        step = integ.safety * RK4_LIMIT / w
+        how = f"{integ.safety:g} x the RK4 stability limit {RK4_LIMIT / w:.4g} s"
+        if _all_rigid(scene):
+            acc = 2.0 * math.pi / w / RIGID_STEPS_PER_PERIOD
+            if acc < step:
+                step, how = acc, f"1/{RIGID_STEPS_PER_PERIOD} of the shortest period {2 * math.pi / w:.4g} s"
+        return step, how
+    step = float(dyn.duration) / FALLBACK_OUTPUTS
+    if dyn.output_interval:
+        step = min(step, float(dyn.output_interval))
+    rate = max((float(np.abs(qd).max()) for qd in rates if qd.size), default=0.0)
+    if rate > 0.0:
+        step = min(step, FALLBACK_ROTATION / rate)
+    return step, "no non-zero natural frequency: duration / 1000 (limited by the joint rates)"
+
+
+def _partial(sc, scene, times, hist, n_keep, message, counters):
+    from .. import __version__
+    hist = [(Q[:n_keep], QD[:n_keep], QDD[:n_keep]) for Q, QD, QDD in hist]
+    res = _results(sc, scene, np.asarray(times)[:n_keep], hist, kind="dynamics", message=message,
+                   counters=counters, version=__version__)
+    res.status = 1
+    return res
 
 
 def simulate(sc, progress=None):
     from .. import __version__
+    from ..solvers.dynamics import output_schedule
     from . import mixed
     if mixed.is_mixed(sc):
         return mixed.simulate(sc, progress)
@@ -593,53 +651,115 @@ def simulate(sc, progress=None):
             raise CancelledError(f"cancelled at t = {fraction * dyn.duration:.6g} s: {exc}") from exc
 
     if integ.kind == "adaptive":
-        times, hist, counters2 = _adaptive(scene, states, rates, dyn, report)
+        times, hist, counters2, failure = _adaptive(scene, states, rates, dyn, report)
+        counters.update(counters2)
+        if failure is not None:
+            label, t_fail, why, n_keep = failure
+            msg = (f"{label}: {why}; the adaptive integrator lost accuracy (tighten "
+                   f"analysis.dynamics.integrator.rtol / atol or set max_step)")
+            counters["wall_time"] = _time.perf_counter() - wall0
+            raise SolverError(msg, time=t_fail, element=label,
+                              results=_partial(sc, scene, times, hist, n_keep, f"{msg} at t = {t_fail:.6g} s",
+                                               counters))
     else:
+        T = float(dyn.duration)
         step = integ.time_step
         if step is None:
-            step = integ.safety * RK4_LIMIT / _omega_max(scene, states)
-        nsteps = max(1, round(dyn.duration / step))
-        step = dyn.duration / nsteps
-        every = max(1, round(dyn.output_interval / step)) if dyn.output_interval else 1
+            step, how = default_step(scene, states, rates, dyn)
+            counters["time_step_rule"] = how
+        out_dt, n_out, step = output_schedule(T, float(step), dyn.output_interval)
+        per_out = max(1, int(round(out_dt / step)))
+        nsteps = n_out * per_out
+        t_end = n_out * out_dt
         times, hist = None, []
         nunits = len(scene.chains) + len(scene.planars)
+        failure = None          # (label, time, message)
         for k, (unit, q, qd) in enumerate(zip(scene.chains, states, rates)):
-            res = simulate_chain(unit.model, nsteps * step, step, q0=q, qd0=qd, output_every=every,
+            res = simulate_chain(unit.model, t_end, step, q0=q, qd0=qd, output_every=per_out,
                                  progress=lambda f, k=k: report((k + f) / nunits))
-            if not res.success:
-                raise SolverError(f"{unit.label}: {res.message}; reduce analysis.dynamics.integrator.time_step")
-            times = res.t
+            if not res.success and failure is None:
+                failure = (unit.label, res.failure_time if res.failure_time is not None else float(res.t[-1]),
+                           res.message)
+            if times is None or len(res.t) < len(times):
+                times = res.t
             hist.append((res.q, res.qd, res.qdd))
         for k, (u, q, qd) in enumerate(zip(scene.planars, states[len(scene.chains):], rates[len(scene.chains):])):
             method = "rk4" if integ.kind == "rk4" else "generalized-alpha"
             kw = {"rho_inf": integ.rho_inf} if method != "rk4" else {}
-            r = pl.planar_dynamics(u.model, nsteps * step, step, q0=q, qd0=qd, method=method, record_every=every,
+            r = pl.planar_dynamics(u.model, t_end, step, q0=q, qd0=qd, method=method, record_every=per_out,
                                    **kw)
             if not r.success:
                 raise SolverError(f"{u.label}: {r.message}")
             qdd = np.array([pl.accelerations(u.model, qi, vi, ti)[0] for ti, qi, vi in zip(r.t, r.q, r.qd)])
-            times = r.t
+            if times is None or len(r.t) < len(times):
+                times = r.t
             hist.append((r.q, r.qd, qdd))
             report((len(scene.chains) + k + 1) / nunits)
-        counters2 = {"steps": nsteps, "time_step": step}
-    counters.update(counters2)
+        counters.update({"steps": nsteps, "time_step": step})
+        if failure is not None:
+            label, t_fail, why = failure
+            limit = ""
+            try:
+                w = _omega_max(scene, states)
+                if w > 0.0:
+                    limit = f" (its RK4 stability limit is about {RK4_LIMIT / w:.3g} s)"
+            except SolverError:
+                pass
+            msg = (f"{label}: the state diverged ({why}) with the time step {step:.4g} s{limit}; reduce "
+                   f"analysis.dynamics.integrator.time_step")
+            counters["wall_time"] = _time.perf_counter() - wall0
+            n_keep = len(times)
+            raise SolverError(msg, time=t_fail, element=label,
+                              results=_partial(sc, scene, times, hist, n_keep, f"{msg} at t = {t_fail:.6g} s",
+                                               counters))
     counters["wall_time"] = _time.perf_counter() - wall0
     return _results(sc, scene, times, hist, kind="dynamics", message=f"finished: {counters.get('steps', 0)} steps",
                     counters=counters, version=__version__)
 
 
+def _dop853(rhs, y0, times, kw):
+    """DOP853 stepped by hand with dense output at `times`: (Y (len, n) so far, None) or,
+    when a step fails or the right-hand side raises LinAlgError, (Y so far, (t, why))."""
+    from scipy.integrate import DOP853
+    T = float(times[-1])
+    Y = [np.array(y0, float)]
+    k = 1
+    solver = None
+    try:
+        solver = DOP853(rhs, 0.0, np.array(y0, float), T, **kw)
+        while k < len(times):
+            msg = solver.step()
+            if solver.status == "failed":
+                return np.array(Y), (solver.t, str(msg))
+            dense = solver.dense_output()
+            while k < len(times) and times[k] <= solver.t + 1e-12 * max(1.0, T):
+                Y.append(dense(min(times[k], solver.t)))
+                k += 1
+            if solver.status == "finished":
+                while k < len(times):
+                    Y.append(solver.y.copy())
+                    k += 1
+    except np.linalg.LinAlgError as exc:
+        return np.array(Y), (solver.t if solver is not None else 0.0, str(exc))
+    return np.array(Y), None
+
+
 def _adaptive(scene, states, rates, dyn, report):
-    """scipy DOP853 on each unit's first-order system, output every output_interval."""
-    from scipy.integrate import solve_ivp
+    """DOP853 on each unit's first-order system, output every output_interval (made to divide
+    the duration as for the fixed-step integrators, `output_schedule`). Returns (times, hist,
+    counters, failure): failure is None or (unit label, time, reason, outputs kept)."""
+    from ..solvers.dynamics import output_schedule
     integ = dyn.integrator
-    dt_out = dyn.output_interval or dyn.duration / 1000.0
-    times = np.linspace(0.0, dyn.duration, max(2, round(dyn.duration / dt_out) + 1))
+    out_dt, n_out, _ = output_schedule(float(dyn.duration), 0.0, dyn.output_interval, adaptive=True)
+    times = np.arange(n_out + 1) * out_dt
     hist, nfev = [], 0
     kw = {"rtol": integ.rtol, "atol": integ.atol}
     if integ.max_step:
         kw["max_step"] = integ.max_step
     if integ.first_step:
         kw["first_step"] = integ.first_step
+    failure = None
+    n_keep = len(times)
     for unit, q, qd in zip(scene.chains, states, rates):
         model = unit.model
         data = ChainData(model)
@@ -655,18 +775,22 @@ def _adaptive(scene, states, rates, dyn, report):
         def rhs(t, y, model=model, data=data, fr=fr, full=full):
             qq, vv = full(t, y)
             return np.concatenate([vv[fr], accelerations(model, data, t, qq, vv)[fr]])
-        sol = solve_ivp(rhs, (0.0, dyn.duration), np.concatenate([q[fr], qd[fr]]), method="DOP853", t_eval=times,
-                        **kw)
-        if not sol.success:
-            raise SolverError(f"{unit.label}: {sol.message}")
-        nfev += sol.nfev
+        Y, fail = _dop853(rhs, np.concatenate([q[fr], qd[fr]]), times[:n_keep], kw)
+        nfev += data.nfev
         Q, QD, QDD = [], [], []
-        for t, y in zip(sol.t, sol.y.T):
+        for t, y in zip(times, Y):
             qq, vv = full(t, y)
-            QDD.append(accelerations(model, data, t, qq, vv))
+            try:
+                QDD.append(accelerations(model, data, t, qq, vv))
+            except np.linalg.LinAlgError:
+                QDD.append(np.full(model.nq, np.nan))
             Q.append(qq)
             QD.append(vv)
-        hist.append((np.array(Q), np.array(QD), np.array(QDD)))
+        hist.append((np.array(Q).reshape(-1, model.nq), np.array(QD).reshape(-1, model.nq),
+                     np.array(QDD).reshape(-1, model.nq)))
+        if fail is not None and failure is None:
+            failure = (unit.label, float(fail[0]), fail[1])
+        n_keep = min(n_keep, len(Y))
     for u, q, qd in zip(scene.planars, states[len(scene.chains):], rates[len(scene.chains):]):
         pm = u.model
         free = pm.free_mask()
@@ -681,16 +805,22 @@ def _adaptive(scene, states, rates, dyn, report):
         def prhs(t, y, pm=pm, w=w, pfull=pfull, free=free):
             qq, vv = pfull(y)
             return np.concatenate([vv[free], pl.accelerations(pm, qq, vv, t, w)[0][free]])
-        sol = solve_ivp(prhs, (0.0, dyn.duration), np.concatenate([q[free], qd[free]]), method="DOP853",
-                        t_eval=times, **kw)
-        if not sol.success:
-            raise SolverError(f"{u.label}: {sol.message}")
-        nfev += sol.nfev
-        Q, QD = zip(*(pfull(y) for y in sol.y.T))
-        QDD = [pl.accelerations(pm, a, b, t, w)[0] for t, a, b in zip(sol.t, Q, QD)]
-        hist.append((np.array(Q), np.array(QD), np.array(QDD)))
+        Y, fail = _dop853(prhs, np.concatenate([q[free], qd[free]]), times[:n_keep], kw)
+        Q, QD = [], []
+        for y in Y:
+            a, b = pfull(y)
+            Q.append(a)
+            QD.append(b)
+        QDD = [pl.accelerations(pm, a, b, t, w)[0] for t, a, b in zip(times, Q, QD)]
+        m = pm.ncoord
+        hist.append((np.array(Q).reshape(-1, m), np.array(QD).reshape(-1, m), np.array(QDD).reshape(-1, m)))
+        if fail is not None and failure is None:
+            failure = (u.label, float(fail[0]), fail[1])
+        n_keep = min(n_keep, len(Y))
     report(1.0)
-    return times, hist, {"evaluations": nfev}
+    if failure is not None:
+        failure = failure + (n_keep,)
+    return times, hist, {"evaluations": nfev}, failure
 
 
 # ============================================================================ modes
@@ -715,14 +845,37 @@ def _positions(unit, q, t=0.0):
     return pts
 
 
+def _free_count(unit) -> int:
+    return int(unit.model.free_mask().sum()) if isinstance(unit, PlanarUnit) else len(unit.model.free)
+
+
+def _length_scale(unit) -> float:
+    """Displacement (m) of a unit coordinate: the RFE / SDE spacing (rigid links: length)."""
+    if isinstance(unit, PlanarUnit):
+        return unit.model.length / max(unit.model.sde_stiffness.shape[0], 1)
+    return max(o.sde_spacing for o in unit.outputs)
+
+
 def modes(sc, n: int | None = None):
-    from ..solvers.modal import ModalResults
+    """Modes of a scene with classical / modified / planar lines or chains (ModalResults).
+
+    n: a positive integer (default analysis.modal.modes, else 10); above the number of
+    moving coordinates all modes are given and ModalResults.message says so. Unstable modes
+    have negative frequencies (ModalResults). shapes: (nmodes, nq) concatenated unit
+    coordinates; line_shapes: point displacements, as for absolute-coordinate lines."""
+    from ..solvers.modal import ModalResults, SHAPE_FLOOR, checked_mode_count, count_note, join_notes, \
+        unstable_note
     from . import mixed
+    nmodes = checked_mode_count(n, default=sc.analysis.modal.modes if sc.analysis.modal else 10)
     if mixed.is_mixed(sc):
         raise SolverError("modal analysis of a scene mixing chains with absolute-coordinate lines is not "
                           "supported yet (statics and dynamics are)")
     scene = compile_scene(sc)
-    nmodes = n or (sc.analysis.modal.modes if sc.analysis.modal else 10)
+    units = scene.chains + scene.planars
+    available = sum(_free_count(u) for u in units)
+    if available == 0:
+        raise SolverError("modal analysis: the scene has no moving coordinates")
+    requested, nmodes = nmodes, min(nmodes, available)
     # the linear classical model's modes do not depend on the static state (its K is constant)
     linear_only = not scene.planars and all(u.linear_clamped for u in scene.chains)
     if sc.analysis.statics.enabled and not linear_only:
@@ -731,6 +884,8 @@ def modes(sc, n: int | None = None):
         states = [u.q0 for u in scene.chains] + [u.model.q_initial for u in scene.planars]
     found = []                                   # (omega, unit index, full shape)
     for k, (unit, q) in enumerate(zip(scene.chains, states)):
+        if not len(unit.model.free):
+            continue
         if unit.linear_clamped:                  # eqs. 8.34, 8.35: constant diagonal M, block-tridiagonal K
             link = unit.model.links[unit.outputs[0].link].link
             w, shapes = linear_modes(link, nmodes)
@@ -739,12 +894,13 @@ def modes(sc, n: int | None = None):
         for i in range(min(nmodes, len(w))):
             found.append((float(w[i]), k, shapes[:, i]))
     for k, (u, q) in enumerate(zip(scene.planars, states[len(scene.chains):]), start=len(scene.chains)):
+        if not _free_count(u):
+            continue
         md = pl.planar_modes(u.model, q, count=nmodes)
         for f, s in zip(md.frequencies_hz, md.shapes):
             found.append((2 * math.pi * float(f), k, s))
     found.sort(key=lambda x: x[0])
     found = found[:nmodes]
-    units = scene.chains + scene.planars
     sizes = [len(s) for s in states]
     offsets = np.concatenate([[0], np.cumsum(sizes)])
     shapes = np.zeros((len(found), int(offsets[-1])))
@@ -753,19 +909,28 @@ def modes(sc, n: int | None = None):
     line_shapes = {nm: np.zeros((len(found),) + p.shape) for nms, pts in zip(names, base_pts)
                    for nm, p in zip(nms, pts)}
     for i, (w, k, s) in enumerate(found):
-        shapes[i, offsets[k]:offsets[k + 1]] = s / max(np.abs(s).max(), 1e-300)
-        eps = 1e-6 / max(np.abs(s).max(), 1e-300)
+        s = s / max(np.abs(s).max(), 1e-300)      # unit largest coordinate
+        shapes[i, offsets[k]:offsets[k + 1]] = s
+        eps = 1e-6
         plus = _as_list(_positions(units[k], states[k] + eps * s))
         if getattr(units[k], "linear_clamped", False):      # eq. 8.8: points affine in q, one-sided is exact
             disp = [(a - b) / eps for a, b in zip(plus, base_pts[k])]
         else:
             minus = _as_list(_positions(units[k], states[k] - eps * s))
             disp = [(a - b) / (2 * eps) for a, b in zip(plus, minus)]
-        scale = max(max(np.abs(d).max() for d in disp), 1e-300)
+        # largest point displacement, but not below SHAPE_FLOOR of a unit coordinate's: a mode
+        # that moves no point beyond round-off (pure torsion, a spin) stays (near) zero
+        peak = max(np.abs(d).max() for d in disp)
+        scale = max(peak, SHAPE_FLOOR * _length_scale(units[k]), 1e-300)
         for nm, d in zip(names[k], disp):
             line_shapes[nm][i] = d / scale
     freqs = np.array([w / (2 * math.pi) for w, _, _ in found])
-    return ModalResults(frequencies_hz=freqs, shapes=shapes, line_shapes=line_shapes)
+    unstable = int(np.sum(freqs < 0.0))
+    if unstable:
+        log.warning("modal analysis: %s", unstable_note(freqs))
+    return ModalResults(frequencies_hz=freqs, shapes=shapes, line_shapes=line_shapes,
+                        message=join_notes(unstable_note(freqs), count_note(requested, available)),
+                        unstable=unstable)
 
 
 def _as_list(p):

@@ -8,6 +8,7 @@ problems use a dense symmetric solver; long lines a sparse shift-invert Lanczos 
 """
 from __future__ import annotations
 
+import logging
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -19,19 +20,97 @@ from ..model.outputs import line_points
 from .banded import bt_to_sparse
 from .system import System
 
+log = logging.getLogger("rfesim")
+
+SHAPE_FLOOR = 1e-4        # line_shapes: displacements below this x (a unit coordinate's length scale) are zero
+ZERO_EIGENVALUE = 1e-15   # a negative omega^2 above -this x the stiffness scale is a zero mode's round-off
+
+
+def signed_omega(w2, scale: float) -> np.ndarray:
+    """Angular frequencies (rad/s) from the eigenvalues omega^2 of K x = omega^2 M x:
+    sqrt(omega^2) for stable modes and -sqrt(-omega^2) for unstable ones (negative
+    stiffness: the static state is unstable and the mode grows as exp(sqrt(-omega^2) t)).
+    A negative omega^2 with |omega^2| <= ZERO_EIGENVALUE x scale (scale: the largest
+    omega^2 or an estimate of it, max K_ii / M_ii) is the round-off of a zero mode (measured
+    at 1e-17 of the scale: the spin of a pinned line) and gives 0. Small positive values
+    are kept: a long riser's first mode can sit at 1e-16 of its axial frequencies."""
+    w2 = np.asarray(w2, float)
+    tol = ZERO_EIGENVALUE * max(float(scale), 0.0)
+    w2 = np.where((w2 < 0.0) & (w2 >= -tol), 0.0, w2)
+    return np.sign(w2) * np.sqrt(np.abs(w2))
+
+
+def unstable_note(frequencies_hz) -> str:
+    """The warning of a modal analysis with negative-stiffness modes ("" when there is none)."""
+    f = np.asarray(frequencies_hz, float)
+    bad = np.flatnonzero(f < 0.0)
+    if bad.size == 0:
+        return ""
+    which = ", ".join(str(int(i) + 1) for i in bad[:10]) + (", ..." if bad.size > 10 else "")
+    return (f"the static state is unstable: {bad.size} mode{'s' if bad.size > 1 else ''} with negative "
+            f"stiffness (mode{'s' if bad.size > 1 else ''} {which}, shown with negative frequencies "
+            f"-sqrt(-omega^2)/(2 pi): the growth rate)")
+
+
+def checked_mode_count(n, available: int | None = None, *, default: int = 10) -> int:
+    """The number of modes to compute: n (None: default) must be a positive integer
+    (ScenarioError naming n otherwise); above the available coordinates it becomes all of them
+    (the caller says so in ModalResults.message, `count_note`)."""
+    from ..errors import ScenarioError
+    if n is None:
+        n = default
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)):
+        raise ScenarioError([("n", f"the number of modes must be a positive integer, got {n!r}")])
+    if n < 1:
+        raise ScenarioError([("n", f"the number of modes must be a positive integer (at least 1), got {n}")])
+    n = int(n)
+    return n if available is None else min(n, available)
+
+
+def count_note(requested: int, available: int) -> str:
+    return (f"{requested} modes requested but the model has only {available} moving coordinates: all "
+            f"{available} modes are given" if requested > available else "")
+
+
+def join_notes(*notes) -> str:
+    return "; ".join(x for x in notes if x)
 
 
 @dataclass
 class ModalResults:
-    frequencies_hz: np.ndarray             # (nmodes,) Hz
-    shapes: np.ndarray                     # (nmodes, n, 6) generalised-coordinate shapes (unit max)
+    """Natural frequencies and mode shapes about the static state.
+
+    frequencies_hz (nmodes,), ascending: an unstable mode (negative stiffness, omega^2 < 0,
+    e.g. a column above its buckling load) has a NEGATIVE frequency -sqrt(-omega^2)/(2 pi)
+    (its growth rate over 2 pi), listed first; `unstable` counts them and `message` says so
+    (also logged as a warning by the "rfesim" logger). Zero modes (rigid-body motions,
+    the spin of a pinned line) give 0.
+
+    shapes (nmodes, ...): the mode in the formulation's own coordinates, scaled to unit
+    largest coordinate: (nmodes, n, 6) RFE coordinates for absolute-coordinate lines;
+    (nmodes, nq) the concatenated coordinates of every chain / line unit for the classical,
+    modified and planar formulations and for chains (angles in rad and translations in m
+    mixed, so compare modes through line_shapes).
+
+    line_shapes: name -> (nmodes, npoints, 3), the same in every formulation: the
+    displacement of each line's points (end A, every SDE, end B) in the global frame, scaled
+    so that the largest displacement over all lines of a mode is 1. A mode whose point
+    displacements are at round-off (pure torsion about the line axis, a spin) has zero
+    line_shapes rather than noise scaled up to 1.
+    """
+    frequencies_hz: np.ndarray             # (nmodes,) Hz, negative for unstable modes
+    shapes: np.ndarray                     # formulation coordinates (see above), unit max
     line_shapes: dict = field(default_factory=dict)   # name -> (nmodes, npoints, 3) point displacements
     asymmetry: float = 0.0                 # |K - K^T| / |K| before symmetrisation
+    message: str = ""                      # warnings: unstable modes, fewer modes than requested
+    unstable: int = 0                      # number of negative-stiffness modes
 
     @property
     def periods_s(self) -> np.ndarray:
-        with np.errstate(divide="ignore"):
-            return 1.0 / self.frequencies_hz
+        """1 / f; inf for a zero mode, NaN for an unstable (negative-frequency) mode."""
+        f = np.asarray(self.frequencies_hz, float)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.where(f > 0.0, 1.0 / np.where(f > 0.0, f, 1.0), np.where(f == 0.0, np.inf, np.nan))
 
     def __repr__(self) -> str:
         f = ", ".join(f"{x:.5g}" for x in self.frequencies_hz[:10])
@@ -64,6 +143,7 @@ def modal_analysis(system: System, state: State, nmodes: int) -> ModalResults:
     nact = active.size
     if nact == 0:
         raise SolverError("modal analysis: the scene has no moving coordinates")
+    requested = nmodes
     nmodes = min(nmodes, nact)
     Ksp = bt_to_sparse(K)
     if km.has_closures:
@@ -93,7 +173,8 @@ def modal_analysis(system: System, state: State, nmodes: int) -> ModalResults:
         w2, vec = spla.eigsh(Ks.tocsc(), k=nmodes, M=Ms.tocsc(), sigma=sigma, which="LM")
         order = np.argsort(w2)
         w2, vec = w2[order], vec[:, order]
-    freq = np.sqrt(np.clip(w2, 0.0, None)) / (2.0 * np.pi)
+    stiff = np.abs(Ks.diagonal()) / np.maximum(np.abs(Ms.diagonal()), 1e-300)
+    freq = signed_omega(w2, float(stiff.max()) if stiff.size else 0.0) / (2.0 * np.pi)
     shapes = np.zeros((nmodes, n * 6))
     shapes[:, active] = vec.T
     norms = np.abs(shapes).max(axis=1)
@@ -127,7 +208,14 @@ def modal_analysis(system: System, state: State, nmodes: int) -> ModalResults:
         if line_shapes else None
     if peak is not None:
         allpeak = np.max(np.stack([np.abs(v).max(axis=(1, 2)) for v in line_shapes.values()]), axis=0)
-        allpeak[allpeak == 0] = 1.0
+        # a mode that moves no point beyond round-off (pure torsion) keeps its (near-zero)
+        # size relative to SHAPE_FLOOR of a unit coordinate's displacement, not noise scaled to 1
+        allpeak = np.maximum(allpeak, SHAPE_FLOOR * scale)
         for name in line_shapes:
             line_shapes[name] /= allpeak[:, None, None]
-    return ModalResults(frequencies_hz=freq, shapes=shapes, line_shapes=line_shapes, asymmetry=asym)
+    unstable = int(np.sum(freq < 0.0))
+    message = join_notes(unstable_note(freq), count_note(requested, nact))
+    if unstable:
+        log.warning("modal analysis: %s", unstable_note(freq))
+    return ModalResults(frequencies_hz=freq, shapes=shapes, line_shapes=line_shapes, asymmetry=asym,
+                        message=message, unstable=unstable)
