@@ -357,6 +357,13 @@ def build_cases(scenario, vary: dict[str, list], overrides: dict | None = None) 
     base = _base_dict(scenario)
     folder = _scenario_folder(scenario)
     check_vary_paths(base, vary)
+    # the varied values are applied after the overrides: a varied path at or above an
+    # override's would silently replace it in every load case
+    lost = [(str(v), f"would replace the override '{o}' in every load case: vary '{o}' itself, or leave it "
+                     f"out of the overrides") for v in vary for o in (overrides or {})
+            if tuple(str(o).split("."))[:len(str(v).split("."))] == tuple(str(v).split("."))]
+    if lost:
+        raise ScenarioError(lost)
     cases = []
     for values in grid(vary):
         data = apply_overrides(base, {**(overrides or {}), **values})

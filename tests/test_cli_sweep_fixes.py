@@ -269,3 +269,21 @@ def test_pipelay_top_tension_is_the_tensioner_and_touchdown_the_results():
     summary, where = _summary(riser)
     assert where == "riser end B"
     assert summary["touchdown_max"] == pytest.approx(float(riser.line("riser").touchdown_arc_length[0]))
+
+
+def test_a_varied_path_that_would_replace_an_override_is_refused(good):
+    """The varied values go on top of the overrides: varying analysis.dynamics (or the very
+    path) would silently drop an override of analysis.dynamics.duration in every case; an
+    override above a varied path is fine (the varied value goes inside it, in each case's own
+    copy: before, every case shared the override's object and all got the last value)."""
+    from rfesim.sweep import build_cases
+
+    for vary in ({"analysis.dynamics": [{"duration": 0.3}]}, {"analysis.dynamics.duration": [0.3, 0.4]}):
+        with pytest.raises(rfesim.ScenarioError) as err:
+            build_cases(good, vary, overrides={"analysis.dynamics.duration": 0.5})
+        ((field, reason),) = err.value.errors
+        assert field == next(iter(vary)) and "the override 'analysis.dynamics.duration'" in reason
+    cases = build_cases(good, {"analysis.dynamics.duration": [0.3, 0.4]},
+                        overrides={"analysis.dynamics": {"duration": 1.0, "output_interval": 0.1}})
+    assert [c[1]["analysis"]["dynamics"]["duration"] for c in cases] == [0.3, 0.4]
+    assert all(c[1]["analysis"]["dynamics"]["output_interval"] == 0.1 for c in cases)

@@ -931,10 +931,11 @@ def set_path(data: dict, path: str, value: Any) -> None:
 
 
 def apply_overrides(data: dict, overrides: dict[str, Any] | None) -> dict:
-    """A deep copy of ``data`` with dotted-path overrides applied."""
+    """A deep copy of ``data`` with dotted-path overrides applied (copies of their values: a
+    later path inside one, such as a sweep's varied value, must not change the caller's)."""
     out = copy.deepcopy(data)
     for path, value in (overrides or {}).items():
-        set_path(out, path, value)
+        set_path(out, path, copy.deepcopy(value))
     return out
 
 
