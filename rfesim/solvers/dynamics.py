@@ -881,6 +881,16 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
             raise SolverError(msg, time=st.t, quantity="rope slip over a sheave",
                               results=make_results(status=1, message=msg))
 
+    def output(st) -> bool:
+        """At an output time: record the state, stop on a rope slipped too far, rebase the
+        servo motors' joints (True when one was: a factorised Jacobian is then stale), report
+        progress."""
+        recorder.record(st, st.qdd)
+        check_slip()
+        rebased = bool(km.has_motors and rebase_motors(km, ws))
+        report(st.t)
+        return rebased
+
     def report(t):
         if progress is not None:
             try:
@@ -1021,11 +1031,8 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
                     stats[:] = 0
                     if status != 0:
                         _raise(system, fail, status, make_results)
-                    recorder.record(st, st.qdd)
-                    check_slip()
-                    if km.has_motors and rebase_motors(km, ws):
+                    if output(st):
                         flags[0] = 0           # the factorised Jacobian belongs to the old rest rotation
-                    report(st.t)
                     k_out += 1
                     continue
                 nsteps = int(round((t_target - st.t) / h))
@@ -1043,11 +1050,8 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
                 st.t = t_target
                 counters.add(stats)
                 stats[:] = 0
-                recorder.record(st, st.qdd)
-                check_slip()
-                if km.has_motors and rebase_motors(km, ws):
+                if output(st):
                     flags[0] = 0           # the factorised Jacobian belongs to the old rest rotation
-                report(st.t)
                 k_out += 1
         elif integ.kind == "rk4":
             k_q, k_v = z(4, n, 6), z(4, n, 6)
@@ -1063,11 +1067,7 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
                     st.t = float(fail[0])
                     _raise(system, fail, status, make_results, "RK4: ", rk4_hint)
                 st.t = t_target
-                recorder.record(st, st.qdd)
-                check_slip()
-                if km.has_motors:
-                    rebase_motors(km, ws)
-                report(st.t)
+                output(st)
         else:
             k_q, k_v = z(7, n, 6), z(7, n, 6)
             qs, vbuf, acc = z(n, 6), z(n, 6), z(n, 6)
@@ -1084,11 +1084,7 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
                     st.t = float(fail[0])
                     _raise(system, fail, status, make_results, "adaptive RK: ")
                 st.t = t_target
-                recorder.record(st, st.qdd)
-                check_slip()
-                if km.has_motors:
-                    rebase_motors(km, ws)
-                report(st.t)
+                output(st)
     except KeyboardInterrupt as exc:
         # Ctrl-C (or a SIGTERM the command line turns into it): the results so far go with the
         # interruption, as they go with a SolverError (rfesim.api.simulate, rfesim.cli)
