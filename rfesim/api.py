@@ -49,16 +49,18 @@ def _seabed_folds(model) -> list[str]:
     for li in model.lines if model is not None else []:
         if li.seabed_fold is None:
             continue
-        length, span, height = li.seabed_fold
+        length, span, height, limit = li.seabed_fold
         if height <= 1e-3 * length + 0.5 * li.section.outer_diameter:
-            out.append(f"line '{li.name}' has both ends on the seabed and {length - span:.4g} m of slack "
-                       f"({length:.6g} m between points {span:.6g} m apart): slack lying on the seabed has no "
+            apart = f"{span:.6g} m apart" if abs(limit - span) <= 1e-6 * limit else \
+                f"{limit:.6g} m apart along the seabed"
+            out.append(f"line '{li.name}' has both ends on the seabed and {length - limit:.4g} m of slack "
+                       f"({length:.6g} m between points {apart}): slack lying on the seabed has no "
                        f"unique static shape; make the line as long as the distance between its ends, lift an "
                        f"end off the seabed, or set analysis.statics.enabled to false")
         else:
             out.append(f"line '{li.name}' runs from the seabed to a point {height:.4g} m up and {span:.4g} m away, "
-                       f"and is {length - span - height:.4g} m longer ({length:.6g} m) than can hang vertically and "
-                       f"lie straight on the seabed ({span + height:.6g} m): the rest folds on the seabed, which "
+                       f"and is {length - limit:.4g} m longer ({length:.6g} m) than can hang vertically and "
+                       f"lie straight on the seabed ({limit:.6g} m): the rest folds on the seabed, which "
                        f"has no unique static shape; shorten the line, move its ends apart, or set "
                        f"analysis.statics.enabled to false")
     return out

@@ -56,7 +56,7 @@ class LineInfo:
     chord: float | None = None   # m, distance between the ends at t = 0 when both are placed
     tension_estimate: float = 0.0   # N, its largest static tension expected before statics (fem lines:
                                     #   _tension_estimate), against its fem shear limit (shear_limit)
-    seabed_fold: tuple | None = None   # (length, horizontal span, height) m of a heavy line from the seabed
+    seabed_fold: tuple | None = None   # (length, horizontal span, height, limit) m of a heavy line from the seabed
                                        #   longer than can hang and lie straight (_seabed_fold)
 
     @property
@@ -245,18 +245,34 @@ def _grounded(p: np.ndarray, sec: Section, sc, length: float) -> bool:
 
 
 def _seabed_fold(line, sec: Section, sc, A, B) -> tuple | None:
-    """(length, horizontal span, height) of a heavy line between placed ends, its lower end on
-    the seabed, that is longer than the horizontal span plus the height: more than can hang
-    vertically and lie straight on the seabed. The rest would fold back on the seabed, which
-    has no unique static shape (its start shape bunches it up). None otherwise."""
+    """(length, horizontal span, height, limit) of a heavy line between placed ends, its lower
+    end on the seabed, that is longer than ``limit``: what can hang vertically from the upper
+    end down to the seabed under it and lie straight along the seabed to the lower end (on a
+    flat seabed the horizontal span plus the height; on a slope or a profile the drop to the
+    seabed under the upper end plus the length along the seabed). The rest would fold back
+    on the seabed, which has no unique static shape (its start shape bunches it up). None
+    otherwise."""
     if A is None or B is None or _submerged_weight(sec, sc) <= 0.0:
         return None
     lo, hi = (A, B) if A[2] <= B[2] else (B, A)
+    if not _grounded(lo, sec, sc, line.length):
+        return None
     span = float(np.hypot(*(hi - lo)[:2]))
     height = float(hi[2] - lo[2])
-    if not _grounded(lo, sec, sc, line.length) or line.length <= (span + height) * (1.0 + 1e-3):
+    env = sc.environment
+    # the seabed path from the lower end to under the upper end, at the lower end's height
+    # above the seabed (profiles are piecewise linear: sample finely enough for their kinks)
+    n = 1 if sc.environment.seabed.profile is None else max(64, 8 * len(env.seabed.profile))
+    f = np.linspace(0.0, 1.0, n + 1)
+    x = lo[0] + f * (hi[0] - lo[0])
+    y = lo[1] + f * (hi[1] - lo[1])
+    zb = np.array([env.seabed_z_at(float(a), float(b)) for a, b in zip(x, y)])
+    along = float(np.sum(np.sqrt(np.diff(x) ** 2 + np.diff(y) ** 2 + np.diff(zb) ** 2)))
+    hang = height - float(zb[-1] - zb[0])
+    limit = max(hang, 0.0) + along
+    if line.length <= limit * (1.0 + 1e-3):
         return None
-    return line.length, span, height
+    return line.length, span, max(hang, 0.0), limit
 
 
 def _submerged_weight(sec: Section, sc) -> float:

@@ -605,6 +605,13 @@ class Seabed(_Strict):
                 raise FieldError("profile", "give either a slope or a profile, not both")
             if self.z is not None:
                 raise FieldError("z", "a profile gives the seabed z itself; leave z out")
+            if self.slope_direction_deg != 0.0:
+                raise FieldError("slope_direction_deg", "a profile has no slope direction: its distance axis is "
+                                                        "profile_direction_deg")
+        elif self.profile_direction_deg != 0.0:
+            raise FieldError("profile_direction_deg", "applies to a seabed profile only: a sloped plane rises "
+                                                      "along slope_direction_deg")
+        if self.profile is not None:
             for i in range(1, len(self.profile)):
                 if not self.profile[i][0] > self.profile[i - 1][0]:
                     raise FieldError(f"profile.{i}", f"distance {self.profile[i][0]} m does not increase "
@@ -644,6 +651,13 @@ class Environment(_Strict):
                 for i, (_, zp) in enumerate(self.seabed.profile):
                     if zp >= self.water.surface_level:
                         raise FieldError(f"seabed.profile.{i}", f"z = {zp} m is not below the water surface")
+                if self.water.depth is not None:
+                    # the waves take the depth at the global origin, where the profile has its own
+                    expected = self.water.surface_level - self.seabed_z_at(0.0, 0.0)
+                    if abs(self.water.depth - expected) > 1e-6 * max(1.0, expected):
+                        raise FieldError("water.depth", f"{self.water.depth:.6g} m does not match the seabed profile, "
+                                                        f"{expected:.6g} m deep at the global origin (where the "
+                                                        f"waves take the depth); leave water.depth out")
             return self
         if self.seabed is not None and self.seabed.z is None:
             if self.water is None or self.water.depth is None:

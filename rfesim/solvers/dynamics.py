@@ -17,6 +17,7 @@ import numpy as np
 from ..errors import CancelledError, ScenarioError, SolverError
 from ..model.compile import State
 from ..kinematics import rotation_to_zyx
+from ..loads.seabed import seabed_height
 from ..model.bodies import connection_force
 from ..model.joins import drive_angles, drive_outputs, hinge_angle, joint_loads, rebase_motors
 from .banded import bt_matvec
@@ -645,6 +646,14 @@ def _axis_rotations(axis: np.ndarray, angles: np.ndarray) -> np.ndarray:
     return out
 
 
+def _seabed_tilt(km, r, t):
+    """n . t: the RFE axis t against the seabed normal n under its centre r (positive when
+    its A side is the lower, the side in contact; rfesim.loads.seabed.seabed_forces)."""
+    g = np.zeros(3)
+    seabed_height(km.bed_s, km.bed_z, km.bed_dir, float(r[0]), float(r[1]), g)
+    return float(t[2] - g[1] * t[0] - g[2] * t[1])
+
+
 def touchdown(km, ws, li):
     """(arc length from end A, position) of the touchdown point of a line: going from its
     upper end (end B, or end A when that is higher) towards the other, the end of the first
@@ -664,13 +673,14 @@ def touchdown(km, ws, li):
     lc = min(float(contact[j]), L)
     # the contact part of an RFE starts at its lower end: from the A-side end when that is
     # lower (touchdown lc along the RFE), else it reaches the B-side end (mirrored from A)
+    # ("lower" against the seabed plane under its centre: on an upslope the B side of the
+    # touchdown RFE is the one in contact although it is the higher end)
     t = ws.R[i, :, 0]
+    dt = _seabed_tilt(km, ws.r[i], t)
     if from_a:
-        b_side_lower = t[2] < 0.0
-        off = (0.5 * L - lc) if (b_side_lower and lc < L) else -0.5 * L
+        off = (0.5 * L - lc) if (dt < 0.0 and lc < L) else -0.5 * L
     else:
-        a_side_lower = t[2] > 0.0
-        off = (lc - 0.5 * L) if (a_side_lower and lc < L) else 0.5 * L
+        off = (lc - 0.5 * L) if (dt > 0.0 and lc < L) else 0.5 * L
     s = s_lo + 0.5 * L + off
     return s, ws.r[i] + off * t
 

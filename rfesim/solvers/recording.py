@@ -21,6 +21,7 @@ import numpy as np
 from numba import njit
 
 from ..loads.drives import drive_table
+from ..loads.seabed import seabed_height
 from ..model.assemble import evaluate
 from ..model.outputs import record_outputs
 from ..vessel_kernel import attachment_kinematics
@@ -119,11 +120,15 @@ def touchdown_into(km, ws, start, stop, pos, arc):
         s_lo += km.rfe_length[start + m]
     L = km.rfe_length[i]
     lc = min(ws.contact_length[i], L)
-    # the contact part of an RFE starts at its lower end
+    # the contact part of an RFE starts at its lower end against the seabed plane under its
+    # centre (the sign of n . t, n unnormalised: -dz/dx, -dz/dy, 1)
+    g = np.zeros(3)
+    seabed_height(km.bed_s, km.bed_z, km.bed_dir, ws.r[i, 0], ws.r[i, 1], g)
+    dt = ws.R[i, 2, 0] - g[1] * ws.R[i, 0, 0] - g[2] * ws.R[i, 1, 0]
     if from_a:
-        off = (0.5 * L - lc) if (ws.R[i, 2, 0] < 0.0 and lc < L) else -0.5 * L
+        off = (0.5 * L - lc) if (dt < 0.0 and lc < L) else -0.5 * L
     else:
-        off = (lc - 0.5 * L) if (ws.R[i, 2, 0] > 0.0 and lc < L) else 0.5 * L
+        off = (lc - 0.5 * L) if (dt > 0.0 and lc < L) else 0.5 * L
     arc[0] = s_lo + 0.5 * L + off
     for c in range(3):
         pos[c] = ws.r[i, c] + off * ws.R[i, c, 0]
