@@ -10,7 +10,7 @@ track, 0 <= xi = e.(r - P) <= L, is
   RFE (a pad pressure), and
 * gripped axially: the pads move with the track by D(t) (paid-out length) and grip the
   RFE at the material point it had when it entered, xi_a: the grip force
-  -k_g l (xi - xi_a - D) is capped at the pads' capacity F_max l / L per RFE (the pipe slips
+  -k_g l (xi - xi_a - D) is capped at its share of the pads' capacity F_max (below; the pipe slips
   through the pads beyond it, the anchor then slides: the same spring-slider as the seabed
   friction, rfesim.loads.seabed).
 
@@ -18,14 +18,29 @@ Both springs (and the capacity) are weighted by min(1, xi / l, (L - xi) / l): th
 hold of an RFE over one element length after the entry and let go over one before the
 exit, so a line passing through sees no jump of force as RFEs come and go.
 
-The paid-out length D is history: prescribed (a table of D against time, interpolated by a
-monotone cubic: the payout speed is continuous), or driven by the tensioner's characteristic:
-payout speed v(T) from the grip force T it carries, zero inside the dead band
-|T - T_set| <= band and v = (T - T_set -+ band) / gain beyond it, limited to +-v_max;
-D advances by v h at every accepted step (explicit in the step, exact for a prescribed
-table). RFEs that enter the track are gripped where they are, RFEs that leave it are
-released: no RFE is created or deleted, the line's length, mass and momentum stay those
-of the material (the stored pipe upstream of the tensioner is part of the line).
+The paid-out length D is history: prescribed (a table of D against time, see ``_table``), or
+driven by the tensioner's characteristic: payout speed v(T) from the grip force T it
+carries, zero inside the dead band |T - T_set| <= band and v = (T - T_set -+ band) / gain
+beyond it, limited to +-v_max. A driven D is implicit in the step (backward Euler): at every
+force evaluation at time t, h = t - t_c after the last commit at t_c,
+
+    D = D_c + h v(T(D)),        T(D) = sum over the gripped RFEs of clip(k_g l w (xi - xi_a - D), +-cap_i),
+
+solved for D by safeguarded Newton (T(D) is piecewise linear and non-increasing, so the
+root is unique and lies within h v_max of D_c; ``solve_driven_payout``). The pads thus move
+with the pipe inside the step: the loop of grip stiffness k = sum k_g l w (1e8 N/m for a
+10 m track) and gain is stable at any step, where the explicit update D_c + h v(T(D_c))
+(used before) needed h < 2 gain / k (2 ms at gain 1e5 N s/m) and chattered beyond it
+(docs/theory.md, 'Driven payout'). The trial D is kept in ``table_d[j, 1]`` (unused by a
+driven row) and committed with the grips. RFEs that enter the track are gripped where they
+are, RFEs that leave it are released: no RFE is created or deleted, the line's length, mass
+and momentum stay those of the material (the stored pipe upstream of the tensioner is part
+of the line).
+
+Capacity: F_max is what the whole track holds: each gripped RFE's share is
+F_max l w / sum(l w) over the RFEs in the track (w the taper weight), so the shares add up
+to F_max whatever the element length and the taper (before: F_max l w / L, which with the
+taper and a half-length end element summed to about 0.75 F_max).
 """
 from __future__ import annotations
 
@@ -40,9 +55,10 @@ MODE_TENSION = 1
 
 @njit(cache=True)
 def _table(ts, ds, vs, t):
-    """Cubic Hermite through (ts, ds) with slopes vs (monotone PCHIP slopes from the compile
-    step): the payout speed is continuous, so a payout that starts or stops gives no
-    impulse; constant beyond the ends (``rfesim.loads.drives.drive_table``'s value)."""
+    """Cubic Hermite through (ts, ds) with slopes vs (from the compile step,
+    ``rfesim.model.supports.table_slopes``: monotone PCHIP slopes for three rows or more, the
+    secant for two, so a two-row table is a straight line at constant speed); constant
+    beyond the ends (``rfesim.loads.drives.drive_table``'s value)."""
     return drive_table(ts, ds, vs, t)[0]
 
 
@@ -56,13 +72,86 @@ def tensioner_payout(tens_mode, tens_table_t, tens_table_d, tens_table_v, tens_c
 
 
 @njit(cache=True)
+def payout_speed(T, T_set, band, gain, vmax):
+    """(v, dv/dT) of the characteristic: dead band, gain, speed limit."""
+    dT = T - T_set
+    v = 0.0
+    dv = 0.0
+    if dT > band:
+        v = (dT - band) / gain
+        dv = 1.0 / gain
+    elif dT < -band:
+        v = (dT + band) / gain
+        dv = 1.0 / gain
+    if v > vmax:
+        v = vmax
+        dv = 0.0
+    elif v < -vmax:
+        v = -vmax
+        dv = 0.0
+    return v, dv
+
+
+@njit(cache=True)
+def payout_newton(D, D0, h, u, k, T_set, band, gain, vmax, lo, hi):
+    """One safeguarded Newton step on g(D) = D - D0 - h v(u(D)), du/dD = -k <= 0 (g rises
+    with slope >= 1: one root, bracketed by [lo, hi]). Returns (g, next D, lo, hi)."""
+    v, dv = payout_speed(u, T_set, band, gain, vmax)
+    g = D - D0 - h * v
+    if g > 0.0:
+        hi = D
+    else:
+        lo = D
+    Dn = D - g / (1.0 + h * dv * k)
+    if not lo < Dn < hi:
+        Dn = 0.5 * (lo + hi)
+    return g, Dn, lo, hi
+
+
+@njit(cache=True)
+def _track_grip(D, lo, hi, px, py, pz, ex, ey, ez, L, kg_j, cap_share, rfe_length, r, grip_a, grip_on):
+    """(T, k): the axial force T(D) the gripped RFEs in the track carry with the pads at D
+    (the grip law of ``tensioner_forces``) and -dT/dD (the grip stiffness of the RFEs below
+    their capacity)."""
+    T = 0.0
+    k = 0.0
+    for i in range(lo, hi):
+        if grip_on[i] == 0:
+            continue
+        xi = (r[i, 0] - px) * ex + (r[i, 1] - py) * ey + (r[i, 2] - pz) * ez
+        if xi < 0.0 or xi > L:
+            continue
+        li = rfe_length[i]
+        wgt = min(1.0, xi / li, (L - xi) / li)
+        if wgt <= 0.0:
+            continue
+        kg = kg_j * li * wgt
+        cap = cap_share * li * wgt
+        f = kg * (xi - grip_a[i] - D)
+        if f > cap:
+            f = cap
+        elif f < -cap:
+            f = -cap
+        else:
+            k += kg
+        T += f
+    return T, k
+
+
+MAX_PAYOUT_ITERATIONS = 60
+
+
+@njit(cache=True)
 def tensioner_forces(tens_att, tens_point, tens_axis, tens_length, tens_kl, tens_kg, tens_cap, tens_line_lo,
                      tens_line_hi, tens_mode, tens_table_t, tens_table_d, tens_table_v, tens_count, t, att_p, att_R,
-                     rfe_length, r, F, grip_a, grip_on, grip_a_trial, grip_on_trial, D_committed, grip_force):
+                     rfe_length, r, F, grip_a, grip_on, grip_a_trial, grip_on_trial, D_committed, grip_force,
+                     tens_set, tens_band, tens_gain, tens_vmax, h):
     """Add the forces of every tensioner on the RFEs in its track to F (at the centres: no
     moment). grip_a/grip_on (n,) committed grip anchors (material coordinate, m) and
     whether each RFE is gripped; the trial values are written. grip_force (ntens,) the
-    axial force each tensioner carries (N, positive when it holds the line back)."""
+    axial force each tensioner carries (N, positive when it holds the line back). h: time
+    since the last commit (a driven tensioner's D is solved implicitly over it and kept in
+    tens_table_d[j, 1]; 0 in statics)."""
     for j in range(tens_point.shape[0]):
         a = tens_att[j]
         R = att_R[a]
@@ -73,8 +162,33 @@ def tensioner_forces(tens_att, tens_point, tens_axis, tens_length, tens_kl, tens
         ex = R[0, 0] * tens_axis[j, 0] + R[0, 1] * tens_axis[j, 1] + R[0, 2] * tens_axis[j, 2]
         ey = R[1, 0] * tens_axis[j, 0] + R[1, 1] * tens_axis[j, 1] + R[1, 2] * tens_axis[j, 2]
         ez = R[2, 0] * tens_axis[j, 0] + R[2, 1] * tens_axis[j, 1] + R[2, 2] * tens_axis[j, 2]
-        D = tensioner_payout(tens_mode, tens_table_t, tens_table_d, tens_table_v, tens_count, j, t, D_committed)
         L = tens_length[j]
+        # the RFEs in the track: their range and summed weighted length (the capacity's shares)
+        first = tens_line_hi[j]
+        last = tens_line_lo[j]
+        held = 0.0
+        for i in range(tens_line_lo[j], tens_line_hi[j]):
+            xi = (r[i, 0] - px) * ex + (r[i, 1] - py) * ey + (r[i, 2] - pz) * ez
+            if xi < 0.0 or xi > L:
+                continue
+            li = rfe_length[i]
+            wgt = min(1.0, xi / li, (L - xi) / li)
+            if wgt <= 0.0:
+                continue
+            held += li * wgt
+            first = min(first, i)
+            last = max(last, i + 1)
+        cap_share = tens_cap[j] / held if held > 0.0 else 0.0
+        D = tensioner_payout(tens_mode, tens_table_t, tens_table_d, tens_table_v, tens_count, j, t, D_committed)
+        if tens_mode[j] == MODE_TENSION:
+            if h > 0.0 and first < last:
+                D = solve_driven_payout(D, h, 0.0, tens_set[j], tens_band[j], tens_gain[j], tens_vmax[j], first, last,
+                                        px, py, pz, ex, ey, ez, L, tens_kg[j], cap_share, rfe_length, r, grip_a,
+                                        grip_on)
+            elif h > 0.0:
+                v, dv = payout_speed(0.0, tens_set[j], tens_band[j], tens_gain[j], tens_vmax[j])
+                D += h * v
+            tens_table_d[j, 1] = D
         total = 0.0
         for i in range(tens_line_lo[j], tens_line_hi[j]):
             dx = r[i, 0] - px
@@ -104,7 +218,7 @@ def tensioner_forces(tens_att, tens_point, tens_axis, tens_length, tens_kl, tens
             else:
                 anchor = grip_a[i]
                 f = -kg * (xi - anchor - D)
-                cap = tens_cap[j] * li * wgt / L
+                cap = cap_share * li * wgt
                 if f > cap:
                     f = cap
                     anchor = xi - D + f / kg
@@ -121,23 +235,29 @@ def tensioner_forces(tens_att, tens_point, tens_axis, tens_length, tens_kl, tens
 
 
 @njit(cache=True)
-def commit_tensioners(tens_mode, tens_set, tens_band, tens_gain, tens_vmax, grip_force, D_committed, h,
-                      grip_a, grip_on, grip_a_trial, grip_on_trial, tens_line_lo, tens_line_hi):
-    """Accept the trial grips and advance the driven tensioners by one step h: payout speed
-    from the characteristic (dead band, gain, speed limit) at the grip force of the step."""
+def solve_driven_payout(D0, h, offset, T_set, band, gain, vmax, lo, hi, px, py, pz, ex, ey, ez, L, kg_j, cap_share,
+                        rfe_length, r, grip_a, grip_on):
+    """D = D0 + h v(offset + T(D)) for a driven track (module text): the implicit payout."""
+    a = D0 - h * vmax - 1e-12
+    b = D0 + h * vmax + 1e-12
+    D = D0
+    for _ in range(MAX_PAYOUT_ITERATIONS):
+        T, k = _track_grip(D, lo, hi, px, py, pz, ex, ey, ez, L, kg_j, cap_share, rfe_length, r, grip_a, grip_on)
+        g, Dn, a, b = payout_newton(D, D0, h, offset + T, k, T_set, band, gain, vmax, a, b)
+        if abs(g) <= 1e-12 * (1.0 + abs(D)) or b - a <= 1e-14 * (1.0 + abs(D)):
+            break
+        D = Dn
+    return D
+
+
+@njit(cache=True)
+def commit_tensioners(tens_mode, tens_table_d, D_committed, h, grip_a, grip_on, grip_a_trial, grip_on_trial,
+                      tens_line_lo, tens_line_hi):
+    """Accept the trial grips and, after a step (h > 0), the driven tensioners' paid-out
+    length solved implicitly in the step's last force evaluation (kept in table_d[j, 1])."""
     for j in range(tens_mode.shape[0]):
         for i in range(tens_line_lo[j], tens_line_hi[j]):
             grip_a[i] = grip_a_trial[i]
             grip_on[i] = grip_on_trial[i]
         if tens_mode[j] == MODE_TENSION and h > 0.0:
-            dT = grip_force[j] - tens_set[j]
-            v = 0.0
-            if dT > tens_band[j]:
-                v = (dT - tens_band[j]) / tens_gain[j]
-            elif dT < -tens_band[j]:
-                v = (dT + tens_band[j]) / tens_gain[j]
-            if v > tens_vmax[j]:
-                v = tens_vmax[j]
-            elif v < -tens_vmax[j]:
-                v = -tens_vmax[j]
-            D_committed[j] += v * h
+            D_committed[j] = tens_table_d[j, 1]

@@ -421,18 +421,21 @@ def local_loads(km, att, ws, scale):
                       ws.roller_anchored, ws.roller_anchor_trial, ws.roller_anchored_trial, ws.fric_mode,
                       ws.roller_scratch)
     if km.has_tensioners:
+        # a driven tensioner pays out implicitly over the time since the last commit
         ws.tens_time[1] = att.time[0]
         tensioner_forces(km.tens_att, km.tens_point, km.tens_axis, km.tens_length, km.tens_kl, km.tens_kg,
                          km.tens_cap, km.tens_line_lo, km.tens_line_hi, km.tens_mode, km.tens_table_t,
                          km.tens_table_d, km.tens_table_v, km.tens_count, att.time[0], att.p, att.R, km.rfe_length, ws.r, ws.F,
-                         ws.grip_a, ws.grip_on, ws.grip_a_trial, ws.grip_on_trial, ws.tens_D, ws.tens_force)
+                         ws.grip_a, ws.grip_on, ws.grip_a_trial, ws.grip_on_trial, ws.tens_D, ws.tens_force,
+                         km.tens_set, km.tens_band, km.tens_gain, km.tens_vmax, ws.tens_time[1] - ws.tens_time[0])
     if km.has_reels:
         ws.reel_time[1] = att.time[0]
         reel_forces(km.reel_att, km.reel_centre, km.reel_axis, km.reel_dir, km.reel_radius, km.reel_wrap, km.reel_kr,
                     km.reel_kl, km.reel_kg, km.reel_cap, km.reel_line_lo, km.reel_line_hi, km.reel_mode,
                     km.reel_table_t, km.reel_table_d, km.reel_table_v, km.reel_count, att.time[0], att.p, att.R,
                     km.rfe_length, ws.r, ws.F, ws.reel_grip_a, ws.reel_grip_on, ws.reel_grip_a_trial,
-                    ws.reel_grip_on_trial, ws.reel_D, ws.reel_force)
+                    ws.reel_grip_on_trial, ws.reel_D, ws.reel_force, km.reel_set, km.reel_band, km.reel_gain,
+                    km.reel_vmax, ws.reel_time[1] - ws.reel_time[0], km.sde_left, ws.sde_point, ws.sigma)
 
 
 @njit(cache=True, _nrt=False)
@@ -703,18 +706,16 @@ def commit_history(km, ws):
     if km.has_roller_friction:
         commit_roller_friction(ws.roller_anchor, ws.roller_anchored, ws.roller_anchor_trial, ws.roller_anchored_trial)
     if km.has_tensioners:
-        # driven tensioners advance over the time since the last commit at this step's force
+        # driven tensioners: the paid-out length solved implicitly in this step's last evaluation
         h = ws.tens_time[1] - ws.tens_time[0]
-        commit_tensioners(km.tens_mode, km.tens_set, km.tens_band, km.tens_gain, km.tens_vmax, ws.tens_force,
-                          ws.tens_D, h, ws.grip_a, ws.grip_on, ws.grip_a_trial, ws.grip_on_trial, km.tens_line_lo,
-                          km.tens_line_hi)
+        commit_tensioners(km.tens_mode, km.tens_table_d, ws.tens_D, h, ws.grip_a, ws.grip_on, ws.grip_a_trial,
+                          ws.grip_on_trial, km.tens_line_lo, km.tens_line_hi)
         ws.tens_time[0] = ws.tens_time[1]
     if km.has_reels:
         # the same spring-sliders and payout law as the tensioners, on the reels' arrays
         h = ws.reel_time[1] - ws.reel_time[0]
-        commit_tensioners(km.reel_mode, km.reel_set, km.reel_band, km.reel_gain, km.reel_vmax, ws.reel_force,
-                          ws.reel_D, h, ws.reel_grip_a, ws.reel_grip_on, ws.reel_grip_a_trial, ws.reel_grip_on_trial,
-                          km.reel_line_lo, km.reel_line_hi)
+        commit_tensioners(km.reel_mode, km.reel_table_d, ws.reel_D, h, ws.reel_grip_a, ws.reel_grip_on,
+                          ws.reel_grip_a_trial, ws.reel_grip_on_trial, km.reel_line_lo, km.reel_line_hi)
         ws.reel_time[0] = ws.reel_time[1]
 
 

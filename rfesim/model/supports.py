@@ -248,11 +248,22 @@ class TensionerInfo:
 
 def _pchip_slopes(t: np.ndarray, d: np.ndarray) -> np.ndarray:
     """Monotone cubic (Fritsch-Carlson / PCHIP) slopes: no overshoot between rows, zero
-    slope at a flat row (a payout that stops, stops smoothly)."""
+    slope at a flat row (a payout that stops, stops smoothly). Fewer than 3 rows: zeros
+    (the drive and motor tables of rfesim.model.arrays use that)."""
     if len(t) < 3:
         return np.zeros(len(t))
     from scipy.interpolate import PchipInterpolator
     return PchipInterpolator(t, d).derivative()(t)
+
+
+def table_slopes(t: np.ndarray, d: np.ndarray) -> np.ndarray:
+    """Slopes (payout speeds) at the rows of a payout table for the cubic Hermite of
+    ``rfesim.loads.tensioner._table``: the monotone PCHIP slopes for three rows or more;
+    the secant for two rows (a straight line: constant speed between them, where zero end
+    slopes made a cubic that started at rest and peaked at 1.5 times the speed)."""
+    if len(t) == 2:
+        return np.full(2, (d[1] - d[0]) / (t[1] - t[0]))
+    return _pchip_slopes(t, d)
 
 
 def fill_payout(out: dict, prefix: str, j: int, payout) -> None:
@@ -268,7 +279,7 @@ def fill_payout(out: dict, prefix: str, j: int, payout) -> None:
             rows = np.vstack([rows, rows + [1.0, 0.0]])
         out[f"{prefix}_table_t"][j, :len(rows)] = rows[:, 0]
         out[f"{prefix}_table_d"][j, :len(rows)] = rows[:, 1]
-        out[f"{prefix}_table_v"][j, :len(rows)] = _pchip_slopes(rows[:, 0], rows[:, 1])
+        out[f"{prefix}_table_v"][j, :len(rows)] = table_slopes(rows[:, 0], rows[:, 1])
     else:
         out[f"{prefix}_mode"][j] = MODE_TENSION
         out[f"{prefix}_count"][j] = 2

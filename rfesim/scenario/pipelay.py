@@ -198,6 +198,13 @@ class ReelSpec(_Strict):
                                    "much softer than the steel pipe so that the reel and the tensioner, both "
                                    "paying out by the same law, do not fight over millimetres of path length",
                                    default=1.0e5, gt=0.0, le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
+    stored_length: float | None = _units("m", "Pipe wrapped on the drum at the start (from end A to the take-off "
+                                         "point; the template's drum holds at most half a turn, less one element). "
+                                         "Default: the path from the take-off point to the straightener exit "
+                                         "plus the largest length the payout table pays out plus two elements "
+                                         "(so that reeled pipe reaches past the straightener once that path is "
+                                         "paid out, and the reel never empties), at least a quarter turn and at "
+                                         "most half a turn less one element", default=None, gt=0.0)
 
 
 class ReelLayTemplate(_Template):
@@ -416,12 +423,38 @@ def _track_length(tpl, length_estimate: float) -> float:
     return max(10.0, 3.0 * length_estimate / n)
 
 
-def _tensioner(tpl, line: str, vname: str, entry, axis, length: float, top_tension: float) -> dict:
+def _payout_reach(pay) -> float:
+    """The largest paid-out length a payout table reaches (0 without a table: a driven
+    payout's total is not known before the run)."""
+    if pay is None or pay.kind != "table":
+        return 0.0
+    return max(0.0, max(row[1] for row in pay.rows))
+
+
+def _tensioner(tpl, line: str, vname: str, entry, axis, length: float, top_tension: float,
+               static_load: float | None = None, what: str = "tensioner", upstream: float | None = None) -> dict:
+    """The track's support. ``static_load``: the axial force it holds in statics (estimate,
+    N): a given capacity below it is refused here (statics would fail with the pipe slipping
+    through, at some element far away). ``upstream``: the pipe held upstream of the track's
+    exit at the start (m): a payout table reaching beyond it is refused (the pipe's end would
+    leave the track and the pipe drop)."""
     spec = tpl.tensioner
     out = {"kind": "tensioner", "attach": vname, "line": line, "entry": [float(c) for c in entry],
            "axis": [float(c) for c in axis], "length": length,
            "lateral_stiffness": spec.lateral_stiffness, "grip_stiffness": spec.grip_stiffness,
            "capacity": spec.capacity if spec.capacity is not None else max(1.0e6, 3.0 * top_tension)}
+    if spec.capacity is not None and static_load is not None and spec.capacity < static_load:
+        raise FieldError("tensioner.capacity", f"{spec.capacity:.6g} N is below the {static_load / 1e3:.4g} kN the "
+                                               f"{what} holds in statics (the catenary's top tension and the pipe "
+                                               f"in the {what}): the pipe would slip through it; give a capacity "
+                                               f"above {static_load:.4g} N (default: three times the top tension, "
+                                               f"at least 1 MN)")
+    reach = _payout_reach(spec.payout)
+    if upstream is not None and reach > upstream:
+        raise FieldError("tensioner.payout", f"the payout table pays out {reach:.6g} m, but the {what} holds only "
+                                             f"{upstream:.6g} m of pipe up to its exit (end A of the line starts at "
+                                             f"its entry): the end would leave the {what} and the pipe drop; pay out "
+                                             f"at most {upstream:.6g} m, or give a longer tensioner.length")
     if spec.payout is not None:
         out["payout"] = spec.payout.model_dump(mode="json")
     return out
@@ -549,7 +582,8 @@ def _s_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
         max_element_reason=f"bending boundary layer sqrt(EI/H) = {layer:.3g} m and half the tensioner "
                            f"({0.5 * track:.3g} m) must each span at least one element",
         supports={
-            "tensioner": _tensioner(tpl, "", None, [x0 - gap - track, y0, zA], [1.0, 0.0, 0.0], track, top),
+            "tensioner": _tensioner(tpl, "", None, [x0 - gap - track, y0, zA], [1.0, 0.0, 0.0], track, top,
+                                    static_load=top, upstream=track),
             "stinger": {"kind": "stinger", "start": list(st.start), "direction": [1.0, 0.0, 0.0],
                         "radius": st.radius, "length": length_stinger, "spacing": spacing,
                         "roller_width": st.roller_width, "roller_radius": st.roller_radius,
@@ -590,7 +624,9 @@ def _j_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
     track = _track_length(tpl, geometry(10.0)["length"])
     geo = geometry(track)
     layer = math.sqrt(pipe.EI / H)
-    collar = _tensioner(tpl, "", None, geo.pop("entry"), axis, track, H + w * h)
+    # the collar holds the catenary's top tension and the pipe in the tower (in air)
+    collar = _tensioner(tpl, "", None, geo.pop("entry"), axis, track, H + w * h,
+                        static_load=H + w * h + pipe.weight * track * math.sin(th), what="collar", upstream=track)
     collar.pop("line")
     collar["attach"] = None
     geo.update(max_element=min(layer, 0.5 * track),
@@ -600,16 +636,25 @@ def _j_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
     return geo
 
 
-def _reel_payout(tpl) -> dict:
+def _reel_payout(tpl, back_tension: float) -> dict:
     """The reel turns with the tensioner: the same payout table; under a constant-tension
-    tensioner it is driven by the same characteristic about half the back tension."""
+    tensioner it is driven by the same characteristic (gain, speed limit) holding the back
+    tension -- the tension of the pipe just off the drum, which statics settles to the same
+    ``back_tension`` (rfesim.loads.reel, rfesim.solvers.reel_statics): the run starts in
+    equilibrium, without a transient."""
     pay = tpl.tensioner.payout
     if pay is None:
         return {}
     if pay.kind == "table":
         return {"payout": pay.model_dump(mode="json")}
-    return {"payout": {"kind": "constant-tension", "tension": 0.5 * (tpl.reel.back_tension or pay.tension * 0.1),
+    return {"payout": {"kind": "constant-tension", "tension": back_tension,
                        "dead_band": 0.0, "gain": pay.gain, "max_speed": pay.max_speed}}
+
+
+# the template's wrap window: the pipe beyond half a turn lies under the drum, where only the
+# grips hold it against gravity (one layer, unilateral radial contact): statics with a longer
+# wrap finds no sensible equilibrium, so the template stores at most half a turn
+MAX_REEL_WRAP_DEG = 180.0
 
 
 def _reel_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
@@ -627,7 +672,9 @@ def _reel_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
                                     f"at 20 to 90 deg")
     al = math.radians(angle)
     e = [math.cos(al), 0.0, -math.sin(al)]
-    side = [math.sin(al), 0.0, math.cos(al)]
+    # the straightener's middle roller pushes the pipe towards the reel and aligner centres
+    # (below the ramp's pipe line): the reverse of the reeling and aligner bend
+    side = [-math.sin(al), 0.0, -math.cos(al)]
     nat = natural_catenary(w, h, H)
     u = [math.cos(heading), math.sin(heading), 0.0]
     rp = 0.5 * pipe.contact_diameter
@@ -636,7 +683,31 @@ def _reel_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
     lift = rp + roller_radius                       # flat aligner rollers
     Rp = tpl.aligner_radius + lift
     reel_radius = tpl.reel.radius + rp               # the pipe axis on the drum
-    stored = 0.5 * math.pi * reel_radius             # a quarter turn on the drum at the start
+    # pipe on the drum at the start: enough for the payout and to bring reeled pipe past the
+    # straightener (ReelSpec.stored_length), inside the largest wrap window
+    element = min(tpl.element_length or DEFAULT_ELEMENT_LENGTH["reel-lay"], 0.25 * tpl.reel.radius,
+                  0.25 * tpl.aligner_radius)
+    window = reel_radius * math.radians(MAX_REEL_WRAP_DEG)
+    path = gap + Rp * al + gap + span                 # take-off point to the straightener exit
+    reach = _payout_reach(tpl.tensioner.payout)
+    if tpl.reel.stored_length is not None:
+        stored = tpl.reel.stored_length
+        if stored > window - element:
+            raise FieldError("reel.stored_length", f"{stored:.6g} m is more than the drum holds in its "
+                                                   f"{MAX_REEL_WRAP_DEG:.0f} deg wrap window less one element "
+                                                   f"({window - element:.6g} m at "
+                                                   f"the pipe-axis radius {reel_radius:.6g} m): store less, or "
+                                                   f"give a larger reel.radius")
+    else:
+        stored = min(window - element, max(0.5 * math.pi * reel_radius, path + reach + 2.0 * element))
+    if reach > stored:
+        given = tpl.reel.stored_length is not None
+        held = "reel.stored_length" if given else f"the most its {MAX_REEL_WRAP_DEG:.0f} deg wrap window holds"
+        raise FieldError("tensioner.payout", f"the payout table pays out {reach:.6g} m, but the reel stores only "
+                                             f"{stored:.6g} m ({held}): the reel would empty and the pipe's end run "
+                                             f"free over the aligner; pay out less, or store more "
+                                             f"({'reel.stored_length, ' if given else ''}a larger reel.radius)")
+    wrap_deg = MAX_REEL_WRAP_DEG
 
     def geometry(track):
         entry_t = [exit_local[k] - track * e[k] for k in range(3)]
@@ -654,7 +725,10 @@ def _reel_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
     track = _track_length(tpl, geometry(10.0)["length"])
     geo = geometry(track)
     layer = math.sqrt(pipe.EI / H)
-    tensioner = _tensioner(tpl, "", None, geo.pop("entry_t"), e, track, H + w * h)
+    back_tension = tpl.reel.back_tension or 0.1 * (H + w * h)
+    # the tensioner holds the catenary's top tension and the pipe on the ramp less the back tension
+    tensioner = _tensioner(tpl, "", None, geo.pop("entry_t"), e, track, H + w * h,
+                           static_load=H + w * h + pipe.weight * track * math.sin(al) - back_tension)
     entry_s, arc_start, take_off = geo.pop("entry_s"), geo.pop("arc_start"), geo.pop("take_off")
     arc = tpl.aligner_radius * al
     stations = max(2, round(arc / 1.0))
@@ -665,10 +739,10 @@ def _reel_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
         supports={
             "reel": {"kind": "reel", "centre": [take_off[0], take_off[1], take_off[2] - reel_radius],
                      "axis": [0.0, -1.0, 0.0], "direction": [1.0, 0.0, 0.0], "radius": reel_radius,
-                     "wrap_deg": 180.0, "stored_length": stored,
+                     "wrap_deg": wrap_deg, "stored_length": stored,
                      "capacity": max(1.0e6, 3.0 * (H + w * h)),
-                     "back_tension": tpl.reel.back_tension or 0.1 * (H + w * h),
-                     "grip_stiffness": tpl.reel.grip_stiffness, **_reel_payout(tpl)},
+                     "back_tension": back_tension,
+                     "grip_stiffness": tpl.reel.grip_stiffness, **_reel_payout(tpl, back_tension)},
             "aligner": {"kind": "stinger", "start": [arc_start[0], arc_start[1], arc_start[2] - lift],
                         "direction": [1.0, 0.0, 0.0], "radius": tpl.aligner_radius, "length": arc,
                         "spacing": arc / stations, "roller_width": 0.6, "roller_radius": roller_radius,

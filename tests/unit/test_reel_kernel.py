@@ -18,6 +18,17 @@ def reference_reel(C, a, d, R, W, kr, kl, kg, cap, D, lengths, r, anchor, grippe
     """Per RFE: force, trial anchor, gripped flag; and the reel's tangential force (module text)."""
     n0 = np.cross(a, d)
     n = r.shape[0]
+    held = 0.0                     # the capacity is the drum's: shared by l w / sum(l w) on the wrap
+    for i in range(n):
+        rel = r[i] - C
+        radial = rel - (rel @ a) * a
+        e_r = radial / np.linalg.norm(radial)
+        phi = math.atan2(-(e_r @ d), e_r @ n0)
+        if phi < -math.pi / 2:
+            phi += 2 * math.pi
+        weight = min(1.0, R * phi / lengths[i], R * (W - phi) / lengths[i])
+        if 0.0 <= phi <= W and weight > 0.0:
+            held += lengths[i] * weight
     F = np.zeros((n, 3))
     new_anchor = np.array(anchor, float)
     on = np.zeros(n, int)
@@ -42,7 +53,7 @@ def reference_reel(C, a, d, R, W, kr, kl, kg, cap, D, lengths, r, anchor, grippe
         sigma = -R * phi                                  # material coordinate along the payout
         tangent = math.cos(phi) * d + math.sin(phi) * n0
         if gripped[i]:
-            limit = cap * l * weight / (R * W)
+            limit = cap * l * weight / held
             f = float(np.clip(-kg * l * weight * (sigma - anchor[i] - D), -limit, limit))
             new_anchor[i] = sigma - D + f / (kg * l * weight)
         else:
@@ -65,7 +76,8 @@ def run_kernel(C, a, d, R, W, kr, kl, kg, cap, table_t, table_d, t, lengths, r, 
                 np.array([kr]), np.array([kl]), np.array([kg]), np.array([cap]), np.array([0]), np.array([n]),
                 np.array([MODE_TABLE]), np.array([table_t]), np.array([table_d]),
                 np.array([np.gradient(table_d, table_t)]), np.array([len(table_t)]), t, att_p, att_R, lengths, r, F,
-                np.asarray(anchor, float), np.asarray(gripped, np.int64), at, ont, np.zeros(1), force)
+                np.asarray(anchor, float), np.asarray(gripped, np.int64), at, ont, np.zeros(1), force, np.zeros(1),
+                np.zeros(1), np.ones(1), np.zeros(1), 0.0, np.zeros(0, np.int64), np.zeros((0, 3)), np.zeros((0, 6)))
     return F, at, ont, force[0]
 
 

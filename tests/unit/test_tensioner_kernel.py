@@ -6,12 +6,19 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from rfesim.loads.tensioner import MODE_TABLE, MODE_TENSION, commit_tensioners, tensioner_forces
+from rfesim.loads.tensioner import MODE_TABLE, MODE_TENSION, commit_tensioners, payout_speed, tensioner_forces
 
 
 def reference_forces(P, e, L, kl, kg, cap, D, lengths, r, anchor, gripped):
-    """Per RFE: force, trial anchor, gripped flag; and the tensioner's axial force."""
+    """Per RFE: force, trial anchor, gripped flag; and the tensioner's axial force. The
+    capacity is the whole track's: each RFE's share is cap l w / sum(l w) over the RFEs in it."""
     n = r.shape[0]
+    held = 0.0
+    for i in range(n):
+        xi = (r[i] - P) @ e
+        weight = min(1.0, xi / lengths[i], (L - xi) / lengths[i])
+        if 0.0 <= xi <= L and weight > 0.0:
+            held += lengths[i] * weight
     F = np.zeros((n, 3))
     new_anchor = np.array(anchor, float)
     on = np.zeros(n, int)
@@ -24,7 +31,7 @@ def reference_forces(P, e, L, kl, kg, cap, D, lengths, r, anchor, gripped):
             continue
         F[i] -= kl * lengths[i] * weight * (rel - xi * e)
         if gripped[i]:
-            limit = cap * lengths[i] * weight / L
+            limit = cap * lengths[i] * weight / held
             f = float(np.clip(-kg * lengths[i] * weight * (xi - anchor[i] - D), -limit, limit))
             new_anchor[i] = xi - D + f / (kg * lengths[i] * weight)
         else:
@@ -50,7 +57,7 @@ def run_kernel(P, e, L, kl, kg, cap, table_t, table_d, t, lengths, r, anchor, gr
                      np.array([table_d]), np.array([np.gradient(table_d, table_t)]), np.array([len(table_t)]), t,
                      att_p, att_R, lengths, r, F,
                      np.asarray(anchor, float), np.asarray(gripped, np.int64), at, ont, np.array([D_committed]),
-                     force)
+                     force, np.zeros(1), np.zeros(1), np.ones(1), np.zeros(1), 0.0)
     return F, at, ont, force[0]
 
 
@@ -81,9 +88,12 @@ def test_kernel_against_reference(seed):
     np.testing.assert_allclose(at[inside], ar[inside], rtol=0, atol=1e-12)
     np.testing.assert_array_equal(ont, onr)
     assert force == pytest.approx(total, rel=1e-9, abs=1e-6 * cap)
-    # at the capacity somewhere, and the axial force never exceeds it
+    # at the capacity somewhere, and the axial force never exceeds its share of it
     axial = F @ e
-    assert np.all(np.abs(axial[inside]) <= cap * lengths[inside] / L * (1 + 1e-12))
+    xi_in = (r[inside] - P) @ e
+    w_in = np.minimum(1.0, np.minimum(xi_in / lengths[inside], (L - xi_in) / lengths[inside]))
+    share = cap * lengths[inside] * w_in / np.sum(lengths[inside] * w_in)
+    assert np.all(np.abs(axial[inside]) <= share * (1 + 1e-12) + 1e-9)
 
 
 def test_track_on_a_moving_vessel_and_the_characteristic():
@@ -103,14 +113,18 @@ def test_track_on_a_moving_vessel_and_the_characteristic():
                      np.array([MODE_TENSION]), np.zeros((1, 2)), np.zeros((1, 2)), np.zeros((1, 2)), np.array([2]),
                      0.0, att_p,
                      att_R, np.array([2.0]), r, F, np.zeros(1), np.zeros(1, np.int64), at, ont, np.array([0.0]),
-                     force)
+                     force, np.array([1.0e5]), np.array([0.2e5]), np.array([4e4]), np.array([1.0]), 0.0)
     np.testing.assert_allclose(F[0], [-1e5 * 2.0 * 0.01, 0.0, 0.0], atol=1e-9)
     assert ont[0] == 1 and at[0] == pytest.approx(3.0)
+    for grip, expected in [(1.2e5, 0.0), (1.6e5, (1.6e5 - 1.0e5 - 0.2e5) / 4e4),
+                           (0.5e5, (0.5e5 - 1.0e5 + 0.2e5) / 4e4), (9e5, 1.0)]:
+        assert payout_speed(grip, 1.0e5, 0.2e5, 4e4, 1.0)[0] == pytest.approx(expected)
+    # the commit takes the paid-out length solved in the step's last evaluation
     D = np.array([0.0])
-    for grip, expected in [(1.2e5, 0.0), (1.6e5, 0.5 * (1.6e5 - 1.0e5 - 0.2e5) / 4e4),
-                           (0.5e5, 0.5 * (0.5e5 - 1.0e5 + 0.2e5) / 4e4), (9e5, 0.5 * 1.0)]:
-        D[0] = 0.0
-        commit_tensioners(np.array([MODE_TENSION]), np.array([1.0e5]), np.array([0.2e5]), np.array([4e4]),
-                          np.array([1.0]), np.array([grip]), D, 0.5, np.zeros(1), np.zeros(1, np.int64),
-                          np.zeros(1), np.zeros(1, np.int64), np.array([0]), np.array([1]))
-        assert D[0] == pytest.approx(expected)
+    table_d = np.array([[0.0, 0.37]])
+    commit_tensioners(np.array([MODE_TENSION]), table_d, D, 0.5, np.zeros(1), np.zeros(1, np.int64),
+                      np.zeros(1), np.zeros(1, np.int64), np.array([0]), np.array([1]))
+    assert D[0] == 0.37
+    commit_tensioners(np.array([MODE_TENSION]), table_d, D, 0.0, np.zeros(1), np.zeros(1, np.int64),
+                      np.zeros(1), np.zeros(1, np.int64), np.array([0]), np.array([1]))
+    assert D[0] == 0.37                   # statics (h = 0) does not move it
