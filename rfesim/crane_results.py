@@ -11,7 +11,12 @@ motion and acceleration.
 The lines are found by the template's names (``<crane>_pedestal``, ``<crane>_boom``,
 ``<crane>_legs``, ``<crane>_rope``; the payload is the body on the rope's end B). The
 static reference of the dynamic amplification factor is the first output sample (a run
-starts from its statics), or ``static_tension``.
+starts from its statics) for a payload hanging from the rope; for a payload that starts on
+a deck (``deck_force`` > 0 at the first sample: a lift-off), the first sample is the rope's
+pull before the lift, part of the weight, and the reference is instead the static hook load
+after lift-off, the weight in air of the payload and of the rope hanging below the first
+rope SDE (:func:`hook_load_in_air`; the DAF of a lift applies to the static hook load, the
+weight in air, as in DNV's lifting rules). ``static_tension`` overrides it.
 """
 from __future__ import annotations
 
@@ -56,6 +61,38 @@ def slack_events(time: np.ndarray, tension: np.ndarray, threshold: float, snap_w
         events.append({"start": float(time[start]), "end": float(time[k]), "snap_load": float(tension[j]),
                        "snap_time": float(time[j])})
     return events
+
+
+def _line_mass_per_length(lt: dict) -> float:
+    """kg/m of a line type dict of the expanded scenario (direct or from the pipe geometry,
+    as rfesim.scenario.schema.LineType)."""
+    if lt.get("mass_per_length") is not None:
+        return float(lt["mass_per_length"])
+    D = float(lt["outer_diameter"])
+    d = D - 2.0 * float(lt["wall_thickness"])
+    return float(lt["density"]) * math.pi / 4.0 * (D * D - d * d) \
+        + float(lt.get("contents_density") or 0.0) * math.pi / 4.0 * d * d
+
+
+def hook_load_in_air(res, rope: str, body: str, k: int = 0) -> tuple[float, float]:
+    """(at the sheave, at the hook) N: the static loads of the payload ``body`` hanging in air
+    at rest on the line ``rope``: g (m + mu (L - Delta / 2)) at the first SDE (Delta / 2 below
+    the sheave, where ``rope_tension`` is read) and g m at the body, with L the rope's
+    suspended length at output sample k (its winch's ``suspended_length``, else the line's
+    length) and Delta = L / n. From the expanded scenario kept with the results
+    (``scenario_json``)."""
+    import json
+    sc = json.loads(res.scenario_json)
+    g = float(sc["environment"].get("gravity", 9.81))
+    line = sc["lines"][rope]
+    mu = _line_mass_per_length(sc["line_types"][line["type"]])
+    length = float(line["length"])
+    for w in (getattr(res, "winches", None) or {}).values():
+        if getattr(w, "line", None) == rope:
+            length = float(np.asarray(w.suspended_length, float)[k])
+    n = int(np.asarray(res.line(rope).tension).shape[1])
+    mass = float(sc["bodies"][body]["mass"])
+    return g * (mass + mu * (length - 0.5 * length / n)), g * mass
 
 
 def _acceleration(time: np.ndarray, x: np.ndarray) -> np.ndarray:
@@ -108,12 +145,17 @@ def crane_summary(res, crane: str, *, static_tension: float | None = None, slack
 
     ``time``; ``rope_tension`` (nt,) N at the sheave (first rope SDE) and ``hook_tension``
     (nt,) N at the payload; ``static_tension`` N and ``daf`` = max / static of the tension
-    at the sheave; ``slack_events`` (tension at the payload below ``slack_fraction`` of the
-    static one; see :func:`slack_events`) and ``snap_load_max`` N; ``payload_position``,
+    at the sheave (the static tension: the first sample, a run starting from its statics with
+    the payload hanging; for a payload that starts on a deck, ``deck_force`` > 0 at the first
+    sample, the hook load in air once lifted, :func:`hook_load_in_air` at the sample of the
+    largest tension; ``static_tension`` overrides both); ``slack_events`` (tension at the
+    payload below ``slack_fraction`` of its static one, the first sample or, from a deck, the
+    payload's weight in air; see :func:`slack_events`) and ``snap_load_max`` N; ``payload_position``,
     ``payload_velocity``, ``payload_acceleration`` (nt, 3); ``base_force``,
     ``base_moment`` (nt, 3) N, N*m: the loads of the crane on the deck at the pedestal base
-    (A-frame: at the hinge; the portal A-frame: both legs', the moment about the point
-    between their stubs' feet, and ``base_force_legs`` (nt, 2, 3) per leg); ``drive_angle``/``drive_torque`` {name: (nt,)} (slewing,
+    (A-frame: the moment about the hinge, transferred from the deck stub's foot 1 m below
+    it with the force; the portal A-frame: both legs', the moment about the point between
+    their hinges, the template's ``position``, and ``base_force_legs`` (nt, 2, 3) per leg); ``drive_angle``/``drive_torque`` {name: (nt,)} (slewing,
     luffing); ``bend_moment_range`` {line: {arc_length, min, max, mean}} along the boom /
     legs and the pedestal; ``tip_position``, ``tip_acceleration`` (nt, 3): the sheave;
     ``cylinder_force`` (nt,) N per cylinder, pushing positive (with ``cylinder``, the
@@ -128,8 +170,14 @@ def crane_summary(res, crane: str, *, static_tension: float | None = None, slack
     top = np.asarray(rope.tension, float)[:, 0]
     body = next((b for b in res.bodies.values() if getattr(b, "line", None) == f"{crane}_rope"), None)
     hook = np.asarray(body.tension, float) if body is not None else np.asarray(rope.tension, float)[:, -1]
-    static = float(static_tension) if static_tension is not None else float(top[0])
-    static_hook = float(hook[0])
+    static, static_hook = float(top[0]), float(hook[0])
+    deck = None if body is None else getattr(body, "deck_force", None)
+    if body is not None and deck is not None and len(deck) and float(deck[0]) > 0.0 and res.scenario_json:
+        # a lift-off: the first sample is the rope's pull with the deck carrying the rest of the
+        # weight; the static reference is the hook load once the payload hangs in air
+        static, static_hook = hook_load_in_air(res, f"{crane}_rope", body.name, int(np.argmax(top)))
+    if static_tension is not None:
+        static = float(static_tension)
     events = slack_events(time, hook, slack_fraction * static_hook)
     snaps = [e["snap_load"] for e in events if np.isfinite(e["snap_load"])]
     base = res.line(base_line)
@@ -140,16 +188,22 @@ def crane_summary(res, crane: str, *, static_tension: float | None = None, slack
     base_force = np.asarray(base.end_a_force, float)
     base_moment = np.asarray(base.end_a_moment, float)
     out = {}
-    if portal:
-        # both legs' loads on the deck, the moment about the point between the stubs' feet
-        stubs = [base, res.line(f"{crane}_stub_2")]
+    if base_line.endswith("_stub"):
+        # A-frame: the loads reach the deck through the stub under each hinge (clamped 1 m below
+        # it, rfesim.scenario.cranes._a_frame_leg); the moment is taken about the hinge (the
+        # stub's end B), M_hinge = M_foot + (foot - hinge) x F, and for the portal about the
+        # point between its hinges (the template's position): the stub's foot would add the
+        # horizontal force times the stub's 1 m
+        stubs = [base, res.line(f"{crane}_stub_2")] if portal else [base]
         feet = [np.asarray(st.position, float)[:, 0, :] for st in stubs]
-        centre = 0.5 * (feet[0] + feet[1])
+        hinges = [np.asarray(st.position, float)[:, -1, :] for st in stubs]
+        centre = sum(hinges) / len(hinges)
         forces = [np.asarray(st.end_a_force, float) for st in stubs]
-        base_force = forces[0] + forces[1]
+        base_force = sum(forces)
         base_moment = sum(np.asarray(st.end_a_moment, float) + np.cross(f - centre, F)
                           for st, f, F in zip(stubs, feet, forces))
-        out["base_force_legs"] = np.stack(forces, axis=1)
+        if portal:
+            out["base_force_legs"] = np.stack(forces, axis=1)
     out.update({
         "time": time, "rope_tension": top, "hook_tension": hook, "static_tension": static,
         "daf": float(np.max(top) / static) if static > 0.0 else math.nan,

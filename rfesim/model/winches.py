@@ -31,6 +31,7 @@ tension (first SDE of the line) and the end-A point after the step (explicit cou
 """
 from __future__ import annotations
 
+import logging
 import math
 from dataclasses import dataclass, field
 
@@ -41,6 +42,8 @@ from ..scenario.winches import drum_radius, drum_rope_inertia
 from .arrays import KIND_CLAMPED, KIND_FREE
 
 MIN_FRACTION = 0.05      # haul-in stops (SolverError) below this fraction of the initial length
+
+log = logging.getLogger(__name__)
 
 
 @dataclass
@@ -289,11 +292,15 @@ class WinchController:
         # whenever it passes half the rope's first RFE (``_hand_over``)
         self.lead = _slipping_reeving(system, info.line)
         self.slipped = 0.0      # m, slip handed over (the hanging rope is that much shorter)
+        # m, the slip statics left (the run's reference length is taken at the compiled start
+        # positions), handed to the hanging rope at the start of the dynamics (``start``): the
+        # run's reference becomes the static run and the slip starts at 0
+        self.slip0 = 0.0
         self.rv_len = float(system.km.rv_len[self.lead]) if self.lead is not None else 0.0
 
     # ------------------------------------------------------------------ state
     _FIELDS = ("t", "D", "v", "D_mode", "v_mode", "D_c", "v_c", "e_int", "e_prev", "e_cur", "zeta", "zeta_dot",
-               "zeta_dot_prev", "tension", "accel", "slipped", "rv_len", "chord_rate", "chord_accel")
+               "zeta_dot_prev", "tension", "accel", "slipped", "slip0", "rv_len", "chord_rate", "chord_accel")
 
     def save(self) -> tuple:
         return tuple(getattr(self, f) for f in self._FIELDS)
@@ -303,7 +310,13 @@ class WinchController:
             setattr(self, f, v)
         if self.lead is not None:
             self.system.km.rv_len[self.lead] = self.rv_len
-        set_payout(self.system.km, self.info, self.D - self.slipped, self.v, self.system.length_scale)
+        set_payout(self.system.km, self.info, self._hanging(self.D), self.v, self.system.length_scale)
+
+    def _hanging(self, D: float) -> float:
+        """The hanging rope's length change (m, the payout set_payout takes) at the winch's
+        payout D: D less the slip over the sheave handed to the hanging rope (``_hand_over``;
+        with the static slip ``slip0``)."""
+        return D - self.slipped - self.slip0
 
     # ------------------------------------------------------------------ measurements
     def _end_a(self):
@@ -324,8 +337,13 @@ class WinchController:
         self.zeta_dot = vz
 
     def start(self, state) -> None:
-        """At the start of the dynamics (workspace evaluated at ``state``)."""
+        """At the start of the dynamics (workspace evaluated at ``state``). A rope slipping
+        over its sheave to a vessel lead first takes the slip statics left into its hanging
+        length (``_hand_over``; the state is re-evaluated): the run's reference is then the
+        static run, and the slip (results ``reeving_slip``) starts at 0."""
         self.t = float(state.t)
+        if self.lead is not None and self._hand_over(self.system.km, state, at_start=True):
+            state.qdd[:] = self.system.accelerations(state)
         self.measure()
         self.zeta_dot_prev = self.zeta_dot
         self.e_prev = self.e_cur = self.zeta - self.D_c
@@ -333,6 +351,9 @@ class WinchController:
             self.accel = self._drum_accel(self.t, self.v_mode)
             self.chord_rate = 0.0
             self._measure_chord()
+            note = self.release_note()
+            if note:
+                log.warning("dynamics: %s", note)
         elif self.mode.kind == "speed":
             self.v_mode = speed_at(self.mode.rows, self.t)
 
@@ -441,7 +462,9 @@ class WinchController:
         (_measure_chord; the far end keeps it over this one: h^2/4 (A_n + A_{n+1}) of
         stretch, h/2 (A_n + A_{n+1}) of stretch rate), so m a = T_{n+1} - tau / r gives
         a = (T_n + h dT/dt + 2 b A_n - b a_n - tau / r) / (m + b): the drum-rope mode is
-        integrated implicitly, and a drum and payload accelerating together (A = a) are
+        integrated implicitly (stable at any step for a taut rope; a rope whose real damping
+        of that mode is small, as with damping ratios, is slackened by a release from
+        statics when T0 - T_eq > T_eq, see release_note), and a drum and payload accelerating together (A = a) are
         predicted to the linearised tension (6.85 against 6.96 m/s^2 at 50 ms steps).
         Without A_n (a payload held still over the step) the prediction in the free-drum
         check at 50 ms steps was -6 m/s^2 against +7, a trial payout 9 mm off a rope
@@ -465,6 +488,72 @@ class WinchController:
                 net -= math.copysign(fb, self.v_mode)
         return net / (meq + kh)
 
+    def release(self) -> dict | None:
+        """The drum's release at the start of the run in closed form, or None when nothing is
+        released (the drum balanced or held by its brake, or a slack rope). From statics the
+        drum starts at rest with the rope at its static tension T0 while its motor gives
+        F = tau(0) / r: a step load T0 - F on the drum (m = J / r^2) against the payload
+        (M = T0 / g, the mass the rope carries) through the rope (k, c: its SDEs in series).
+        The two accelerate together at (T0 - F) / (m + M) with the mean tension
+        T_eq = F + m (T0 - F) / (m + M), and the relative mode (mass mu = m M / (m + M),
+        omega = sqrt(k / mu), damping ratio zeta = c / (2 sqrt(k mu))) swings the tension about
+        T_eq from T0: T = T_eq + (T0 - T_eq) e^(-zeta omega t) (cos omega_d t - zeta / sqrt(1 -
+        zeta^2) sin omega_d t) for a rope that stays taut, least near omega_d t = pi:
+        T_min = T_eq - (T0 - T_eq) exp(-zeta pi / sqrt(1 - zeta^2)). Returns {m, M, k, c, T0,
+        T_eq, omega, zeta, T_min, t_slack} (t_slack: s, when the undamped tension reaches 0,
+        NaN if T_min >= 0)."""
+        m = self.mode
+        km = self.system.km
+        g = float(np.linalg.norm(km.gravity)) if np.ndim(km.gravity) else abs(float(km.gravity))
+        T0 = self.tension
+        r = self._radius()
+        F = _table(m.torque, self.t) / r
+        if T0 <= 0.0 or g <= 0.0 or abs(T0 - F) * r <= m.brake_torque:
+            return None
+        k, c = self._rope_axial()
+        if k <= 0.0:
+            return None
+        meq = self._inertia() / (r * r)
+        M = T0 / g
+        mu = meq * M / (meq + M)
+        T_eq = F + meq * (T0 - F) / (meq + M)
+        omega = math.sqrt(k / mu)
+        zeta = c / (2.0 * math.sqrt(k * mu))
+        amp = T0 - T_eq
+        T_min = T_eq - amp * math.exp(-zeta * math.pi / math.sqrt(1.0 - zeta * zeta)) if zeta < 1.0 else \
+            min(T_eq, T0)
+        t_slack = math.acos(max(-1.0, min(1.0, -T_eq / amp))) / omega if amp > 0.0 and T_eq < amp else math.nan
+        return {"m": meq, "M": M, "k": k, "c": c, "T0": T0, "T_eq": T_eq, "omega": omega, "zeta": zeta,
+                "T_min": T_min, "t_slack": t_slack}
+
+    def release_note(self) -> str:
+        """A warning (empty if none) when the drum's release at the start slackens the rope
+        (``release``: T_min < 0). The run's own response then snatches the rope at every
+        swing of the drum-rope mode, which a step longer than a small fraction of its period
+        cannot follow: the drum's coupling is implicit, but the slack light rope's Newton
+        fails (docs/theory.md, 'Winches and rope payout'; audit 7 D1: a 1 t payload on a 20 m
+        rope of 0.05 kg/m, EA 1e8 N, damping ratio 0.2, free drum J = 100 kg m^2, r = 0.5 m:
+        the rope's series damping 60 N s/m is 0.08 % of critical for that mode)."""
+        rel = self.release()
+        if rel is None or not rel["T_min"] < 0.0:
+            return ""
+        period = 2.0 * math.pi / rel["omega"]
+        pull = _table(self.mode.torque, self.t) / self._radius()
+        critical = 2.0 * math.sqrt(rel["k"] * rel["m"] * rel["M"] / (rel["m"] + rel["M"])) * self._hang_length()
+        return (f"winch '{self.name}' (drum) is released at the start from the rope's static tension "
+                f"{rel['T0'] / 1e3:.4g} kN against a motor pull of {pull / 1e3:.4g} kN: the drum ({rel['m']:.4g} kg "
+                f"at the rope) and the load ({rel['M']:.4g} kg) swing against the rope (k = {rel['k']:.4g} N/m, "
+                f"period {period * 1e3:.3g} ms, damping ratio {rel['zeta']:.2g} from the rope's SDE dampers in "
+                f"series; damping ratios damp the elements' own modes, not this one) about {rel['T_eq'] / 1e3:.4g} "
+                f"kN, down to about {rel['T_min'] / 1e3:.4g} kN: the rope goes slack {rel['t_slack'] * 1e3:.3g} ms "
+                f"after the start and snatches taut at every swing. A time step of about {period / 50 * 1e3:.2g} ms "
+                f"follows it (a slack light rope's Newton fails at longer ones); else damp the rope's axial mode "
+                f"(line_types.<type>.damping.axial in N*s per unit length: {critical:.3g} is critical for it) or "
+                f"release the drum smoothly (a motor torque table from r T0 down)")
+
+    def _hang_length(self) -> float:
+        return self.info.length0 + self.info.payout
+
     def _tension_speed(self, T: float | None = None) -> float:
         """Payout speed (m/s) of the constant-tension characteristic at the tension T (N;
         default: the last measured)."""
@@ -486,6 +575,7 @@ class WinchController:
         elif m.kind == "drum":
             # the drum's acceleration at t_{n+1}, implicit in the rope's stretch (_drum_implicit):
             # with it the payout follows the average-acceleration Newmark rule, stable at any step
+            # while the rope stays taut (a release that slackens the rope: release_note)
             v_star = self.v_mode + 0.5 * h * (self.accel + self._drum_implicit(t_next, h))
             if m.brake_torque > 0.0 and self.v_mode != 0.0 and v_star * self.v_mode < 0.0:
                 v_star = 0.0                                 # the brake stops the drum, not reverses it
@@ -512,14 +602,14 @@ class WinchController:
             raise SolverError(f"winch '{self.name}' ran out of rope: payout {D:.6g} m is more than the "
                               f"{info.stored:.6g} m stored on the drum (winches.{self.name}.stored)",
                               time=t_next, quantity="winch payout")
-        if info.length0 + D - self.slipped < MIN_FRACTION * info.length0:
-            what = f"hauled in {-D:.6g} m" if self.slipped == 0.0 else \
-                f"paid out {D:.6g} m while the run to the lead drew {self.slipped:.6g} m over the sheave"
+        if info.length0 + self._hanging(D) < MIN_FRACTION * info.length0:
+            what = f"hauled in {-D:.6g} m" if self.slipped + self.slip0 == 0.0 else \
+                f"paid out {D:.6g} m while the run to the lead drew {self.slipped + self.slip0:.6g} m over the sheave"
             raise SolverError(f"winch '{self.name}' {what} of the {info.length0:.6g} m line: less than "
                               f"{100 * MIN_FRACTION:g} % of it is left hanging",
                               time=t_next, quantity="winch payout")
         self._next = (t_next, D, v, D_mode, v_mode, D_c, v_c)
-        set_payout(km, info, D - self.slipped, v, self.system.length_scale, self._accel(v, h))
+        set_payout(km, info, self._hanging(D), v, self.system.length_scale, self._accel(v, h))
 
     COUPLING_TOLERANCE = 1e-5       # drum force balance, relative to the tension plus m g
     SPEED_TOLERANCE = 1e-3          # constant-tension speed against its characteristic, of max_speed
@@ -579,7 +669,7 @@ class WinchController:
         """Set the mode's corrected payout and speed for the step to be redone."""
         D, v = D_mode + D_c, v_mode + v_c
         self._next = (t_next, D, v, D_mode, v_mode, D_c, v_c)
-        set_payout(km, self.info, D - self.slipped, v, self.system.length_scale, self._accel(v, t_next - self.t))
+        set_payout(km, self.info, self._hanging(D), v, self.system.length_scale, self._accel(v, t_next - self.t))
 
     def _correct_tension(self, km, h: float) -> bool:
         """The constant-tension winch's speed against its characteristic at the tension the
@@ -631,30 +721,36 @@ class WinchController:
         if self.lead is not None:
             self._hand_over(km, state)
 
-    def _hand_over(self, km, state) -> None:
+    def _hand_over(self, km, state, at_start: bool = False) -> bool:
         """Hand the rope's slip over the sheave to the hanging rope's length once it passes
         half the rope's first RFE: the rope shortens by the slip, the slip's reference run
         grows by it, and the rope's RFE centres move down the rope by slip (1 - f_k), f_k
         the fraction of the hanging length at centre k (its nodes stay at fixed fractions,
         as in a payout). For a straight rope this keeps every SDE's gap and the join's point
-        on the rope exactly (docs/theory.md, 'Reeving')."""
+        on the rope exactly (docs/theory.md, 'Reeving'). ``at_start``: the slip statics left,
+        whatever its size, kept apart (``slip0``) so that the recorded slip starts at 0.
+        True when it handed a slip over."""
         info = self.info
         ws = self.system.ws
         delta = float(ws.rv_slip_out[self.lead])
         lo, hi = info.rfe_lo, info.rfe_hi
-        if abs(delta) <= 0.5 * float(km.rfe_length[lo]):
-            return
+        if delta == 0.0 or (not at_start and abs(delta) <= 0.5 * float(km.rfe_length[lo])):
+            return False
         hang = info.length0 + info.payout
         n = info.elements
         dx = hang / n
         centre = np.concatenate([[0.25 * dx], dx * np.arange(1, n), [hang - 0.25 * dx]])
         down = ws.R[lo:hi, :, 0]                       # each RFE's axis, down the rope
         state.q[lo:hi, :3] += (delta * (1.0 - centre / hang))[:, None] * down
-        self.slipped += delta
+        if at_start:
+            self.slip0 += delta
+        else:
+            self.slipped += delta
         self.rv_len += delta
         km.rv_len[self.lead] = self.rv_len
-        set_payout(km, info, self.D - self.slipped, self.v, self.system.length_scale)
+        set_payout(km, info, self._hanging(self.D), self.v, self.system.length_scale)
         ws.step_state[0] = 0            # the workspace no longer holds this state's evaluation
+        return True
 
     # ------------------------------------------------------------------ outputs
     def channels(self) -> dict:
@@ -665,6 +761,10 @@ class WinchController:
                 "suspended_length": info.length0 + info.payout,
                 "rope_mass_suspended": float(km.rfe_mass[info.rfe_lo:info.rfe_hi].sum()),
                 "rope_mass_drum": info.mass_per_length * (info.stored - self.D),
+                # the run from the sheave to a vessel lead (massless in the model): its reference
+                # length, which the slip handed over lengthens as the hanging rope shortens, so
+                # drum + run + hanging stays mu (stored + run + line length) (0 without a lead)
+                "rope_mass_run": info.mass_per_length * self.rv_len if self.lead is not None else 0.0,
                 "drum_radius": self._radius() if self.mode.kind == "drum" else math.nan}
 
 

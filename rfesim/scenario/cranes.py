@@ -667,9 +667,12 @@ def _a_frame(out: dict, name: str, tpl: AFrame, raw: dict, vname: str, deck: _De
         _a_frame_portal(out, name, tpl, raw, vname, deck, xo, across, axis, d_local, tilt0_deg, tilt_table)
         return
     hinge = list(tpl.position)
-    top_local = [hinge[k] + tpl.legs.length * d_local[k] for k in range(3)]
-    beam_len = 0.5
-    tip_local = [top_local[k] + beam_len * d_local[k] for k in range(3)]
+    # the sheave at the legs' top, legs.length from the hinge (as the portal's): the top
+    # beam_len of it is the crossbeam's short stiff line carrying its mass, the legs' line the
+    # rest (it was legs.length long with the crossbeam beyond, the sheave 0.5 m too far out)
+    beam_len = min(0.5, 0.1 * tpl.legs.length)
+    legs_len = tpl.legs.length - beam_len
+    tip_local = [hinge[k] + tpl.legs.length * d_local[k] for k in range(3)]
     tip = deck.point(tip_local)
     # the two legs as one line: twice the axial and in-plane bending stiffness and mass; out of
     # plane the portal is stiffer (the legs' parallel-axis term at half the spacing)
@@ -678,12 +681,13 @@ def _a_frame(out: dict, name: str, tpl: AFrame, raw: dict, vname: str, deck: _De
                 "mass_per_length": 2.0 * p["mass_per_length"], "damping": damping}
     stub_type = {k: (10.0 * v if k in ("EA", "EIy", "EIz", "GJ") else v) for k, v in leg_type.items()}
     stub_type["mass_per_length"] = 1.0
-    beam_type = dict(stub_type, mass_per_length=max(1.0, tpl.crossbeam_mass / beam_len))
+    # the crossbeam's line stands for the legs' top too: their mass over it, plus the crossbeam's
+    beam_type = dict(stub_type, mass_per_length=max(1.0, tpl.crossbeam_mass / beam_len + leg_type["mass_per_length"]))
     _add(out, "line_types", f"{legs}_section", leg_type, "legs")
     _add(out, "line_types", f"{stub}_section", stub_type, "legs")
     _add(out, "line_types", f"{beam}_section", beam_type, "crossbeam_mass")
     _a_frame_leg(out, name, tpl, vname, deck, stub, legs, hinge, xo, axis, d_local, tilt0_deg, tilt_table,
-                 1.0, f"{name}_cylinder")
+                 1.0, f"{name}_cylinder", length=legs_len, top=beam)
     _add(out, "lines", beam, {"type": f"{beam}_section", "length": beam_len, "elements": 1,
                               "end_a": {"attach": f"{legs}:end_b", "connection": "clamped",
                                         "direction": deck.rot(d_local)},
@@ -693,10 +697,12 @@ def _a_frame(out: dict, name: str, tpl: AFrame, raw: dict, vname: str, deck: _De
 
 def _a_frame_leg(out: dict, name: str, tpl: AFrame, vname: str, deck: _Deck, stub: str, legs: str, hinge: list,
                  xo: list, axis: list, d_local: list, tilt0_deg: float, tilt_table, share: float,
-                 cylinder: str) -> None:
+                 cylinder: str, length: float | None = None, top: str | None = None) -> None:
     """A deck stub under the hinge and a leg line on it, luffed by its joint's drive (stroke or
     tilt table) or hinged and pushed by a force tugger (``cylinder``) for ``share`` of the
-    cylinders."""
+    cylinders. ``length``: the leg line's (default legs.length); an eye beyond it sits on the
+    line ``top`` clamped on the leg's top (the equivalent frame's crossbeam)."""
+    length = float(tpl.legs.length if length is None else length)
     tilt0 = math.radians(tilt0_deg)
     stub_len = 1.0
     _add(out, "lines", stub, {
@@ -729,11 +735,12 @@ def _a_frame_leg(out: dict, name: str, tpl: AFrame, vname: str, deck: _Deck, stu
                                                           f"{start:.4g} m, beyond its {field} {value} m")
                 mode[field] = float(value)
                 mode["stop_stiffness"] = share * cyl.count * cyl.stop_stiffness
+        on, at = (legs, cyl.eye) if cyl.eye <= length or top is None else (top, cyl.eye - length)
         _add(out, "tuggers", cylinder, {
-            "line": legs, "at": cyl.eye, "vessel": vname, "deck_point": deck, "mode": mode}, "cylinder")
+            "line": on, "at": at, "vessel": vname, "deck_point": deck, "mode": mode}, "cylinder")
     else:
         end_a["drives"] = [_drive("luffing", axis, tilt_table)]
-    _add(out, "lines", legs, {"type": f"{name}_legs_section", "length": tpl.legs.length,
+    _add(out, "lines", legs, {"type": f"{name}_legs_section", "length": length,
                               "elements": tpl.legs.count(), "end_a": end_a, "end_b": {"attach": "free"}}, "legs")
 
 

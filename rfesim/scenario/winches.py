@@ -13,7 +13,9 @@ uniformly (rfesim.model.winches, docs/theory.md "Winches and rope payout")::
 Modes (payout positive, haul-in negative):
 
 * ``speed``: payout speed table rows [t (s), v (m/s)], linear between rows, the first and
-  last speeds held beyond the table; payout D(t) is its exact integral from t = 0.
+  last speeds held beyond the table; payout D(t) is its exact integral from t = 0. The
+  check against ``stored`` (and the haul-in limit) takes D at its exact extremes over the
+  run: the rows' times, the run's ends and the zeros of the speed between rows.
 * ``drum``: drum of radius r and inertia J driven by the rope tension T and the motor
   torque tau(t) (table, positive hauls in): J omega' = r T - tau, optionally held by a
   brake of torque ``brake_torque`` (the drum stands still while |r T - tau| stays below it).
@@ -203,6 +205,21 @@ def speed_payout(rows, t: float) -> tuple[float, float]:
     return D, v_at(t)
 
 
+def payout_extreme_times(rows, duration: float) -> list[float]:
+    """The times in [0, duration] at which the payout D(t) of a speed table (``speed_payout``:
+    the integral of the piecewise-linear speed, constant beyond the rows) can be largest or
+    least: the ends 0 and ``duration``, the rows' times (kinks of D' = v) and every zero of
+    v inside a row interval, t* = t_i - v_i (t_{i+1} - t_i) / (v_{i+1} - v_i) where v changes
+    sign (D' = 0: a peak or trough of the payout between rows). Elsewhere D is monotone."""
+    ts = [0.0, float(duration)] + [float(r[0]) for r in rows if 0.0 < r[0] < duration]
+    for (t0, v0), (t1, v1) in zip(rows[:-1], rows[1:]):
+        if v0 * v1 < 0.0:
+            t = t0 - v0 * (t1 - t0) / (v1 - v0)
+            if 0.0 < t < duration:
+                ts.append(float(t))
+    return sorted(ts)
+
+
 def check_winch_references(sc) -> list[tuple[str, str]]:
     """A winch acts on one existing absolute-coordinate line, one winch per line, in a
     generalized-alpha run; a speed table must not pay out more than the stored rope."""
@@ -230,7 +247,7 @@ def check_winch_references(sc) -> list[tuple[str, str]]:
             errors.append(("analysis.dynamics.integrator.kind", f"winch '{name}' needs the generalized-alpha "
                                                                 f"integrator (got {dyn.integrator.kind})"))
         if w.mode.kind == "speed" and dyn.enabled:
-            ts = [0.0] + [r[0] for r in w.mode.rows if 0.0 < r[0] < dyn.duration] + [float(dyn.duration)]
+            ts = payout_extreme_times(w.mode.rows, float(dyn.duration))
             worst = max(speed_payout(w.mode.rows, t)[0] for t in ts)
             if worst > w.stored:
                 errors.append((f"{base}.mode.rows", f"pays out {worst:.6g} m within the run's {dyn.duration} s, "
