@@ -29,6 +29,7 @@ EXIT_OK = 0
 EXIT_INPUT = 1
 EXIT_USAGE = 2
 EXIT_SOLVER = 3
+EXIT_INTERNAL = 4          # an unexpected exception: a bug (RFESIM_DEBUG=1 shows its traceback)
 EXIT_INTERRUPTED = 130
 
 
@@ -525,7 +526,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     parser = argparse.ArgumentParser(
         prog="rfesim", description="Rigid Finite Element dynamics of offshore pipes, cables and risers.",
-        epilog="exit codes: 0 ok, 1 bad input, 2 usage or missing component, 3 solver failure, 130 interrupted")
+        epilog="exit codes: 0 ok, 1 bad input, 2 usage or missing component, 3 solver failure, 4 internal error "
+               "(a bug; RFESIM_DEBUG=1 shows its traceback), 130 interrupted")
     parser.add_argument("--version", action="version", version=f"rfesim {__version__}")
     parser.add_argument("-v", "--verbose", action="count", default=0,
                         help="log library messages (-v: info, -vv: debug)")
@@ -657,6 +659,14 @@ def main(argv: list[str] | None = None) -> int:
         except OSError:
             pass
         return EXIT_OK
+    except Exception as exc:
+        # the last resort: an exception none of the above expects is a bug; one line that says so
+        # rather than a bare traceback (KeyboardInterrupt and SystemExit are not Exceptions)
+        if os.environ.get("RFESIM_DEBUG", "").strip() not in ("", "0"):
+            raise
+        _err(f"rfesim: internal error: {type(exc).__name__}: {exc} (a bug; please report it with the scenario; "
+             f"set RFESIM_DEBUG=1 for the traceback)")
+        return EXIT_INTERNAL
 
 
 if __name__ == "__main__":

@@ -233,8 +233,8 @@ def _tension_estimate(lname: str, line, sec: Section, sc, A, B) -> float:
             try:
                 cat = solve_catenary(span, float(hi[2] - lo[2]), line.length, w, sec.EA, seabed=bool(on_seabed))
                 tension = max(cat.top_tension, cat.anchor_tension)
-            except ValueError:
-                pass
+            except (ValueError, ArithmeticError):
+                pass                # no catenary for these sizes: the wet weight stands
     return tension + extra
 
 
@@ -373,7 +373,8 @@ class _Curve:
 
 
 def _straight(start: np.ndarray, direction: np.ndarray, length: float, stretch: float = 1.0) -> _Curve:
-    d = direction / np.linalg.norm(direction)
+    d = direction / np.max(np.abs(direction))     # scaled first: the squares of 1e200 overflow in the norm
+    d = d / np.linalg.norm(d)
     s = np.array([0.0, length])
     return _Curve(s, np.vstack([start, start + stretch * length * d]))
 
@@ -523,6 +524,7 @@ def compile_scenario(sc, start: str | None = None) -> Model:
             if end.direction is None:
                 return None
             d = np.asarray(end.direction, float)
+            d = d / np.max(np.abs(d))       # any size (rfesim.scenario.schema._nonzero): scaled before the norm
             d = d / np.linalg.norm(d)
             e = ends[end_name]
             if e["att"] <= 0:
@@ -644,7 +646,15 @@ def compile_scenario(sc, start: str | None = None) -> Model:
         e0, e1 = joints[:-1], joints[1:]
         tang = e1 - e0
         norms = np.linalg.norm(tang, axis=1)
-        if not (np.all(np.isfinite(joints)) and np.all(norms > 1e-9 * L)):
+        if not (np.all(np.isfinite(joints)) and np.all(np.isfinite(norms))):
+            # an overflow in the start shape (a catenary or a seabed sinkage of absurd size): more
+            # elements would not help, the sizes would
+            problems.append((base, f"the start shape of this line of {L:.6g} m has joints at non-finite positions "
+                                   f"(its catenary or its sinkage into the seabed overflowed): check the sizes and "
+                                   f"units of its end positions, of its line type's weight and EA, and of "
+                                   f"environment.gravity and environment.seabed.normal_stiffness"))
+            continue
+        if not np.all(norms > 1e-9 * L):
             # the chain of so few, long elements does not close along the start curve
             problems.append((f"{base}.elements", f"{nseg} elements of {dx:.4g} m are too few to start this line "
                                                  f"of {L:.6g} m from its start shape (two of its joints coincide): "

@@ -22,9 +22,9 @@ from typing import Annotated
 
 from pydantic import Field, model_validator
 
-from .schema import (COEFFICIENT_LIMIT, INERTIA_LIMIT, LENGTH_LIMIT, MASS_LIMIT, MAX_COEFFICIENT, MAX_INERTIA,
-                     MAX_LENGTH, MAX_MASS, MAX_STIFFNESS, STIFFNESS_LIMIT, FieldError, Vector3, _Strict, _units,
-                     upper_bound)
+from .schema import (COEFFICIENT_LIMIT, INERTIA_FLOOR, INERTIA_LIMIT, LENGTH_LIMIT, MASS_FLOOR, MASS_LIMIT,
+                     MAX_COEFFICIENT, MAX_INERTIA, MAX_LENGTH, MAX_MASS, MAX_STIFFNESS, MIN_INERTIA, MIN_MASS,
+                     MIN_RADIUS_OF_GYRATION, STIFFNESS_LIMIT, FieldError, Vector3, _Strict, _units, upper_bound)
 
 NumberOr3 = float | Vector3
 
@@ -132,7 +132,7 @@ class BodyDeck(_Strict):
 class Body(_Strict):
     """A rigid body on the end B of a line (see the module text)."""
 
-    mass: float = _units("kg", "Mass", gt=0.0, le=MAX_MASS, limit=MASS_LIMIT)
+    mass: float = _units("kg", "Mass", ge=MIN_MASS, le=MAX_MASS, limit=MASS_LIMIT, floor=MASS_FLOOR)
     inertia: Vector3 | None = _units("kg*m^2", "Principal moments of inertia about the centre of mass, body "
                                      "axes [Ixx, Iyy, Izz]", default=None, limit=INERTIA_LIMIT)
     radius_of_gyration: NumberOr3 | None = _units("m", "Radius of gyration, one value or [x, y, z] (instead of "
@@ -167,21 +167,32 @@ class Body(_Strict):
                                         "radius_of_gyration (m)")
         if self.radius_of_gyration is not None:
             for k, r in enumerate(per_axis(self.radius_of_gyration)):
-                if r <= 0.0:
+                if not r >= MIN_RADIUS_OF_GYRATION:
                     where = "radius_of_gyration" if isinstance(self.radius_of_gyration, (int, float)) \
                         else f"radius_of_gyration.{k}"
-                    raise FieldError(where, f"must be greater than 0 m, got {r}")
+                    raise FieldError(where, f"must be at least {MIN_RADIUS_OF_GYRATION:g} m (a millimetre), got {r}: a "
+                                            f"body that does not resist turning cannot be integrated (check the units)")
             _check_at_most(self.radius_of_gyration, "radius_of_gyration", MAX_LENGTH, "m", LENGTH_LIMIT)
         else:
             I = self.inertia
             for k, v in enumerate(I):
-                if v <= 0.0:
-                    raise FieldError(f"inertia.{k}", f"must be greater than 0 kg*m^2, got {v}")
+                if not v >= MIN_INERTIA:
+                    raise FieldError(f"inertia.{k}", f"must be at least {MIN_INERTIA:g} kg*m^2, got {v}: "
+                                                     f"{INERTIA_FLOOR}")
             _check_at_most(I, "inertia", MAX_INERTIA, "kg*m^2", INERTIA_LIMIT)
             for k in range(3):
                 if I[k] > 1.000001 * (I[(k + 1) % 3] + I[(k + 2) % 3]):
                     raise FieldError("inertia", f"I{'xyz'[k]}{'xyz'[k]} = {I[k]:.6g} kg*m^2 exceeds the sum of the "
                                                 "other two: no rigid body has these principal moments")
+        return self
+
+    @model_validator(mode="after")
+    def _added_mass_volume(self):
+        am = self.added_mass
+        if am is not None and am.ca is not None and self.volume <= 0.0 and any(c > 0.0 for c in per_axis(am.ca)):
+            raise FieldError("added_mass.ca", "needs the body's volume: the added mass is ca rho volume, and "
+                                              "without a volume it would be 0; give volume (m^3) or the added "
+                                              "mass itself, added_mass.mass (kg)")
         return self
 
     def principal_inertia(self) -> list[float]:

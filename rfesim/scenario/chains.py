@@ -27,13 +27,13 @@ Units are SI; angles of joint coordinates in rad (they are generalised coordinat
 """
 from __future__ import annotations
 
-import math
 from typing import Annotated, Literal, Union
 
 from pydantic import Field, model_validator
 
-from .schema import (DAMPING_LIMIT, INERTIA_LIMIT, MASS_LIMIT, MAX_DAMPING, MAX_INERTIA, MAX_MASS, MAX_STIFFNESS,
-                     STIFFNESS_LIMIT, FieldError, PointLoad, Vector3, _Strict, _units, upper_bound)
+from .schema import (DAMPING_LIMIT, INERTIA_LIMIT, MASS_FLOOR, MASS_LIMIT, MAX_DAMPING, MAX_INERTIA, MAX_MASS,
+                     MAX_STIFFNESS, MIN_MASS, STIFFNESS_LIMIT, FieldError, PointLoad, Vector3, _nonzero, _Strict,
+                     _units, upper_bound)
 
 # --------------------------------------------------------------------------- drive motions
 
@@ -116,7 +116,7 @@ class ChainLink(_Strict):
     dofs: list[str] | None = Field(None, description="Free RFE coordinates of a flexible link (classical: x, y, "
                                                      "z, rx, ry, rz; modified: rx, ry, rz); default all")
     mass: float | None = _units("kg", "Mass of a rigid link (default: mass_per_length of its type times length)",
-                                default=None, gt=0.0, le=MAX_MASS, limit=MASS_LIMIT)
+                                default=None, ge=MIN_MASS, le=MAX_MASS, limit=MASS_LIMIT, floor=MASS_FLOOR)
     centre: Vector3 | None = _units("m", "Centre of mass of a rigid link in its axes (default: mid-length)",
                                     default=None)
     inertia: Vector3 | None = _units("kg*m^2", "Principal moments of inertia of a rigid link about its centre "
@@ -184,13 +184,11 @@ class ChainJoint(_Strict):
 
     @model_validator(mode="after")
     def _joint(self):
-        if math.sqrt(sum(c * c for c in self.direction)) < 1e-12:
-            raise FieldError("direction", "must not be the zero vector")
+        _nonzero(self.direction, "direction")
         if self.kind in ("revolute", "prismatic"):
             if self.axis is None:
                 raise FieldError("axis", f"a {self.kind} joint needs its axis")
-            if math.sqrt(sum(c * c for c in self.axis)) < 1e-12:
-                raise FieldError("axis", "must not be the zero vector")
+            _nonzero(self.axis, "axis")
         elif self.axis is not None:
             raise FieldError("axis", f"a {self.kind} joint has no axis")
         if self.kind == "fixed" and self.drive.kind != "free":

@@ -13,6 +13,7 @@ import os
 import re
 import types
 import typing
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Annotated, Any, Callable, Literal, Union
 
@@ -58,15 +59,15 @@ def _union_member(tp, tag):
     return None
 
 
-def _resolve(loc) -> tuple[list[str], type | None, Any]:
-    """Walk a pydantic error location through the Scenario schema.
+def _resolve(loc, root: type = Scenario) -> tuple[list[str], type | None, Any]:
+    """Walk a pydantic error location through the Scenario schema (or the model ``root``).
 
     Returns the user's path (union tags that pydantic inserts are dropped, but only
     where the schema has a union, so a vessel called "harmonic" keeps its name) and
     the model class that owns the last path element (for "did you mean" hints), and
     the type expected at the path (None where unknown).
     """
-    tp: Any = Scenario
+    tp: Any = root
     owner = None
     out: list[str] = []
     items = list(loc)
@@ -192,7 +193,7 @@ def _reason(err: dict, owner: type | None = None, key: Any = None, tp: Any = Non
         limit = next((ctx[k] for k in ("le", "lt", "ge", "gt") if k in ctx), None)
         if isinstance(limit, (int, float)) and abs(limit) >= 1e12:       # 1e+20, not its 21 digits
             bound = f"{bound.rsplit(' ', 1)[0]} {bound_text(limit)}"
-        why, unit = _limit_reason(owner, key) if typ.startswith("less") else (None, None)
+        why, unit = _limit_reason(owner, key, "limit" if typ.startswith("less") else "floor")
         if why and unit and unit != "1":
             bound += f" {unit}"
         return "", f"{bound} (got {_show(got)})" + (f": {why}" if why else "")
@@ -217,32 +218,40 @@ def _reason(err: dict, owner: type | None = None, key: Any = None, tp: Any = Non
         if typ == "string_type" and "[key]" in err.get("loc", ()):
             if isinstance(got, bool):
                 return "", f"names must be text (strings), got the boolean {_show(got)}{hint}"
-            return "", f"names must be text (strings), got {_show(got)} (quote it: '{got}')"
+            quoted = _show(got) if got is None else got
+            return "", f"names must be text (strings), got {_show(got)} (quote it: '{quoted}')"
+        if typ in ("int_parsing", "float_parsing") and isinstance(got, str) and SEXAGESIMAL.match(got.strip()):
+            hint = (" (YAML 1.1 would read it as a base-60 number, rfesim does not: write the number itself, or "
+                    "quote text)")
         return "", f"{_TYPE_REASONS[typ]}, got {_show(got)}{hint}"
     return "", msg
 
 
-def _limit_reason(owner: type | None, key: Any) -> tuple[str | None, str | None]:
-    """(the reason documented for a field's upper bound, its unit): ``limit`` and ``units`` in
-    its JSON Schema extra (rfesim.scenario.schema._units)."""
+def _limit_reason(owner: type | None, key: Any, which: str = "limit") -> tuple[str | None, str | None]:
+    """(the reason documented for a field's upper bound, or with ``which="floor"`` its lower
+    bound, its unit): ``limit`` (``floor``) and ``units`` in its JSON Schema extra
+    (rfesim.scenario.schema._units)."""
     field = owner.model_fields.get(key) if owner is not None and isinstance(key, str) else None
     extra = getattr(field, "json_schema_extra", None)
     if not isinstance(extra, dict):
         return None, None
-    return extra.get("limit"), extra.get("units")
+    return extra.get(which), extra.get("units")
 
 
-def validation_errors(exc: ValidationError, prefix: tuple = ()) -> list[tuple[str, str]]:
+def validation_errors(exc: ValidationError, prefix: tuple = (), root: type = Scenario) -> list[tuple[str, str]]:
     """Convert a pydantic ValidationError into ``(field path, reason)`` pairs; ``prefix``
-    is the location in the Scenario of what was validated (e.g. ``("pipelay",)``)."""
+    is the location in the Scenario of what was validated (e.g. ``("pipelay",)``), or
+    ``root`` the model validated on its own (a data file's RaoTable)."""
     by_path: dict[str, list[str]] = {}
     not_text: set[str] = set()         # a mapping given where a union takes a name or a model
     for err in exc.errors():
         loc = tuple(prefix) + tuple(err.get("loc", ()))
-        parts, owner, tp = _resolve(loc)
+        parts, owner, tp = _resolve(loc, root)
         extra, reason = _reason(err, owner, parts[-1] if parts else None, tp)
-        if parts and err.get("loc", ())[-1:] == ("[key]",) and isinstance(err.get("input"), bool):
-            # pydantic reports a boolean key as its index 0/1: name it by what the user wrote
+        if parts and err.get("loc", ())[-1:] == ("[key]",) and (isinstance(err.get("input"), bool)
+                                                                or err.get("input") is None):
+            # pydantic reports a boolean key as its index 0/1 (a null one as None): name it by what
+            # the user wrote
             parts = parts[:-1] + [_show(err["input"])]
         if extra:
             parts = parts + [extra]
@@ -709,6 +718,21 @@ _UniqueKeyLoader.add_implicit_resolver(
     "tag:yaml.org,2002:float",
     re.compile(r"^(?:[-+]?(?:[0-9][0-9_]*)(?:\.[0-9_]*)?[eE][-+]?[0-9]+|[-+]?\.[0-9_]+[eE][-+]?[0-9]+)$"),
     list("-+0123456789."))
+# YAML 1.1 reads 1:20 as the base-60 (sexagesimal) number 80 and 1:30.5 as 90.5: no engineer
+# means that, so those are text (refused where a number is due, the field named) -- YAML 1.2
+# dropped them too. PyYAML's int and float resolvers without their sexagesimal alternative:
+_NOT_SEXAGESIMAL = {
+    "tag:yaml.org,2002:int": re.compile(
+        r"^(?:[-+]?0b[0-1_]+|[-+]?0[0-7_]+|[-+]?(?:0|[1-9][0-9_]*)|[-+]?0x[0-9a-fA-F_]+)$"),
+    "tag:yaml.org,2002:float": re.compile(
+        r"^(?:[-+]?(?:[0-9][0-9_]*)\.[0-9_]*(?:[eE][-+][0-9]+)?|\.[0-9][0-9_]*(?:[eE][-+][0-9]+)?"
+        r"|[-+]?\.(?:inf|Inf|INF)|\.(?:nan|NaN|NAN))$"),
+}
+_UniqueKeyLoader.yaml_implicit_resolvers = {
+    first: [(tag, _NOT_SEXAGESIMAL[tag] if tag in _NOT_SEXAGESIMAL and ":[0-5]?[0-9]" in regexp.pattern else regexp)
+            for tag, regexp in resolvers]
+    for first, resolvers in _UniqueKeyLoader.yaml_implicit_resolvers.items()}
+SEXAGESIMAL = re.compile(r"^[-+]?[0-9][0-9_]*(?::[0-5]?[0-9])+(?:\.[0-9_]*)?$")
 
 
 def _unique_json_object(pairs):
@@ -902,7 +926,10 @@ def set_path(data: dict, path: str, value: Any) -> None:
     Refused with a ScenarioError naming the path: an empty path or an empty part (``lines..pipe``,
     a leading or trailing dot), a negative or missing list position, a part under a value that
     is not a mapping or a list."""
-    if not isinstance(path, str) or not path.strip():
+    if not isinstance(path, str):
+        raise ScenarioError([(str(path), f"an override's key must be text, a dotted field path such as "
+                                         f"lines.pipe.elements, got {_show(path)} ({type(path).__name__})")])
+    if not path.strip():
         raise ScenarioError([(str(path), "an override needs a dotted field path such as lines.pipe.elements, "
                                          "got an empty one")])
     keys = path.split(".")
@@ -933,6 +960,10 @@ def set_path(data: dict, path: str, value: Any) -> None:
 def apply_overrides(data: dict, overrides: dict[str, Any] | None) -> dict:
     """A deep copy of ``data`` with dotted-path overrides applied (copies of their values: a
     later path inside one, such as a sweep's varied value, must not change the caller's)."""
+    if overrides is not None and not isinstance(overrides, Mapping):
+        raise ScenarioError([("", f"overrides must be a mapping of dotted field paths to values, such as "
+                                  f"{{'lines.pipe.elements': 40}}, got {_show(overrides)} "
+                                  f"({type(overrides).__name__})")])
     out = copy.deepcopy(data)
     for path, value in (overrides or {}).items():
         set_path(out, path, copy.deepcopy(value))

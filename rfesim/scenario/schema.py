@@ -31,11 +31,14 @@ class FieldError(ValueError):
         super().__init__(f"{field}: {reason}")
 
 
-def _units(u: str, description: str, limit: str | None = None, **kw):
+def _units(u: str, description: str, limit: str | None = None, floor: str | None = None, **kw):
     """A pydantic Field with its SI unit in the JSON Schema; ``limit`` is the reason for its
-    upper bound (``le``/``lt``), added to the message when a value exceeds it
+    upper bound (``le``/``lt``), added to the message when a value exceeds it, ``floor`` the
+    reason for its lower bound (``ge``/``gt``), added when a value is below it
     (rfesim.scenario.load._reason)."""
     extra = {"units": u} if limit is None else {"units": u, "limit": limit}
+    if floor is not None:
+        extra["floor"] = floor
     return Field(description=f"{description} [{u}]", json_schema_extra=extra, **kw)
 
 
@@ -72,6 +75,28 @@ MAX_FORCE = 1.0e15                  # N, N*m
 FORCE_LIMIT = ("a million times the weight of the heaviest offshore lift (5e8 N), room enough for any load, holding "
                "capacity or brake, and the forces stay far from overflow (check the units)")
 MAX_LENGTH = 1.0e7                  # m
+# Lower bounds of the magnitudes a scene divides by (a mass, a density, a gravity, a contact
+# stiffness), with the reasons given when a value is below them (the ``floor`` of _units): far
+# below any real input, and far above the sizes at which the arithmetic with them divides by
+# zero or overflows (1e-300 kg/m^3 gave a ZeroDivisionError from inside the solver).
+MIN_GRAVITY = 1.0e-3                # m/s^2, unless 0 (no gravity)
+GRAVITY_FLOOR = "far below the gravity of any place a scene is in (the Moon has 1.62 m/s^2; check the units, m/s^2)"
+MIN_DENSITY = 1.0                   # kg/m^3
+DENSITY_FLOOR = ("about the density of air (1.2 kg/m^3): no pipe wall, rope or cable is lighter, and a line of "
+                 "no mass cannot be integrated (check the units, kg/m^3)")
+MIN_MASS_PER_LENGTH = 1.0e-4        # kg/m
+MASS_PER_LENGTH_FLOOR = ("a tenth of a gram per metre, lighter than a thin fishing line: a line of no mass cannot "
+                         "be integrated (check the units, kg/m)")
+MIN_MASS = 1.0e-3                   # kg
+MASS_FLOOR = ("a gram: no payload, link or body is lighter, and a body of no mass cannot be integrated (check the "
+              "units, kg)")
+MIN_RADIUS_OF_GYRATION = 1.0e-3     # m
+MIN_INERTIA = 1.0e-9                # kg*m^2, a gram at a millimetre
+INERTIA_FLOOR = ("a gram at a millimetre (1e-9 kg*m^2): a body that does not resist turning cannot be integrated "
+                 "(check the units)")
+MIN_SEABED_STIFFNESS = 1.0          # N/m/m
+SEABED_STIFFNESS_FLOOR = ("soft clays give 1e4 to 1e6 N/m/m; on a softer seabed a line of 1 kN/m wet weight would sink "
+                          "more than 1 km into it (check the units, N/m/m)")
 LENGTH_LIMIT = "10,000 km, longer than any line, rope or structure (check the units, metres)"
 MAX_COEFFICIENT = 10.0              # drag and added-mass coefficients of a line [-]
 COEFFICIENT_LIMIT = ("the coefficients of slender and bluff shapes lie between 0 and about 2 (a coefficient, "
@@ -177,6 +202,37 @@ def _allows_bool(annotation) -> bool:
     return annotation is Any
 
 
+def _alternatives(annotation) -> list:
+    """The types a field's type accepts: the members of a union, Annotated unwrapped."""
+    origin = typing.get_origin(annotation)
+    if origin is Annotated:
+        return _alternatives(typing.get_args(annotation)[0])
+    if origin in (Union, types.UnionType):
+        return [t for a in typing.get_args(annotation) for t in _alternatives(a)]
+    return [annotation]
+
+
+def _bool_in_numbers(value, annotation, where: str) -> tuple[str, bool] | None:
+    """(path, value) of the first boolean in the list ``value`` where ``annotation`` takes a
+    number in a (nested) list, or None: pydantic's lax mode would read it as 1 or 0."""
+    for member in _alternatives(annotation):
+        if typing.get_origin(member) not in (list, tuple):
+            continue
+        args = [a for a in typing.get_args(member) if a is not Ellipsis] or [Any]
+        for i, v in enumerate(value):
+            item = args[min(i, len(args) - 1)]
+            if _allows_bool(item):
+                continue
+            if isinstance(v, bool):
+                if _is_numeric(item):
+                    return f"{where}.{i}", v
+            elif isinstance(v, (list, tuple)):
+                found = _bool_in_numbers(v, item, f"{where}.{i}")
+                if found is not None:
+                    return found
+    return None
+
+
 def _show(value: Any) -> str:
     """A short repr of a user value for error messages."""
     if isinstance(value, dict):
@@ -204,6 +260,14 @@ class _Strict(BaseModel):
                 if _is_numeric(field.annotation):
                     raise FieldError(name, f"must be a number, not the boolean {word}")
                 raise FieldError(name, f"the boolean {word} is not allowed here ({yaml_bool_hint(value)})")
+            # the same inside lists and tables of numbers (``rows: [[0, 80], [true, 90]]``)
+            for name, value in data.items():
+                field = cls.model_fields.get(name) if isinstance(name, str) else None
+                if field is None or not isinstance(value, (list, tuple)):
+                    continue
+                found = _bool_in_numbers(value, field.annotation, name)
+                if found is not None:
+                    raise FieldError(found[0], f"must be a number, not the boolean {'true' if found[1] else 'false'}")
         return data
 
     @model_validator(mode="after")
@@ -577,7 +641,8 @@ class Seabed(_Strict):
     profile_direction_deg: float = _units("deg", "Direction of the profile's distance axis (from global x)",
                                           default=0.0)
     normal_stiffness: float = _units("N/m/m", "Normal contact stiffness per unit length of line",
-                                     default=1.0e5, gt=0.0, le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
+                                     default=1.0e5, ge=MIN_SEABED_STIFFNESS, le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT,
+                                     floor=SEABED_STIFFNESS_FLOOR)
     damping_ratio: float = Field(0.2, ge=0.0, le=10.0,
                                  description="Normal contact damping as a fraction of critical for the line's "
                                              "mass per length on the seabed spring [-]",
@@ -640,9 +705,18 @@ class Seabed(_Strict):
 
 
 class Environment(_Strict):
-    gravity: float = _units("m/s^2", "Acceleration of gravity (acts along -z)", default=9.81, ge=0.0, le=100.0)
+    gravity: float = _units("m/s^2", f"Acceleration of gravity (acts along -z); 0 for none, else at least "
+                            f"{MIN_GRAVITY:g}", default=9.81, ge=0.0, le=100.0, floor=GRAVITY_FLOOR)
     water: Water | None = Field(None, description="Sea water; omit for a scene in air")
     seabed: Seabed | None = Field(None, description="Seabed contact; omit for no seabed")
+
+    @field_validator("gravity")
+    @classmethod
+    def _real_gravity(cls, value: float) -> float:
+        if 0.0 < value < MIN_GRAVITY:
+            raise ValueError(f"{value:.6g} m/s^2 is not a gravity: give 0 for none, or at least {MIN_GRAVITY:g} m/s^2, "
+                             f"{GRAVITY_FLOOR}")
+        return value
 
     @model_validator(mode="after")
     def _seabed_level(self):
@@ -1067,8 +1141,8 @@ class LineType(_Strict):
     youngs_modulus: float | None = _units("Pa", "Young's modulus", default=None, gt=0.0,
                                           le=MAX_MODULUS, limit=MODULUS_LIMIT)
     poisson_ratio: float = Field(0.3, gt=-1.0, lt=0.5, description="Poisson's ratio [-]")
-    density: float | None = _units("kg/m^3", "Material density of the pipe wall", default=None, gt=0.0,
-                                   le=MAX_DENSITY, limit=DENSITY_LIMIT)
+    density: float | None = _units("kg/m^3", "Material density of the pipe wall", default=None, ge=MIN_DENSITY,
+                                   le=MAX_DENSITY, limit=DENSITY_LIMIT, floor=DENSITY_FLOOR)
     contents_density: float = _units("kg/m^3", "Density of the pipe contents (internal fluid)", default=0.0, ge=0.0,
                                      le=MAX_DENSITY, limit=DENSITY_LIMIT)
 
@@ -1083,7 +1157,8 @@ class LineType(_Strict):
     GA: float | None = _units("N", "Effective shear stiffness (kappa already applied)", default=None, gt=0.0,
                               le=MAX_SECTION_STIFFNESS, limit=SECTION_STIFFNESS_LIMIT)
     mass_per_length: float | None = _units("kg/m", "Mass per unit length (structure and contents)",
-                                           default=None, gt=0.0, le=MAX_MASS_PER_LENGTH, limit=MASS_PER_LENGTH_LIMIT)
+                                           default=None, ge=MIN_MASS_PER_LENGTH, le=MAX_MASS_PER_LENGTH,
+                                           limit=MASS_PER_LENGTH_LIMIT, floor=MASS_PER_LENGTH_FLOOR)
     rotary_inertia: float | None = _units("kg*m", "Mass moment of inertia of the section about a transverse "
                                           "axis per unit length (polar: twice this)", default=None, ge=0.0)
 
@@ -1184,8 +1259,7 @@ class Drive(_Strict):
 
     @model_validator(mode="after")
     def _check(self):
-        if math.sqrt(sum(c * c for c in self.axis)) < 1e-12:
-            raise FieldError("axis", "must not be the zero vector")
+        _nonzero(self.axis, "axis")
         for i in range(1, len(self.angle)):
             if not self.angle[i][0] > self.angle[i - 1][0]:
                 raise FieldError(f"angle.{i}", f"time {self.angle[i][0]} s does not increase (previous "
@@ -1277,9 +1351,7 @@ class LineEnd(_Strict):
     @model_validator(mode="after")
     def _direction(self):
         if self.direction is not None:
-            n = math.sqrt(sum(c * c for c in self.direction))
-            if n < 1e-12:
-                raise FieldError("direction", "must not be the zero vector")
+            _nonzero(self.direction, "direction")
         if ":" in self.attach:
             parent, _, point = self.attach.partition(":")
             if not parent or point != "end_b":
@@ -1295,8 +1367,7 @@ class LineEnd(_Strict):
             if ":" not in self.attach or self.connection != "clamped":
                 raise FieldError("hinge_axis", 'a hinge releases one rotation of a clamped join ("attach": '
                                                '"<line>:end_b", "connection": "clamped")')
-            if math.sqrt(sum(c * c for c in self.hinge_axis)) < 1e-12:
-                raise FieldError("hinge_axis", "must not be the zero vector")
+            _nonzero(self.hinge_axis, "hinge_axis")
             if self.drives or self.motor is not None:
                 raise FieldError("hinge_axis", "a hinged join turns freely: no drives or motor on it")
         if self.drives:
@@ -1386,9 +1457,16 @@ class Line(_Strict):
 
 # --------------------------------------------------------------------------- supports
 
-def _nonzero(vector, field: str) -> None:
-    if math.sqrt(sum(c * c for c in vector)) < 1e-12:
+def _nonzero(vector: list[float], field: str) -> None:
+    """A direction or axis (normalised where it is used, so of any length): refused only when it
+    is zero. One of extreme size (its largest component beyond 1e3 or below 1e-3) is scaled in
+    place by its largest component, keeping its direction: the sum of the squares of 1e200 (or
+    of 1e-200) overflows (underflows) in a norm."""
+    big = max((abs(c) for c in vector), default=0.0)
+    if big == 0.0:
         raise FieldError(field, "must not be the zero vector")
+    if not 1.0e-3 <= big <= 1.0e3:
+        vector[:] = [c / big for c in vector]
 
 
 class Roller(_Strict):
@@ -1475,8 +1553,14 @@ PayoutRow = Annotated[list[float], _fixed_length_numbers(2, "[t, paid-out length
 
 
 class PayoutTable(_Strict):
-    """Prescribed payout: rows [t (s), paid-out length (m)], linear in t (constant speed
-    between rows), constant beyond the ends; negative lengths reel the line in."""
+    """Prescribed payout: rows [t (s), paid-out length (m)], constant beyond the ends;
+    negative lengths reel the line in. Two rows: a straight line (constant speed between
+    them). Three rows or more: the monotone cubic (PCHIP) through the rows, so that the
+    payout speed is continuous at every row (a speed that jumped would jolt the pipe through
+    the stiff grips): it passes every row exactly and never overshoots, is flat at a row
+    where the payout stops, and between two rows whose neighbours are flat (a start and a
+    stop) peaks at 1.5 times their mean speed -- add rows (a short ramp at each end) for a
+    speed that is constant in between (rfesim.loads.tensioner)."""
 
     kind: Literal["table"]
     rows: list[PayoutRow] = Field(..., min_length=1, json_schema_extra={"units": "s, m"})
@@ -1519,7 +1603,8 @@ class TensionerSupport(_Strict):
                                       default=1.0e7, gt=0.0, le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
     grip_stiffness: float = _units("N/m/m", "Axial grip stiffness per unit length", default=1.0e7, gt=0.0,
                                    le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
-    capacity: float = _units("N", "Largest axial force the pads hold before the line slips", gt=0.0,
+    capacity: float = _units("N", "Largest axial force the whole track holds before the line slips (shared "
+                             "among the elements in it by their gripped length)", gt=0.0,
                              le=MAX_FORCE, limit=FORCE_LIMIT)
     payout: Annotated[Union[PayoutTable, PayoutConstantTension], Field(discriminator="kind")] = Field(
         default_factory=lambda: PayoutTable(kind="table", rows=[[0.0, 0.0]]),
@@ -1558,16 +1643,20 @@ class ReelSupport(_Strict):
                                       default=1.0e7, gt=0.0, le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
     grip_stiffness: float = _units("N/m/m", "Tangential grip stiffness per unit length", default=1.0e7, gt=0.0,
                                    le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
-    capacity: float = _units("N", "Largest tangential force the drum holds before the pipe slips", gt=0.0,
+    capacity: float = _units("N", "Largest tangential force the drum holds before the pipe slips (shared among "
+                             "the elements on the wrap by their gripped length)", gt=0.0,
                              le=MAX_FORCE, limit=FORCE_LIMIT)
     back_tension: float | None = _units("N", "Back tension the drum holds on the line at the start: statics turns "
-                                        "the drum (shifts its payout) until its tangential force equals it "
+                                        "the drum (shifts its payout) until the tension of the line just off the "
+                                        "drum (the first element past the take-off point) equals it; the drum's "
+                                        "tangential force also carries the moment of the pipe leaving the drum "
                                         "(default: the drum grips the line where it starts)", default=None, gt=0.0,
                                         le=MAX_FORCE, limit=FORCE_LIMIT)
     payout: Annotated[Union[PayoutTable, PayoutConstantTension], Field(discriminator="kind")] = Field(
         default_factory=lambda: PayoutTable(kind="table", rows=[[0.0, 0.0]]),
         description="Paid-out length (radius times the drum rotation) prescribed, or driven by the tension "
-                    "characteristic (default: the drum holds still)")
+                    "characteristic acting on the tension of the line just off the drum, as back_tension "
+                    "(default: the drum holds still); a table may pay out at most stored_length")
 
     @model_validator(mode="after")
     def _geometry(self):
@@ -1581,6 +1670,12 @@ class ReelSupport(_Strict):
         if self.stored_length > wrap * (1.0 + 1e-12):
             raise FieldError("stored_length", f"{self.stored_length} m is longer than the wrap window "
                                               f"({wrap:.6g} m = radius x wrap_deg): widen wrap_deg or store less")
+        if self.payout.kind == "table":
+            reach = max(row[1] for row in self.payout.rows)
+            if reach > self.stored_length:
+                raise FieldError("payout", f"the table pays out {reach:.6g} m, more than the {self.stored_length:.6g} m "
+                                           f"stored on the reel (stored_length): the reel would empty and the "
+                                           f"line's end run free; pay out less or store more")
         if self.back_tension is not None and self.back_tension >= self.capacity:
             raise FieldError("back_tension", f"{self.back_tension} N is not below the drum's capacity "
                                              f"{self.capacity} N")

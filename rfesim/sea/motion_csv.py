@@ -18,6 +18,7 @@ import numpy as np
 from .rao import read_input_file
 
 COLUMNS = ("t", "surge", "sway", "heave", "roll", "pitch", "yaw")
+UNITS = ("s", "m", "m", "m", "deg", "deg", "deg")
 
 
 def _cells(line: str) -> list[str]:
@@ -33,11 +34,15 @@ def _column_name(cell: str) -> str:
 
 def read_motion_csv(path) -> np.ndarray:
     """(n, 7) array [t, surge, sway, heave, roll, pitch, yaw] (m, deg) from a CSV file;
-    ValueError with the file name and line for anything wrong."""
+    ValueError with the file name and line for anything wrong, values beyond the bounds an
+    inline ``table`` motion has too (rfesim.scenario.schema.UNIT_BOUNDS: its units) included."""
+    if not str(path).strip():
+        raise ValueError("the file name is empty: give the path of the CSV file of the vessel motion")
     path = Path(path)
     text = read_input_file(path, "a CSV file", "utf-8-sig")
     order = list(range(7))
     rows: list[list[float]] = []
+    linenos: list[int] = []
     header_seen = False
     for lineno, raw in enumerate(text.splitlines(), 1):
         line = raw.strip()
@@ -69,15 +74,34 @@ def read_motion_csv(path) -> np.ndarray:
         if not all(np.isfinite(values)):
             raise ValueError(f"{path}, line {lineno}: values must be finite numbers")
         rows.append([values[k] for k in order])
+        linenos.append(lineno)
+        _check_bounds(path, lineno, rows[-1], rows[-2] if len(rows) > 1 else None)
     if len(rows) < 2:
         raise ValueError(f"{path}: needs at least 2 rows of data, got {len(rows)}")
     data = np.asarray(rows, dtype=float)
     steps = np.diff(data[:, 0])
     if np.any(steps <= 0.0):
         i = int(np.argmax(steps <= 0.0)) + 1
-        raise ValueError(f"{path}: time {data[i, 0]} s in data row {i + 1} does not increase "
+        raise ValueError(f"{path}, line {linenos[i]}: time {data[i, 0]} s in data row {i + 1} does not increase "
                          f"(previous {data[i - 1, 0]} s)")
     return data
+
+
+def _check_bounds(path: Path, lineno: int, row: list[float], previous: list[float] | None) -> None:
+    """The bounds of the inline table motion on a row of the file (ValueError naming the file,
+    the line and the column): each value within the bound of its column's unit, and the time
+    at least MIN_TIME after the row before."""
+    from ..scenario.schema import MIN_TIME, MIN_TIME_LIMIT, UNIT_BOUNDS, upper_bound
+    for name, unit, v in zip(COLUMNS, UNITS, row):
+        limit, reason = UNIT_BOUNDS[unit]
+        why = upper_bound(v, limit, unit, reason, signed=True)
+        if why:
+            raise ValueError(f"{path}, line {lineno}, column {name}: {why}")
+    if previous is not None:
+        dt = row[0] - previous[0]
+        if 0.0 < dt < MIN_TIME * (1.0 - 1e-6):          # as the inline table (rfesim.scenario.schema._check_table)
+            raise ValueError(f"{path}, line {lineno}, column t: {row[0]:.17g} s is {dt:.3g} s after the row "
+                             f"before: rows closer than {MIN_TIME:g} s, {MIN_TIME_LIMIT}")
 
 
 def _is_number(cell: str) -> bool:

@@ -57,10 +57,19 @@ def read_rao_file(path):
     from pydantic import ValidationError
 
     from ..errors import ScenarioError
-    from ..scenario.load import parse_text
-    from ..scenario.schema import FieldError, RaoTable
+    from ..scenario.load import parse_text, validation_errors
+    from ..scenario.schema import RaoTable
+    if not str(path).strip():
+        raise ValueError("the file name is empty: give the path of the RAO table (a JSON or YAML file)")
     path = Path(path)
-    text = read_input_file(path, "an RAO table")
+    raw = read_input_file(path, "an RAO table")
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"{path} is not UTF-8 text (byte {exc.start}): an RAO table is a JSON or YAML "
+                         f"text file") from None
+    if not text.strip():
+        raise ValueError(f"{path}: the RAO table file is empty")
     try:
         data = parse_text(text, "json" if path.suffix.lower() == ".json" else "auto")
     except ScenarioError as exc:
@@ -68,15 +77,10 @@ def read_rao_file(path):
     try:
         return RaoTable.model_validate(data)
     except ValidationError as exc:
-        err = exc.errors()[0]
-        where = ".".join(str(p) for p in err["loc"])
-        cause = (err.get("ctx") or {}).get("error")
-        if isinstance(cause, FieldError):
-            where = ".".join(p for p in (where, cause.field) if p)
-            reason = cause.reason
-        else:
-            reason = err["msg"]
-        raise ValueError(f"{path}: {where + ': ' if where else ''}{reason}") from None
+        # the field-named wording of the scenario's own errors (rfesim.scenario.load)
+        errors = validation_errors(exc, root=RaoTable)
+        raise ValueError(f"{path}: " + "; ".join(f"{where}: {reason}" if where else f"the RAO table {reason}"
+                                                 for where, reason in errors)) from None
 
 
 def _table_arrays(table):

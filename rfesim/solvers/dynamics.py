@@ -813,7 +813,18 @@ def output_schedule(T: float, h: float, output_interval: float | None, adaptive:
     return out_dt, n_out, h
 
 
-INTERRUPTED = 2    # Results.status of a run stopped by KeyboardInterrupt (as a cancelled run)
+INTERRUPTED = 2    # Results.status of a run stopped by KeyboardInterrupt (Ctrl-C, or SIGTERM from the command line)
+
+ARITHMETIC_HINT = ("a mass, inertia, density, stiffness or size far from the physical (near zero, or huge) makes "
+                   "the equations divide by zero or overflow: check the scenario's values and their units")
+
+
+def _arithmetic_failure(exc: ArithmeticError, t: float, make_results) -> SolverError:
+    """The SolverError of an ArithmeticError (ZeroDivisionError, OverflowError,
+    FloatingPointError) raised inside the kernels, with the results so far."""
+    msg = f"arithmetic error in the solver ({type(exc).__name__}: {exc})"
+    return SolverError(msg, time=t, quantity="arithmetic error", hint=ARITHMETIC_HINT,
+                       results=make_results(status=1, message=f"{msg} at t = {t:.6g} s; {ARITHMETIC_HINT}"))
 
 
 def run_dynamics(system: System, state: State, settings, progress=None, recorder: Recorder | None = None,
@@ -830,7 +841,17 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
     n = system.n
     # initial true acceleration (friction: stick/slip from the anchors statics left, if any)
     system.set_friction_mode(0)
-    st.qdd[:] = system.accelerations(st)
+    try:
+        st.qdd[:] = system.accelerations(st)
+    except ArithmeticError as exc:
+        # a division by zero in the kernels before the first step: the start state (statics')
+        # goes with the SolverError, as the results so far do later (_arithmetic_failure)
+        if recorder is None:
+            recorder = Recorder(system, 1)
+        if recorder.k < recorder.nt:
+            recorder.record(st, st.qdd)
+        counters["wall_time"] = _time.perf_counter() - wall0
+        raise _arithmetic_failure(exc, st.t, lambda **kw: recorder.results(counters=dict(counters), **kw)) from exc
     system.commit_history()
     controllers = getattr(system, "controllers", None)
     for c in controllers or ():
@@ -1095,6 +1116,10 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
                     _raise(system, fail, status, make_results, "adaptive RK: ")
                 st.t = t_target
                 output(st)
+    except ArithmeticError as exc:
+        # a division by zero or an overflow raised inside a kernel (FloatingPointError too): a
+        # SolverError with the results so far, as a divergence, not a traceback that loses them
+        raise _arithmetic_failure(exc, st.t, make_results) from exc
     except KeyboardInterrupt as exc:
         # Ctrl-C (or a SIGTERM the command line turns into it): the results so far go with the
         # interruption, as they go with a SolverError (rfesim.api.simulate, rfesim.cli)

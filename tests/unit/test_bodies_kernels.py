@@ -231,7 +231,7 @@ def test_base_scenario_is_valid():
 
 
 @pytest.mark.parametrize("mutate, field, words", [
-    (lambda d: d["bodies"]["payload"].update(mass=-5.0), "bodies.payload.mass", "greater than 0"),
+    (lambda d: d["bodies"]["payload"].update(mass=-5.0), "bodies.payload.mass", "greater than or equal to 0.001 kg"),
     (lambda d: d["bodies"]["payload"].update(inertia=[1.0, 1.0, 3.0]), "bodies.payload.inertia", "sum of the other"),
     (lambda d: d["bodies"]["payload"].update(inertia=None), "bodies.payload.inertia", "radius_of_gyration"),
     (lambda d: d["bodies"]["payload"].update(radius_of_gyration=1.0), "bodies.payload.radius_of_gyration",
