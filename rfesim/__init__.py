@@ -1,7 +1,7 @@
 """rfesim: Rigid Finite Element dynamics of offshore lines, pipelay and cranes.
 
     import rfesim
-    sc = rfesim.load_scenario("scenarios/cantilever.json")
+    sc = rfesim.load_scenario("scenarios/cantilever_pipe.json")
     res = rfesim.simulate(sc)
     res.line("pipe").tension
 """

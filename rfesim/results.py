@@ -80,6 +80,8 @@ CHANNELS: dict[str, tuple[str, str]] = {
                                     "over its sheave toward a vessel lead: less the slip handed over)"),
     "winch_rope_mass_suspended": ("kg", "Mass of the rope out of the winch"),
     "winch_rope_mass_drum": ("kg", "Mass of the rope left on the drum"),
+    "winch_rope_mass_run": ("kg", "Mass of the rope's run from the sheave to a vessel lead (a deck winch's reeving; "
+                                  "massless in the model, kept for the rope's mass balance; 0 without one)"),
     "winch_drum_radius": ("m", "Radius at which the rope leaves the drum (drum mode; grows with the rope on a "
                                "layered drum); NaN in the other modes"),
 }
@@ -94,7 +96,7 @@ JOINT_LONG_NAMES = {
 }
 
 WINCH_CHANNELS = ("payout", "speed", "tension", "suspended_length", "rope_mass_suspended", "rope_mass_drum",
-                  "drum_radius")
+                  "drum_radius", "rope_mass_run")
 TUGGER_CHANNELS = ("tension", "length", "force")
 
 BODY_CHANNELS = ("position", "velocity", "acceleration", "rotation", "angular_velocity", "connection_force",
@@ -179,14 +181,21 @@ class LineResults:
                 "mean": np.nanmean(data, axis=0)}
 
     def sagbend_overbend(self, seabed_touchdown: bool = True) -> dict:
-        """Largest bending moment and curvature in the sag bend (between the touchdown point
-        and the inflection of the line's curvature nearest to it) and in the overbend (above
-        that inflection, towards end B), over the whole run. Without a touchdown point the
-        line is split at its lowest point."""
+        """Largest bending moment and curvature in the sag bend (the concave-up part of the
+        suspended line, above the touchdown point) and in the overbend (its concave-down
+        part, further up), over the whole run. The suspended part runs from the touchdown
+        point to the higher end of the line: end B for a riser or mooring line grounded at
+        end A, end A for a pipe laid from a vessel (end B on the seabed), as
+        ``rfesim.lay_results.lay_summary`` does.
+
+        ``seabed_touchdown``: start the suspended part at the touchdown point
+        (``touchdown_arc_length``) when the line touches the seabed; at the line's lowest
+        point when it does not, or always when ``False`` (to ignore seabed contact)."""
         s = np.asarray(self.sde_arc_length)
         moment = np.asarray(self.bend_moment)
         curv = np.asarray(self.curvature)
-        td = np.asarray(self.touchdown_arc_length) if self.touchdown_arc_length is not None else None
+        td = (np.asarray(self.touchdown_arc_length)
+              if seabed_touchdown and self.touchdown_arc_length is not None else None)
         z = np.asarray(self.position)[..., 2]
         out = {"sagbend_moment": 0.0, "sagbend_curvature": 0.0, "overbend_moment": 0.0, "overbend_curvature": 0.0}
         pts = np.asarray(self.arc_length)
@@ -195,8 +204,10 @@ class LineResults:
             zpp = np.gradient(np.gradient(z[k], pts), pts)
             zpp_sde = np.interp(s, pts, zpp)
             start = td[k] if (td is not None and np.isfinite(td[k])) else s[np.argmin(np.interp(s, pts, z[k]))]
-            sag = (s >= start) & (zpp_sde > 0)
-            over = (s >= start) & (zpp_sde < 0)
+            # towards the higher end (the solver's touchdown search runs from it too)
+            suspended = (s <= start) if z[k][0] > z[k][-1] else (s >= start)
+            sag = suspended & (zpp_sde > 0)
+            over = suspended & (zpp_sde < 0)
             if sag.any():
                 out["sagbend_moment"] = max(out["sagbend_moment"], float(moment[k][sag].max()))
                 out["sagbend_curvature"] = max(out["sagbend_curvature"], float(curv[k][sag].max()))
@@ -275,6 +286,7 @@ class WinchResults:
     rope_mass_suspended: np.ndarray    # (nt,) kg
     rope_mass_drum: np.ndarray         # (nt,) kg
     drum_radius: np.ndarray            # (nt,) m, radius the rope leaves the drum at (drum mode; else NaN)
+    rope_mass_run: np.ndarray = None   # (nt,) kg, the run from the sheave to a vessel lead (0 without one)
 
 
 @dataclass
@@ -323,7 +335,9 @@ class VesselResults:
 @dataclass
 class Results:
     """What a run produced. ``status`` 0: finished; 1: stopped by a SolverError (the
-    arrays hold what was computed before); 2: cancelled."""
+    arrays hold what was computed before); 2: interrupted by Ctrl-C or SIGTERM (the arrays
+    hold what was computed before). A run cancelled through the progress callback raises
+    ``CancelledError`` and returns no Results."""
 
     time: np.ndarray
     lines: dict[str, LineResults]
