@@ -42,18 +42,21 @@ from __future__ import annotations
 
 import copy
 import math
-from typing import Annotated, Any, Literal, Union
+from typing import Annotated, Literal, Union
 
 import numpy as np
 from pydantic import Field, TypeAdapter, ValidationError, model_validator
 
 from .bodies import Body
-from .pipelay import STEEL_DENSITY, STEEL_E, _add, _vessel_pose, expand_templates
-from .schema import (COEFFICIENT, DAMPING_LIMIT, DENSITY_LIMIT, FORCE_LIMIT, MASS_LIMIT, MASS_PER_LENGTH_LIMIT,
-                     MAX_COEFFICIENT, MAX_DAMPING, MAX_DENSITY, MAX_FORCE, MAX_MASS, MAX_MASS_PER_LENGTH, MAX_MODULUS,
-                     MAX_SECTION_STIFFNESS, MAX_STIFFNESS, MODULUS_LIMIT, SECTION_STIFFNESS_LIMIT, STIFFNESS_LIMIT,
-                     FieldError, Vector3, Vessel, _Strict, _units)
+from .pipelay import MIN_WALL_THICKNESS, STEEL_DENSITY, STEEL_E, WALL_THICKNESS_FLOOR, _add, _vessel_pose, \
+    expand_templates
+from .schema import (COEFFICIENT, DAMPING_LIMIT, DENSITY_LIMIT, FORCE_LIMIT, MASS_LIMIT, MASS_PER_LENGTH_FLOOR,
+                     MASS_PER_LENGTH_LIMIT, MAX_COEFFICIENT, MAX_DAMPING, MAX_DENSITY, MAX_FORCE, MAX_MASS,
+                     MAX_MASS_PER_LENGTH, MAX_MODULUS, MAX_SECTION_STIFFNESS, MAX_STIFFNESS, MIN_MASS_PER_LENGTH,
+                     MODULUS_LIMIT, SECTION_STIFFNESS_LIMIT, STIFFNESS_LIMIT, FieldError, Vector3, Vessel, _Strict,
+                     _units)
 from .tuggers import TuggerElastic, TuggerTension
+from .winches import TemplateWinch
 
 # A rope's bending stiffness against a solid bar of its diameter: the strands bend nearly on
 # their own (a stranded wire rope's effective EI lies between its wires' sum and the solid
@@ -61,6 +64,20 @@ from .tuggers import TuggerElastic, TuggerTension
 # freely: with EI = 1 N*m^2 every generalized-alpha step of the column crane halved, with
 # 2 % (341 N*m^2 at 36 mm) some still did at 0.1 s, with 6 % hardly any.
 ROPE_BENDING_FRACTION = 0.06
+
+# Lower bounds of the template's sizes, with the reasons given when a value is below them (the
+# ``floor`` of _units): each is far below any real crane, and a size under it would reach the
+# expanded scenario as a section of no stiffness or mass, or a line shorter than its elements
+# allow, reported there under a name the user never wrote.
+MIN_MEMBER_LENGTH = 0.1          # m
+MEMBER_LENGTH_FLOOR = ("a decimetre: pedestals, booms, legs and crossbeams are metres long, and a member shorter "
+                       "than its elements can be made of cannot be integrated (check the units, metres)")
+MIN_ROPE_DIAMETER = 1.0e-3       # m
+ROPE_DIAMETER_FLOOR = ("a millimetre: thinner than any hoist or wire rope (they start at a few mm); the rope's default "
+                       "stiffness and mass grow with its diameter squared and would vanish (check the units, metres)")
+MIN_ROPE_LENGTH = 0.1            # m
+ROPE_LENGTH_FLOOR = ("a decimetre between the sheave and the payload: a shorter rope cannot be divided into its "
+                     "elements (check the units, metres)")
 
 AngleProfile = Union[float, list[Annotated[list[float], Field(min_length=2, max_length=2)]]]
 
@@ -110,14 +127,15 @@ class MemberSpec(_Strict):
     """A structural member as a steel tube (outer_diameter, wall_thickness), or by its direct
     section properties (EA, EI, mass_per_length; GJ defaults to EI / 1.3)."""
 
-    length: float = _units("m", "Length of the member", gt=0.0, le=500.0)
+    length: float = _units("m", "Length of the member", ge=MIN_MEMBER_LENGTH, le=500.0, floor=MEMBER_LENGTH_FLOOR)
     elements: int | None = Field(None, ge=1, le=1000, description="Number of SDEs (default: one per 2 m, at "
                                  "least 4)")
     outer_diameter: float | None = _units("m", "Tube outer diameter (also the wind/drag diameter)", default=None,
                                           gt=0.0, le=50.0,
                                           limit="a crane member is a slender tube, at most a few metres across "
                                                 "(check the units, metres)")
-    wall_thickness: float | None = _units("m", "Tube wall thickness", default=None, gt=0.0)
+    wall_thickness: float | None = _units("m", "Tube wall thickness", default=None, ge=MIN_WALL_THICKNESS,
+                                          floor=WALL_THICKNESS_FLOOR)
     youngs_modulus: float = _units("Pa", "Young's modulus", default=STEEL_E, gt=0.0,
                                    le=MAX_MODULUS, limit=MODULUS_LIMIT)
     density: float = _units("kg/m^3", "Density of the steel", default=STEEL_DENSITY, gt=0.0,
@@ -128,8 +146,9 @@ class MemberSpec(_Strict):
                               le=MAX_SECTION_STIFFNESS, limit=SECTION_STIFFNESS_LIMIT)
     GJ: float | None = _units("N*m^2", "Torsional stiffness (default EI/1.3)", default=None, gt=0.0,
                               le=MAX_SECTION_STIFFNESS, limit=SECTION_STIFFNESS_LIMIT)
-    mass_per_length: float | None = _units("kg/m", "Mass per length (instead of a tube)", default=None, gt=0.0,
-                                           le=MAX_MASS_PER_LENGTH, limit=MASS_PER_LENGTH_LIMIT)
+    mass_per_length: float | None = _units("kg/m", "Mass per length (instead of a tube)", default=None,
+                                           ge=MIN_MASS_PER_LENGTH, le=MAX_MASS_PER_LENGTH,
+                                           limit=MASS_PER_LENGTH_LIMIT, floor=MASS_PER_LENGTH_FLOOR)
     damping_ratio: float = Field(0.02, ge=0.0, le=2.0, description="Structural damping ratio of the element "
                                  "modes [-]")
 
@@ -173,14 +192,17 @@ class MemberSpec(_Strict):
 class RopeSpec(_Strict):
     """The hoist rope (tension only): from the sheave to the payload's attachment point."""
 
-    length: float = _units("m", "Rope between the sheave and the payload at the start", gt=0.0, le=1.0e4)
+    length: float = _units("m", "Rope between the sheave and the payload at the start", ge=MIN_ROPE_LENGTH,
+                           le=1.0e4, floor=ROPE_LENGTH_FLOOR)
     elements: int | None = Field(None, ge=1, le=10000, description="Number of SDEs (default: one per 1 m, at "
                                  "least 10, at most 100)")
-    diameter: float = _units("m", "Nominal rope diameter (drag, buoyancy)", default=0.04, gt=0.0, le=0.5)
+    diameter: float = _units("m", "Nominal rope diameter (drag, buoyancy)", default=0.04, ge=MIN_ROPE_DIAMETER,
+                             le=0.5, floor=ROPE_DIAMETER_FLOOR)
     EA: float | None = _units("N", "Axial stiffness (default: a steel wire rope, 0.58 of the nominal area at "
                               "100 GPa)", default=None, gt=0.0, le=MAX_SECTION_STIFFNESS, limit=SECTION_STIFFNESS_LIMIT)
     mass_per_length: float | None = _units("kg/m", "Mass per length (default: 4000 d^2, a steel wire rope)",
-                                           default=None, gt=0.0, le=MAX_MASS_PER_LENGTH, limit=MASS_PER_LENGTH_LIMIT)
+                                           default=None, ge=MIN_MASS_PER_LENGTH, le=MAX_MASS_PER_LENGTH,
+                                           limit=MASS_PER_LENGTH_LIMIT, floor=MASS_PER_LENGTH_FLOOR)
     bending_stiffness: float | None = _units("N*m^2", "Bending stiffness (default: 6 % of a solid steel bar of "
                                              "the rope's diameter, a stranded rope)", default=None, ge=0.0,
                                              le=MAX_SECTION_STIFFNESS, limit=SECTION_STIFFNESS_LIMIT)
@@ -264,8 +286,8 @@ class _Crane(_Strict):
                                       "<name>_payload, hanging under the sheave)")
     payload_attachment: Vector3 | None = _units("m", "Rope's attachment point on the payload (body frame; "
                                                 "default: the top of the body's vertical extent)", default=None)
-    winch: dict[str, Any] | None = Field(None, description="The winch on the rope (a `winches` entry without "
-                                         "`line`): mode, heave_compensation, shock_absorber")
+    winch: TemplateWinch | None = Field(None, description="The winch on the rope (a `winches` entry without "
+                                        "`line`): mode, heave_compensation, shock_absorber")
     tuggers: dict[str, CraneTugger] = Field(default_factory=dict, description="Tugger lines steadying the "
                                             "payload, made as top-level `tuggers` <crane>_<name> "
                                             "(rfesim.scenario.tuggers)")
@@ -552,10 +574,12 @@ def _payload(out: dict, name: str, tpl, raw: dict, tip, rope_length: float) -> t
     body = copy.deepcopy(raw["payload"])
     top = 0.5 * tpl.payload.vertical_extent()
     attach = list(tpl.payload_attachment) if tpl.payload_attachment is not None else [0.0, 0.0, top]
+    generated = ()
     if body.get("position") is None:
         body["position"] = [tip[0] - attach[0], tip[1] - attach[1], tip[2] - rope_length - attach[2]]
+        generated = ("position",)
     bname = f"{name}_payload"
-    _add(out, "bodies", bname, body, "payload")
+    _add(out, "bodies", bname, body, "payload", copy_of="payload", generated=generated)
     return bname, attach
 
 
@@ -578,13 +602,13 @@ def _rope_and_winch(out: dict, name: str, tpl, raw: dict, parent: str, tip, vnam
             raise FieldError(f"tuggers.{tname}.vessel", f"unknown vessel '{vessel}' (vessels: {known})")
         _add(out, "tuggers", f"{name}_{tname}", {
             "body": body, "vessel": vessel, "deck_point": list(tug.deck_point), "body_point": list(tug.body_point),
-            "mode": copy.deepcopy(raw["tuggers"][tname]["mode"])}, f"tuggers.{tname}")
+            "mode": copy.deepcopy(raw["tuggers"][tname]["mode"])}, f"tuggers.{tname}", copy_of=f"tuggers.{tname}",
+             generated=("body",) + (() if tug.vessel is not None else ("vessel",)))
     if tpl.winch is not None:
-        winch = copy.deepcopy(tpl.winch)
-        if "line" in winch:
-            raise FieldError("winch.line", "the template's winch acts on its own rope: leave out line")
+        # the user's own winch (validated with the template, rfesim.scenario.winches.TemplateWinch) on the rope
+        winch = copy.deepcopy(raw["winch"])
         winch["line"] = rope
-        _add(out, "winches", f"{name}_winch", winch, "winch")
+        _add(out, "winches", f"{name}_winch", winch, "winch", copy_of="winch", generated=("line",))
 
 
 def _column(out: dict, name: str, tpl: ColumnCrane, raw: dict, vname: str, deck: _Deck) -> None:
@@ -626,7 +650,7 @@ def _column(out: dict, name: str, tpl: ColumnCrane, raw: dict, vname: str, deck:
                       "motor": {"name": "slewing", "angle": _table(tpl.slewing_deg), "max_torque": motor.max_torque,
                                 "stiffness": motor.stiffness or stiffness,
                                 "damping": motor.damping if motor.damping is not None else damping}},
-            "end_b": {"attach": "free"}}, "slewing_motor")
+            "end_b": {"attach": "free"}}, "slewing_motor", origin="")
         drives = [luffing]
         parent = turret
     end_a = {"attach": f"{parent}:end_b", "connection": "clamped", "direction": deck.rot(d_local),
@@ -685,13 +709,13 @@ def _a_frame(out: dict, name: str, tpl: AFrame, raw: dict, vname: str, deck: _De
     beam_type = dict(stub_type, mass_per_length=max(1.0, tpl.crossbeam_mass / beam_len + leg_type["mass_per_length"]))
     _add(out, "line_types", f"{legs}_section", leg_type, "legs")
     _add(out, "line_types", f"{stub}_section", stub_type, "legs")
-    _add(out, "line_types", f"{beam}_section", beam_type, "crossbeam_mass")
+    _add(out, "line_types", f"{beam}_section", beam_type, "crossbeam_mass", origin="")
     _a_frame_leg(out, name, tpl, vname, deck, stub, legs, hinge, xo, axis, d_local, tilt0_deg, tilt_table,
                  1.0, f"{name}_cylinder", length=legs_len, top=beam)
     _add(out, "lines", beam, {"type": f"{beam}_section", "length": beam_len, "elements": 1,
                               "end_a": {"attach": f"{legs}:end_b", "connection": "clamped",
                                         "direction": deck.rot(d_local)},
-                              "end_b": {"attach": "free"}}, "crossbeam_mass")
+                              "end_b": {"attach": "free"}}, "crossbeam_mass", origin="")
     _rope_and_winch(out, name, tpl, raw, beam, tip, vname, legs)
 
 

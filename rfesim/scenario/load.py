@@ -630,22 +630,30 @@ def validate_dict(obj: Any, _raw: Callable | None = None) -> Scenario:
         raise ScenarioError([("", f"a scenario must be a JSON/YAML object (a mapping of keys to values), "
                                   f"got {what}")])
     raw = _raw or (lambda o: super(Scenario, Scenario).model_validate(o))
+    from .pipelay import recording_origins, template_path
     from .templates import expand
-    obj = expand(obj)              # pipelay and crane templates -> ordinary sections (rfesim.scenario.templates)
+    with recording_origins() as origins:
+        obj = expand(obj)          # pipelay and crane templates -> ordinary sections (rfesim.scenario.templates)
+
+    def user_fields(errors: list[tuple[str, str]]) -> ScenarioError:
+        # an error in a section a template made names the template field the user wrote
+        # (rfesim.scenario.pipelay.template_path); other scenarios' errors are unchanged
+        return ScenarioError([(template_path(f, origins), r) for f, r in errors] if origins else errors)
+
     try:
         sc = raw(obj)
     except ValidationError as exc:
-        raise ScenarioError(validation_errors(exc)) from None
+        raise user_fields(validation_errors(exc)) from None
     except ArithmeticError as exc:
         # a validator computing with an absurd number (1e300): name the section, and the number
         where = _arithmetic_site(obj, Scenario) or ()
-        raise ScenarioError([arithmetic_error(exc, ".".join(where), (where, _at(obj, where)))]) from None
+        raise user_fields([arithmetic_error(exc, ".".join(where), (where, _at(obj, where)))]) from None
     try:
         errors = check_references(sc)
     except ArithmeticError as exc:
-        raise ScenarioError([arithmetic_error(exc, "", ((), obj))]) from None
+        raise user_fields([arithmetic_error(exc, "", ((), obj))]) from None
     if errors:
-        raise ScenarioError(errors)
+        raise user_fields(errors)
     return sc
 
 

@@ -24,18 +24,33 @@ from __future__ import annotations
 
 import copy
 import math
-from typing import Annotated, Literal, Union
+from contextlib import contextmanager
+from contextvars import ContextVar
+from dataclasses import dataclass, field as dc_field
+from typing import Annotated, Iterator, Literal, Union
 
 from pydantic import Field, TypeAdapter, ValidationError, model_validator
 
 from .schema import (COEFFICIENT, DAMPING_LIMIT, DENSITY_LIMIT, FORCE_LIMIT, MAX_COEFFICIENT, MAX_DAMPING,
-                     MAX_DENSITY, MAX_FORCE, MAX_MODULUS, MAX_STIFFNESS, MODULUS_LIMIT, STIFFNESS_LIMIT, FieldError,
-                     PayoutConstantTension, PayoutTable, Vector3, Vessel, _Strict, _units)
+                     MAX_DENSITY, MAX_FORCE, MAX_MODULUS, MAX_STIFFNESS, MIN_SEABED_STIFFNESS, MODULUS_LIMIT,
+                     SEABED_STIFFNESS_FLOOR, STIFFNESS_LIMIT, FieldError, PayoutConstantTension, PayoutTable, Vector3,
+                     Vessel, _Strict, _units)
 
 # API 5L specified minimum yield strength (Pa)
 GRADE_YIELD = {"X52": 359e6, "X56": 386e6, "X60": 414e6, "X65": 448e6, "X70": 483e6, "X80": 552e6}
 STEEL_E = 2.07e11
 STEEL_DENSITY = 7850.0
+
+# Lower bounds of the template's sizes, with the reasons given when a value is below them (the
+# ``floor`` of _units): a value under them would reach the expanded scenario (its line, line
+# type or seabed) and be refused there, under a name the user never wrote.
+MIN_WALL_THICKNESS = 1.0e-3      # m
+WALL_THICKNESS_FLOOR = ("a millimetre: thinner than the wall of any steel pipe or tube, whose section would have no "
+                        "stiffness or mass (check the units, metres)")
+MIN_ELEMENT_LENGTH = 0.01        # m
+ELEMENT_LENGTH_FLOOR = ("a centimetre: a pipe hundreds of metres long in elements shorter than that has more than "
+                        "the 100000 elements a line may have, and a far smaller time step (check the units, metres)")
+MAX_LINE_ELEMENTS = 100000       # as Line.elements
 
 
 class PipeSpec(_Strict):
@@ -44,7 +59,7 @@ class PipeSpec(_Strict):
     outer_diameter: float = _units("m", "Steel outer diameter", gt=0.0, le=10.0,
                                    limit="pipelines are at most about 1.5 m (60 in) across (check the units, "
                                          "metres)")
-    wall_thickness: float = _units("m", "Steel wall thickness", gt=0.0)
+    wall_thickness: float = _units("m", "Steel wall thickness", ge=MIN_WALL_THICKNESS, floor=WALL_THICKNESS_FLOOR)
     grade: Literal["X52", "X56", "X60", "X65", "X70", "X80"] = Field(
         "X65", description="API 5L steel grade: the yield stress of an elastoplastic pipe (SMYS)")
     material: Literal["elastic", "elastoplastic"] | None = Field(
@@ -133,11 +148,13 @@ class _Template(_Strict):
     laid_length: float = _units("m", "Pipe on the seabed beyond the touchdown point, to the pinned end B",
                                 default=50.0, gt=0.0, le=1.0e5)
     element_length: float | None = _units("m", "Target element length (default: set by the method; or give "
-                                          "elements)", default=None, gt=0.0)
+                                          "elements)", default=None, ge=MIN_ELEMENT_LENGTH,
+                                          floor=ELEMENT_LENGTH_FLOOR)
     elements: int | None = Field(None, ge=4, le=100000, description="Number of elements of the line (instead "
                                  "of element_length)")
     seabed_stiffness: float = _units("N/m/m", "Seabed normal stiffness, used when the scene has no seabed",
-                                     default=1.0e6, gt=0.0, le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
+                                     default=1.0e6, ge=MIN_SEABED_STIFFNESS, le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT,
+                                     floor=SEABED_STIFFNESS_FLOOR)
     tensioner: TensionerSpec = Field(default_factory=TensionerSpec)
 
     @model_validator(mode="after")
@@ -280,6 +297,7 @@ def expand_templates(data: dict, key: str, adapter: TypeAdapter, expand_one) -> 
         return out                 # the environment's own errors are reported by the validation
     errors: list[tuple[str, str]] = []
     for name, tpl in templates.items():
+        token = _CURRENT.set(f"{key}.{name}")
         try:
             expand_one(out, name, tpl, raw[name], env)
         except FieldError as exc:
@@ -291,6 +309,8 @@ def expand_templates(data: dict, key: str, adapter: TypeAdapter, expand_one) -> 
             # root) names the template and the number far out of range, never a traceback
             errors.append(arithmetic_error(exc, f"{key}.{name}", ((key, name), raw[name]),
                                            (("environment",), data.get("environment"))))
+        finally:
+            _CURRENT.reset(token)
     if errors:
         raise ScenarioError(errors)
     return out
@@ -304,8 +324,13 @@ def _environment(data: dict):
         return None
 
 
-def _add(out: dict, group: str, key: str, value: dict, field: str) -> None:
-    """out[group][key] = value, refusing a name that is taken."""
+def _add(out: dict, group: str, key: str, value: dict, field: str, *, origin: str | None = None,
+         copy_of: str | None = None, generated: tuple[str, ...] = ()) -> None:
+    """out[group][key] = value, refusing a name that is taken (the error names the template's
+    ``field``). The section's origin is recorded (``record_origin``): the template field it
+    stands for (``origin``, default ``field``; "" for the template as a whole) and, when
+    ``value`` is a copy of the user's own entry at the template's ``copy_of``, that field, less
+    the keys ``generated`` by the expansion."""
     section = out.setdefault(group, {})
     if not isinstance(section, dict):
         raise FieldError(field, f"cannot add '{key}': {group} is not a mapping")
@@ -313,6 +338,69 @@ def _add(out: dict, group: str, key: str, value: dict, field: str) -> None:
         raise FieldError(field, f"the name '{key}' is already used in {group}: rename the template's "
                                 f"{'line' if group == 'lines' else 'object'} (or the existing one)")
     section[key] = value
+    record_origin(f"{group}.{key}", field if origin is None else origin, copy_of, generated)
+
+
+# --------------------------------------------------------------------------- origins of the expanded sections
+
+@dataclass(frozen=True)
+class Origin:
+    """Where a section of the expanded scenario came from: its ``template`` (``cranes.crane``),
+    the template ``field`` it stands for (``boom``; "" for the template as a whole), and when it
+    is a copy of the user's own entry, that entry's field (``copy_of``: ``winch``) less the keys
+    the expansion wrote itself (``generated``); ``keys`` maps single keys of the section to the
+    template fields they copy (``normal_stiffness`` -> ``seabed_stiffness``)."""
+
+    template: str
+    field: str = ""
+    copy_of: str | None = None
+    generated: tuple[str, ...] = ()
+    keys: dict = dc_field(default_factory=dict)
+
+
+_CURRENT: ContextVar[str | None] = ContextVar("rfesim_template", default=None)
+_ORIGINS: ContextVar[dict | None] = ContextVar("rfesim_template_origins", default=None)
+
+
+@contextmanager
+def recording_origins() -> Iterator[dict]:
+    """Record the origin of every section the templates expanded within (a map of expanded
+    path, e.g. ``winches.crane_winch``, to its Origin), for ``template_path``."""
+    origins: dict = {}
+    token = _ORIGINS.set(origins)
+    try:
+        yield origins
+    finally:
+        _ORIGINS.reset(token)
+
+
+def record_origin(path: str, field: str = "", copy_of: str | None = None, generated: tuple[str, ...] = (),
+                  keys: dict | None = None) -> None:
+    """Record that the expanded section at ``path`` came from the template being expanded
+    (a no-op outside ``recording_origins`` or a template's expansion)."""
+    origins, template = _ORIGINS.get(), _CURRENT.get()
+    if origins is not None and template is not None:
+        origins[path] = Origin(template, field, copy_of, tuple(generated), dict(keys or {}))
+
+
+def template_path(path: str, origins: dict) -> str:
+    """The field the user wrote for an error at ``path`` of the expanded scenario: in a copy
+    of the user's own entry, its path in the template (``winches.crane_winch.mode.rows.1`` ->
+    ``cranes.crane.winch.mode.rows.1``); elsewhere in a generated section, the template field
+    it came from with the expanded path (``cranes.crane.boom (expanded as
+    lines.crane_boom.length)``); outside the generated sections, ``path`` itself."""
+    best = max((p for p in origins if path == p or path.startswith(p + ".")), key=len, default=None)
+    if best is None:
+        return path
+    o = origins[best]
+    rest = path[len(best) + 1:]
+    first = rest.split(".", 1)[0]
+    if first and first in o.keys:
+        return f"{o.template}.{o.keys[first]}{rest[len(first):]}"
+    if o.copy_of is not None and first not in o.generated:
+        return f"{o.template}.{o.copy_of}" + (f".{rest}" if rest else "")
+    where = f"{o.template}.{o.field}" if o.field else o.template
+    return f"{where} (expanded as {path})"
 
 
 class _Pipe:
@@ -383,7 +471,7 @@ def _vessel_pose(out: dict, name: str, tpl, raw_tpl: dict) -> tuple[str, list, f
     else:
         vname = f"{name}_vessel"
         v = tpl.vessel
-        _add(out, "vessels", vname, copy.deepcopy(raw_tpl.get("vessel", {})), "vessel")
+        _add(out, "vessels", vname, copy.deepcopy(raw_tpl.get("vessel", {})), "vessel", copy_of="vessel")
     return vname, list(v.position), math.radians(v.heading_deg)
 
 
@@ -402,17 +490,28 @@ def _seabed(out: dict, env, tpl) -> tuple[float, float]:
             raise FieldError("", "a pipelay template needs the water depth (environment.water.depth) or a seabed")
         out.setdefault("environment", {})["seabed"] = {"normal_stiffness": tpl.seabed_stiffness,
                                                        "damping_ratio": 0.2, "friction": 0.5}
+        record_origin("environment.seabed", keys={"normal_stiffness": "seabed_stiffness"})
         return env.water.surface_level - env.water.depth, tpl.seabed_stiffness
     if sb.profile is not None or sb.slope_deg != 0.0:
         raise FieldError("", "the pipelay templates need a flat seabed (no slope_deg, no profile)")
     return env.seabed_z(), sb.normal_stiffness
 
 
+# the template field each support stands for (the collar is J-lay's tensioner; the aligner and
+# the straightener come from the template's aligner_radius and straightener_offset)
+_SUPPORT_FIELDS = {"tensioner": "tensioner", "collar": "tensioner", "stinger": "stinger", "reel": "reel"}
+
+
 def _element_count(tpl, length: float) -> int:
     if tpl.elements is not None:
         return tpl.elements
     target = tpl.element_length or DEFAULT_ELEMENT_LENGTH[tpl.method]
-    return max(4, int(math.ceil(length / target - 1e-9)))
+    n = max(4, int(math.ceil(length / target - 1e-9)))
+    if n > MAX_LINE_ELEMENTS:
+        raise FieldError("element_length", f"{target:g} m gives {n} elements on the {length:.6g} m line, more than "
+                                           f"the {MAX_LINE_ELEMENTS} a line may have: give at least "
+                                           f"{length / MAX_LINE_ELEMENTS:.3g} m")
+    return n
 
 
 def _track_length(tpl, length_estimate: float) -> float:
@@ -487,17 +586,17 @@ def _expand_one(out: dict, name: str, tpl, raw_tpl: dict, env) -> None:
                          f"elements of {length / n:.3g} m are longer than {geo['max_element']:.3g} m: the "
                          f"{geo['max_element_reason']}")
     type_name = f"{line}_pipe"
-    _add(out, "line_types", type_name, pipe.line_type(), "line")
+    _add(out, "line_types", type_name, pipe.line_type(), "line", origin="pipe")
     _add(out, "lines", line, {
         "type": type_name, "length": length, "elements": n,
         "end_a": {"attach": "free", "position": geo["end_a"], "direction": geo["end_a_direction"]}
         if geo["end_a"] is not None else {"attach": "free"},
-        "end_b": {"attach": "fixed", "position": geo["end_b"], "connection": "pinned"}}, "line")
+        "end_b": {"attach": "fixed", "position": geo["end_b"], "connection": "pinned"}}, "line", origin="")
     for key, support in geo["supports"].items():
         support = dict(support, line=line)
         if support.get("attach") is None:
             support["attach"] = vname
-        _add(out, "supports", f"{line}_{key}", support, "line")
+        _add(out, "supports", f"{line}_{key}", support, "line", origin=_SUPPORT_FIELDS.get(key, ""))
     if not out.get("name"):
         out["name"] = f"{tpl.method} of a {tpl.pipe.outer_diameter:.4g} m pipe"
 
@@ -639,9 +738,9 @@ def _j_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
 def _reel_payout(tpl, back_tension: float) -> dict:
     """The reel turns with the tensioner: the same payout table; under a constant-tension
     tensioner it is driven by the same characteristic (gain, speed limit) holding the back
-    tension -- the tension of the pipe just off the drum, which statics settles to the same
-    ``back_tension`` (rfesim.loads.reel, rfesim.solvers.reel_statics): the run starts in
-    equilibrium, without a transient."""
+    tension that statics settles the pipe just off the drum to (``back_tension``): the law acts
+    on the drum's grip force less the offset statics fixes at that state (rfesim.loads.reel,
+    rfesim.solvers.reel_statics), so the run starts in equilibrium, without a transient."""
     pay = tpl.tensioner.payout
     if pay is None:
         return {}

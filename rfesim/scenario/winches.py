@@ -179,6 +179,20 @@ class Winch(_Strict):
                                  "-m_i (1 - xi_i) d2D/dt2 along it (docs/theory.md, 'Winches and rope payout')")
 
 
+class TemplateWinch(Winch):
+    """The winch of a crane template (``cranes.<name>.winch``): a ``winches`` entry without
+    ``line`` -- it acts on the crane's own rope. Validated with the template, so its errors
+    name ``cranes.<name>.winch....``, the field the user wrote."""
+
+    line: str | None = Field(None, description="Leave out: the template's winch acts on its own rope")
+
+    @model_validator(mode="after")
+    def _own_rope(self):
+        if self.line is not None:
+            raise FieldError("line", "the template's winch acts on its own rope: leave out line")
+        return self
+
+
 def speed_payout(rows, t: float) -> tuple[float, float]:
     """(payout D(t) in m, speed v(t) in m/s) of a speed table: the exact integral from 0 of
     the piecewise-linear speed, held constant before the first and after the last row."""
