@@ -28,13 +28,24 @@ takes hold of an RFE over one element length after the take-off and lets go over
 before the end of the window, so pipe passing the take-off sees no jump of force. The
 payout D is the tensioner's (rfesim.loads.tensioner): a table of D(t), or driven by the
 constant-tension characteristic, implicit in the step like a tensioner's. A driven reel
-holds the back tension: its characteristic acts on the tension T_0 of the line just off the
-drum (the first SDE past the take-off point: the quantity statics settles to
-``back_tension``, rfesim.solvers.reel_statics), not on the drum's tangential force (which
-also carries the moment of the pipe leaving the drum, M / R). Inside the step that
-tension follows the drum through the grips: u(D) = T_0 + T_g(D) - T_g(D_c), T_g the
-tangential grip force, and D = D_c + h v(u(D)). The grips and the driven payout are
-committed by ``commit_tensioners`` on the reel's own arrays. No RFE is created or
+holds the back tension through a fixed offset: its characteristic acts on the drum's own
+tangential grip force T_g less Delta_j (the workspace's ``reel_offset``), u(D) = T_g(D) -
+Delta_j, and D = D_c + h v(u(D)), solved as a tensioner's (``solve_reel_payout``). T_g
+also carries the moment of the pipe leaving the drum (M / R) and the wrap's share, so
+statics (``settle_back_tension``, rfesim.solvers.reel_statics) sets Delta_j = T_g -
+``back_tension`` once it has settled the tension just off the drum to the back tension:
+the run starts in equilibrium, and the back tension is held in the mean (dynamically the
+tension off the drum differs from it by the wrap's inertia and the change of M / R).
+Without statics, or for a reel without a back tension, Delta_j = 0 and the set point is the
+grip force. Why not the tension T_0 just off the drum (as before): it is measured beyond
+the mass of the wrapped pipe from the drum (no inertia, on the soft grips), and a payout
+proportional to it is a non-collocated integral feedback with no damping term (one mass
+m, grips K_g, span K_s: g m s^3 + 0 s^2 + g (K_g + K_s) s + K_g K_s, unstable by
+Routh-Hurwitz); the drum's own force gives g m s^3 + m K_g s^2 + ..., stable (a Maxwell
+spring-dashpot, passive). The T_0 law also counted the drum's motion twice in the step
+(gain + K_g h in effect). The grips and the driven payout are
+committed by ``commit_tensioners`` on the reel's own arrays (the trial payout in the
+workspace's ``reel_D_trial``). No RFE is created or
 deleted: the stored pipe is part of the line.
 """
 from __future__ import annotations
@@ -50,14 +61,15 @@ from .tensioner import MAX_PAYOUT_ITERATIONS, MODE_TENSION, payout_newton, payou
 def reel_forces(reel_att, reel_centre, reel_axis, reel_dir, reel_radius, reel_wrap, reel_kr, reel_kl, reel_kg,
                 reel_cap, reel_line_lo, reel_line_hi, reel_mode, reel_table_t, reel_table_d, reel_table_v,
                 reel_count, t, att_p, att_R, rfe_length, r, F, grip_a, grip_on, grip_a_trial, grip_on_trial,
-                D_committed, grip_force, reel_set, reel_band, reel_gain, reel_vmax, h_step, sde_left, sde_point,
-                sde_sigma):
+                D_committed, grip_force, reel_set, reel_band, reel_gain, reel_vmax, h_step, reel_offset,
+                D_trial=None):
     """Add the forces of every reel on the RFEs on its wrap to F (at the centres: no
     moment). grip_a/grip_on (n,) committed grip anchors (material coordinate, m) and
     whether each RFE is gripped; the trial values are written. grip_force (nreel,) the
     tangential force each reel carries (N, positive when it holds the line back). h_step: time
-    since the last commit (a driven reel's D is solved implicitly over it, from the tension
-    sde_sigma[:, 0] of the SDE just past the take-off, and kept in reel_table_d[j, 1])."""
+    since the last commit (a driven reel's D is solved implicitly over it, from its grip force
+    less reel_offset[j] (nreel,), the workspace's reel_offset, and kept in D_trial[j] (nreel,),
+    the workspace's reel_D_trial; without it in reel_table_d[j, 1])."""
     for j in range(reel_centre.shape[0]):
         at = reel_att[j]
         Ra = att_R[at]
@@ -82,10 +94,8 @@ def reel_forces(reel_att, reel_centre, reel_axis, reel_dir, reel_radius, reel_wr
         held = 0.0
         for i in range(reel_line_lo[j], reel_line_hi[j]):
             phi, rho, h_, c, s, ex, ey, ez = _wrap_angle(r, i, cx, cy, cz, ax, ay, az, dx_, dy_, dz_, nx, ny, nz, R)
-            if rho < 1e-9 * R or phi < 0.0 or phi > W:
-                continue
             li = rfe_length[i]
-            wgt = min(1.0, R * phi / li, R * (W - phi) / li)
+            wgt = wrap_weight(phi, rho, R, W, li)
             if wgt <= 0.0:
                 continue
             held += li * wgt
@@ -94,41 +104,18 @@ def reel_forces(reel_att, reel_centre, reel_axis, reel_dir, reel_radius, reel_wr
         cap_share = reel_cap[j] / held if held > 0.0 else 0.0
         D = tensioner_payout(reel_mode, reel_table_t, reel_table_d, reel_table_v, reel_count, j, t, D_committed)
         if reel_mode[j] == MODE_TENSION:
-            if h_step > 0.0:
-                # the tension just off the drum, and the grip force with the drum where it was
-                P0x = cx + R * nx
-                P0y = cy + R * ny
-                P0z = cz + R * nz
-                T0 = 0.0
-                best = -1.0
-                for q in range(sde_left.shape[0]):
-                    if sde_left[q] < reel_line_lo[j] or sde_left[q] >= reel_line_hi[j]:
-                        continue
-                    qx = sde_point[q, 0] - P0x
-                    qy = sde_point[q, 1] - P0y
-                    qz = sde_point[q, 2] - P0z
-                    if qx * dx_ + qy * dy_ + qz * dz_ <= 0.0:
-                        continue
-                    dist = qx * qx + qy * qy + qz * qz
-                    if best < 0.0 or dist < best:
-                        best = dist
-                        T0 = sde_sigma[q, 0]
-                Tg0, k0 = _reel_grip(D, first, last, cx, cy, cz, ax, ay, az, dx_, dy_, dz_, nx, ny, nz, R, W,
-                                     reel_kg[j], cap_share, rfe_length, r, grip_a, grip_on)
-                offset = T0 - Tg0
-                D0 = D
-                a = D0 - h_step * reel_vmax[j] - 1e-12
-                b = D0 + h_step * reel_vmax[j] + 1e-12
-                Tg, k = Tg0, k0
-                for _ in range(MAX_PAYOUT_ITERATIONS):
-                    g, Dn, a, b = payout_newton(D, D0, h_step, offset + Tg, k, reel_set[j], reel_band[j], reel_gain[j],
-                                                reel_vmax[j], a, b)
-                    if abs(g) <= 1e-12 * (1.0 + abs(D)) or b - a <= 1e-14 * (1.0 + abs(D)):
-                        break
-                    D = Dn
-                    Tg, k = _reel_grip(D, first, last, cx, cy, cz, ax, ay, az, dx_, dy_, dz_, nx, ny, nz, R, W,
-                                       reel_kg[j], cap_share, rfe_length, r, grip_a, grip_on)
-            reel_table_d[j, 1] = D
+            if h_step > 0.0 and first < last:
+                # the law on the drum's own grip force less the offset statics fixed (module text)
+                D = solve_reel_payout(D, h_step, -reel_offset[j], reel_set[j], reel_band[j], reel_gain[j],
+                                      reel_vmax[j], first, last, cx, cy, cz, ax, ay, az, dx_, dy_, dz_, nx, ny, nz,
+                                      R, W, reel_kg[j], cap_share, rfe_length, r, grip_a, grip_on)
+            elif h_step > 0.0:
+                v, dv = payout_speed(0.0, reel_set[j], reel_band[j], reel_gain[j], reel_vmax[j])
+                D += h_step * v
+            if D_trial is None:
+                reel_table_d[j, 1] = D
+            else:
+                D_trial[j] = D
         total = 0.0
         for i in range(reel_line_lo[j], reel_line_hi[j]):
             px = r[i, 0] - cx
@@ -199,6 +186,24 @@ def reel_forces(reel_att, reel_centre, reel_axis, reel_dir, reel_radius, reel_wr
 
 
 @njit(cache=True)
+def solve_reel_payout(D0, h, offset, T_set, band, gain, vmax, lo, hi, cx, cy, cz, ax, ay, az, dx_, dy_, dz_, nx, ny,
+                      nz, R, W, kg_j, cap_share, rfe_length, r, grip_a, grip_on):
+    """D = D0 + h v(offset + T_g(D)) for a driven reel (module text): the implicit payout, as
+    ``solve_driven_payout`` for a tensioner's track."""
+    a = D0 - h * vmax - 1e-12
+    b = D0 + h * vmax + 1e-12
+    D = D0
+    for _ in range(MAX_PAYOUT_ITERATIONS):
+        T, k = _reel_grip(D, lo, hi, cx, cy, cz, ax, ay, az, dx_, dy_, dz_, nx, ny, nz, R, W, kg_j, cap_share,
+                          rfe_length, r, grip_a, grip_on)
+        g, Dn, a, b = payout_newton(D, D0, h, offset + T, k, T_set, band, gain, vmax, a, b)
+        if abs(g) <= 1e-12 * (1.0 + abs(D)) or b - a <= 1e-14 * (1.0 + abs(D)):
+            break
+        D = Dn
+    return D
+
+
+@njit(cache=True)
 def _wrap_angle(r, i, cx, cy, cz, ax, ay, az, dx_, dy_, dz_, nx, ny, nz, R):
     """(phi, rho, h, cos phi, sin phi, e_r) of RFE i on the drum (the geometry of ``reel_forces``)."""
     px = r[i, 0] - cx
@@ -223,6 +228,15 @@ def _wrap_angle(r, i, cx, cy, cz, ax, ay, az, dx_, dy_, dz_, nx, ny, nz, R):
 
 
 @njit(cache=True)
+def wrap_weight(phi, rho, R, W, li):
+    """The drum's hold on an RFE of length li at the wrap angle phi (distance rho from the
+    axis) on a wrap of W rad: min(1, R phi / li, R (W - phi) / li), 0 off the wrap."""
+    if rho < 1e-9 * R or phi < 0.0 or phi > W:
+        return 0.0
+    return max(0.0, min(1.0, R * phi / li, R * (W - phi) / li))
+
+
+@njit(cache=True)
 def _reel_grip(D, lo, hi, cx, cy, cz, ax, ay, az, dx_, dy_, dz_, nx, ny, nz, R, W, kg_j, cap_share, rfe_length, r,
                grip_a, grip_on):
     """(T, k): the tangential force the gripped RFEs on the wrap carry with the drum at D
@@ -233,10 +247,8 @@ def _reel_grip(D, lo, hi, cx, cy, cz, ax, ay, az, dx_, dy_, dz_, nx, ny, nz, R, 
         if grip_on[i] == 0:
             continue
         phi, rho, h, c, s, ex, ey, ez = _wrap_angle(r, i, cx, cy, cz, ax, ay, az, dx_, dy_, dz_, nx, ny, nz, R)
-        if rho < 1e-9 * R or phi < 0.0 or phi > W:
-            continue
         li = rfe_length[i]
-        wgt = min(1.0, R * phi / li, R * (W - phi) / li)
+        wgt = wrap_weight(phi, rho, R, W, li)
         if wgt <= 0.0:
             continue
         kg = kg_j * li * wgt

@@ -271,6 +271,12 @@ class Workspace(NamedTuple):
     reel_D: np.ndarray = np.zeros(1)                 # (nreel,) m, committed paid-out length of driven reels
     reel_force: np.ndarray = np.zeros(1)             # (nreel,) N, tangential force each reel holds
     reel_time: np.ndarray = np.zeros(2)              # (2,) s: [time of the last commit, of the last evaluation]
+    tens_D_trial: np.ndarray = np.zeros(1)           # (ntens,) m, driven tensioners' payout solved in the last
+                                                     #   evaluation (committed by commit_history; the model's
+                                                     #   tables stay constant)
+    reel_D_trial: np.ndarray = np.zeros(1)           # (nreel,) m, the same for driven reels
+    reel_offset: np.ndarray = np.zeros(1)            # (nreel,) N, Delta: a driven reel's law acts on its grip force
+                                                     #   less Delta (grip - back tension, set by statics; 0 without)
     sde_rest_eff: np.ndarray = np.zeros((0, 3, 3))   # (nsde, 3, 3) rest rotation R0(t) of the driven SDEs (evaluation time)
     sde_rest_rate: np.ndarray = np.zeros((0, 3))     # (nsde, 3) rad/s, its angular velocity omega0 (left RFE's body frame)
     motor_sat: np.ndarray = np.zeros(0, np.int64)    # (nm,) int64, 1: the motor is at its torque limit
@@ -339,7 +345,9 @@ def new_workspace(n: int, nsde: int, nh: int = 1, nroller: int = 0, ntens: int =
         roller_anchored_trial=np.zeros(nroller, np.int64), roller_scratch=np.zeros(32), waves_off=np.zeros(1, np.int64), point1=np.zeros((1, 3)), sea_frozen=np.zeros(1, np.int64),
         reel_grip_a=np.zeros(n), reel_grip_on=np.zeros(n, np.int64), reel_grip_a_trial=np.zeros(n),
         reel_grip_on_trial=np.zeros(n, np.int64), reel_D=np.zeros(max(nreel, 1)), reel_force=np.zeros(max(nreel, 1)),
-        reel_time=np.zeros(2), sde_rest_eff=_identities(nsde), sde_rest_rate=np.zeros((nsde, 3)),
+        reel_time=np.zeros(2), tens_D_trial=np.zeros(max(ntens, 1)), reel_D_trial=np.zeros(max(nreel, 1)),
+        reel_offset=np.zeros(max(nreel, 1)),
+        sde_rest_eff=_identities(nsde), sde_rest_rate=np.zeros((nsde, 3)),
         sea_reach=np.zeros(n), step_state=np.zeros(1, np.int64), motor_sat=np.zeros(nmotor, np.int64),
         c_tangent=np.zeros((nsde, 6)), deck_normal=np.zeros(nbody), tug_tension=np.zeros(ntug), tug_length=np.zeros(ntug),
         rv_tension=np.zeros(nreeve), rv_dir=np.zeros((nreeve, 3)), rv_fdir=np.zeros((nreeve, 3)),

@@ -427,7 +427,8 @@ def local_loads(km, att, ws, scale):
                          km.tens_cap, km.tens_line_lo, km.tens_line_hi, km.tens_mode, km.tens_table_t,
                          km.tens_table_d, km.tens_table_v, km.tens_count, att.time[0], att.p, att.R, km.rfe_length, ws.r, ws.F,
                          ws.grip_a, ws.grip_on, ws.grip_a_trial, ws.grip_on_trial, ws.tens_D, ws.tens_force,
-                         km.tens_set, km.tens_band, km.tens_gain, km.tens_vmax, ws.tens_time[1] - ws.tens_time[0])
+                         km.tens_set, km.tens_band, km.tens_gain, km.tens_vmax, ws.tens_time[1] - ws.tens_time[0],
+                         ws.tens_D_trial)
     if km.has_reels:
         ws.reel_time[1] = att.time[0]
         reel_forces(km.reel_att, km.reel_centre, km.reel_axis, km.reel_dir, km.reel_radius, km.reel_wrap, km.reel_kr,
@@ -435,7 +436,7 @@ def local_loads(km, att, ws, scale):
                     km.reel_table_t, km.reel_table_d, km.reel_table_v, km.reel_count, att.time[0], att.p, att.R,
                     km.rfe_length, ws.r, ws.F, ws.reel_grip_a, ws.reel_grip_on, ws.reel_grip_a_trial,
                     ws.reel_grip_on_trial, ws.reel_D, ws.reel_force, km.reel_set, km.reel_band, km.reel_gain,
-                    km.reel_vmax, ws.reel_time[1] - ws.reel_time[0], km.sde_left, ws.sde_point, ws.sigma)
+                    km.reel_vmax, ws.reel_time[1] - ws.reel_time[0], ws.reel_offset, ws.reel_D_trial)
 
 
 @njit(cache=True, _nrt=False)
@@ -709,13 +710,14 @@ def commit_history(km, ws):
         # driven tensioners: the paid-out length solved implicitly in this step's last evaluation
         h = ws.tens_time[1] - ws.tens_time[0]
         commit_tensioners(km.tens_mode, km.tens_table_d, ws.tens_D, h, ws.grip_a, ws.grip_on, ws.grip_a_trial,
-                          ws.grip_on_trial, km.tens_line_lo, km.tens_line_hi)
+                          ws.grip_on_trial, km.tens_line_lo, km.tens_line_hi, ws.tens_D_trial)
         ws.tens_time[0] = ws.tens_time[1]
     if km.has_reels:
         # the same spring-sliders and payout law as the tensioners, on the reels' arrays
         h = ws.reel_time[1] - ws.reel_time[0]
         commit_tensioners(km.reel_mode, km.reel_table_d, ws.reel_D, h, ws.reel_grip_a, ws.reel_grip_on,
-                          ws.reel_grip_a_trial, ws.reel_grip_on_trial, km.reel_line_lo, km.reel_line_hi)
+                          ws.reel_grip_a_trial, ws.reel_grip_on_trial, km.reel_line_lo, km.reel_line_hi,
+                          ws.reel_D_trial)
         ws.reel_time[0] = ws.reel_time[1]
 
 

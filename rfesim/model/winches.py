@@ -259,7 +259,12 @@ def _table(rows, t: float) -> float:
 
 class WinchController:
     """The winch's payout in time: before_step sets D(t_{n+1}) into the model arrays,
-    after_step reads the tension and the end-A point of the converged step."""
+    after_step reads the tension and the end-A point of the converged step.
+
+    Heave compensation (``HeaveCompensation``): a PID on the error zeta - D_c, its speed
+    clipped to max_speed, with anti-windup by conditional integration: while the speed is
+    held at the limit, an error that would push it further into the limit is not integrated
+    (docs/theory.md, 'Winches and rope payout')."""
 
     def __init__(self, info: WinchInfo, system):
         self.info = info
@@ -277,6 +282,7 @@ class WinchController:
         self.D_c = 0.0          # m, payout of the heave compensation
         self.v_c = 0.0
         self.e_int = 0.0        # m*s, integral of the compensation error
+        self.hc_sat = 0         # +1 / -1: the compensation speed of the step is held at +- max_speed
         self.e_prev = 0.0       # m, compensation error at the step before the last
         self.e_cur = 0.0        # m, compensation error at the last accepted step
         self.zeta = 0.0         # m, vertical motion of the end-A point since the start
@@ -593,6 +599,8 @@ class WinchController:
             if hc.feedforward:
                 # the sheave's speed at the middle of the step (linear extrapolation)
                 v_c += self.zeta_dot + 0.5 * (self.zeta_dot - self.zeta_dot_prev)
+            # saturated at max_speed: the side it is held on (anti-windup, after_step)
+            self.hc_sat = 1 if v_c > hc.max_speed else (-1 if v_c < -hc.max_speed else 0)
             v_c = max(-hc.max_speed, min(hc.max_speed, v_c))
             D_c = self.D_c + h * v_c
         D = D_mode + D_c
@@ -710,7 +718,11 @@ class WinchController:
             self.accel = self._drum_accel(t, v_mode, None, D)
         if self.hc is not None:
             e = self.zeta - D_c
-            self.e_int += e * h
+            # anti-windup by conditional integration: while the speed is held at max_speed,
+            # an error that would push it further into the limit is not integrated (the
+            # integral would wind up and overshoot once the sheave's motion can be followed)
+            if not (self.hc_sat != 0 and e * self.hc_sat > 0.0):
+                self.e_int += e * h
             self.e_prev, self.e_cur = self.e_cur, e
         self.t, self.D, self.v, self.D_mode, self.v_mode, self.D_c, self.v_c = t, D, v_mode + v_c, D_mode, v_mode, \
             D_c, v_c

@@ -1655,7 +1655,8 @@ class ReelSupport(_Strict):
     payout: Annotated[Union[PayoutTable, PayoutConstantTension], Field(discriminator="kind")] = Field(
         default_factory=lambda: PayoutTable(kind="table", rows=[[0.0, 0.0]]),
         description="Paid-out length (radius times the drum rotation) prescribed, or driven by the tension "
-                    "characteristic acting on the tension of the line just off the drum, as back_tension "
+                    "characteristic acting on the drum's tangential force less the offset statics fixes "
+                    "with back_tension (its force then less the back tension; 0 without back_tension) "
                     "(default: the drum holds still); a table may pay out at most stored_length")
 
     @model_validator(mode="after")

@@ -827,6 +827,92 @@ def _arithmetic_failure(exc: ArithmeticError, t: float, make_results) -> SolverE
                        results=make_results(status=1, message=f"{msg} at t = {t:.6g} s; {ARITHMETIC_HINT}"))
 
 
+def _end_a_point(km, ws, i: int) -> np.ndarray:
+    """End A of RFE i (its centre less half its length along its axis) in the evaluated workspace."""
+    return ws.r[i] - 0.5 * float(km.rfe_length[i]) * ws.R[i][:, 0]
+
+
+def _track_xi(km, att, ws, j: int) -> tuple[float, float]:
+    """(xi of end A of tensioner j's line, xi of that RFE's centre): along the track's axis
+    from its entry (rfesim.loads.tensioner), in the evaluated workspace."""
+    a = int(km.tens_att[j])
+    R = att.R[a]
+    P = att.p[a] + R @ km.tens_point[j]
+    e = R @ km.tens_axis[j]
+    i = int(km.tens_line_lo[j])
+    return float(e @ (_end_a_point(km, ws, i) - P)), float(e @ (ws.r[i] - P))
+
+
+def _wrap_phi(km, att, ws, j: int) -> float:
+    """Wrap angle (rad) of end A of reel j's line on the drum (rfesim.loads.reel: 0 at the
+    take-off, growing against the payout; negative past the take-off)."""
+    a = int(km.reel_att[j])
+    R = att.R[a]
+    C = att.p[a] + R @ km.reel_centre[j]
+    ax = R @ km.reel_axis[j]
+    d = R @ km.reel_dir[j]
+    n0 = np.cross(ax, d)
+    p = _end_a_point(km, ws, int(km.reel_line_lo[j])) - C
+    p = p - (p @ ax) * ax
+    phi = math.atan2(-(p @ d), p @ n0)
+    return phi + 2.0 * math.pi if phi < -0.5 * math.pi else phi
+
+
+def payout_ends(system: System) -> list[tuple]:
+    """The driven (constant-tension) tensioners and reels and what of their line they hold
+    at the start, from the evaluated workspace: (kind, j, name, line, D0, held) with held the
+    pipe from end A up to the track's exit (m; end A upstream of the exit) or the pipe stored
+    on the drum (m, R times end A's wrap angle). Those whose line's end A is not upstream of
+    the exit, or not on the drum, are left out."""
+    km, ws, att, model = system.km, system.ws, system.att, system.model
+    out = []
+    if km.has_tensioners:
+        for ti in model.tensioners:
+            j = ti.index
+            if int(km.tens_mode[j]) != 1:
+                continue
+            xi_end, xi_centre = _track_xi(km, att, ws, j)
+            L = float(km.tens_length[j])
+            if xi_centre < L:
+                out.append(("tensioner", j, ti.name, ti.line, float(ws.tens_D[j]), L - xi_end))
+    if km.has_reels:
+        for ri in model.reels:
+            j = ri.index
+            if int(km.reel_mode[j]) != 1:
+                continue
+            phi = _wrap_phi(km, att, ws, j)
+            if phi > 0.0:
+                out.append(("reel", j, ri.name, ri.line, float(ws.reel_D[j]), float(km.reel_radius[j]) * phi))
+    return out
+
+
+def payout_beyond(system: System, ends: list[tuple]) -> str:
+    """A message when a driven tensioner has run end A of its line out of its track (the
+    end-A RFE's centre past the exit: the track holds none of the line), or a driven reel
+    has paid out more than it held or let end A off the drum, from the evaluated workspace;
+    else ''. The pipe's end would leave and the line drop: the run stops there."""
+    km, ws, att = system.km, system.ws, system.att
+    for kind, j, name, line, D0, held in ends:
+        if kind == "tensioner":
+            D = float(ws.tens_D[j]) - D0
+            xi_end, xi_centre = _track_xi(km, att, ws, j)
+            if xi_centre >= float(km.tens_length[j]):
+                return (f"tensioner '{name}' ran end A of line '{line}' out of its track: it paid out {D:.6g} m "
+                        f"(constant tension) and held {held:.6g} m of the line from end A up to its exit at the "
+                        f"start; the track holds none of it now and the line's end is free: start with more "
+                        f"line upstream of the track (end A further back), or a set tension "
+                        f"(supports.{name}.payout) the line's pull does not outrun")
+        else:
+            D = float(ws.reel_D[j]) - D0
+            phi = _wrap_phi(km, att, ws, j)
+            if D > held or phi < 0.0:
+                return (f"reel '{name}' ran empty: it paid out {D:.6g} m (constant tension) of the {held:.6g} m "
+                        f"of line '{line}' stored on it at the start (supports.{name}.stored_length), and end A "
+                        f"{'has left' if phi < 0.0 else 'is leaving'} the drum: store more line on the reel, or "
+                        f"a set tension (supports.{name}.payout) the line's pull does not outrun")
+    return ""
+
+
 def run_dynamics(system: System, state: State, settings, progress=None, recorder: Recorder | None = None,
                  counters: Counters | None = None) -> tuple[State, Recorder, Counters]:
     """Integrate from state.t over settings.duration, recording at output times."""
@@ -897,6 +983,14 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
                                   f"output interval or a shorter duration")]) from None
     if recorder.k == 0 or recorder.time[recorder.k - 1] < st.t:
         recorder.record(st, st.qdd)
+    # driven tensioners and reels: what of their line they hold at the start (checked at every
+    # output time: a payout that runs the line's end out stops the run, ``payout_beyond``;
+    # such scenes are recorded in Python, Recorder.kernel_records, so every path passes output)
+    ends = getattr(system, "payout_ends", None)
+    if ends is None and ((km.has_tensioners and (km.tens_mode == 1).any()) or
+                         (km.has_reels and (km.reel_mode == 1).any())):
+        system.evaluate(st)
+        ends = system.payout_ends = payout_ends(system)
     stats = np.zeros(4, np.int64)
     fail = np.zeros(3)
 
@@ -912,12 +1006,21 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
             raise SolverError(msg, time=st.t, quantity="rope slip over a sheave",
                               results=make_results(status=1, message=msg))
 
+    def check_payout():
+        """Stop with the results so far once a driven tensioner or reel has run its line's end
+        out (``payout_beyond``; the workspace holds the evaluation of the recorded state)."""
+        msg = payout_beyond(system, ends) if ends else ""
+        if msg:
+            raise SolverError(msg, time=st.t, quantity="payout beyond the line held",
+                              results=make_results(status=1, message=msg))
+
     def output(st) -> bool:
-        """At an output time: record the state, stop on a rope slipped too far, rebase the
-        servo motors' joints (True when one was: a factorised Jacobian is then stale), report
-        progress."""
+        """At an output time: record the state, stop on a rope slipped too far or a line run
+        out of its tensioner or reel, rebase the servo motors' joints (True when one was: a
+        factorised Jacobian is then stale), report progress."""
         recorder.record(st, st.qdd)
         check_slip()
+        check_payout()
         rebased = bool(km.has_motors and rebase_motors(km, ws))
         report(st.t)
         return rebased

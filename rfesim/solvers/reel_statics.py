@@ -10,6 +10,9 @@ iterations on delta, until the tension of the line just off the drum (the first 
 the take-off point) equals the back tension (to 1 % or 100 N). The shift stays in
 the payout for the run (a prescribed table is shifted by delta at all times; a driven
 drum's committed D is shifted), so dynamics starts from that equilibrium without a jump.
+Then each such reel's offset ``ws.reel_offset[j]`` = grip force - back tension is stored:
+a driven reel's law acts on its own grip force less it (rfesim.loads.reel), so it starts
+at its set point (the back tension) and holds it in the mean.
 """
 from __future__ import annotations
 
@@ -71,5 +74,10 @@ def settle_back_tension(system, sc, state, info, solve):
             from ..errors import SolverError
             raise SolverError(f"statics: the reel does not settle at its back tension {B:.6g} N "
                               f"(holds {F:.6g} N after {MAX_SHIFTS} turns of the drum)")
+    # the offset of each settled reel's law (rfesim.loads.reel): its grip force less the back
+    # tension at the settled state, so a driven reel starts in equilibrium
+    system.evaluate(state)
+    for j, B in reels:
+        ws.reel_offset[j] = float(ws.reel_force[j]) - B
     info.iterations = iterations
     return state, info

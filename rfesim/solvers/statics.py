@@ -310,6 +310,39 @@ def _solve_elastic_first(system: System, state: State | None, tolerance: float, 
                                     f"compression allowed first, then {info2.iterations} tension-only)")
 
 
+CAPACITY_FRACTION = 0.999      # a track or drum holding this much of its capacity is taken as slipping
+
+
+def capacity_hint(system: System, lam: float) -> tuple[str, str] | None:
+    """(what, hint) naming the tensioners and reels whose grips are all at their capacity in
+    the workspace's last evaluation (at the load factor lam), or None. The capacity's shares
+    add up to it (rfesim.loads.tensioner): a track or drum carrying its capacity slips as a
+    whole, and statics finds no equilibrium beyond that load factor; the full static load
+    is then about capacity / lam or more."""
+    km, ws, model = system.km, system.ws, system.model
+    found = []
+    for kind, infos, force, cap in (("tensioner", getattr(model, "tensioners", None) or [], ws.tens_force,
+                                     km.tens_cap),
+                                    ("reel", getattr(model, "reels", None) or [], ws.reel_force, km.reel_cap)):
+        for info in infos:
+            F, C = abs(float(force[info.index])), float(cap[info.index])
+            # at its capacity, or its load at this load factor scaled to the full load beyond it
+            if C > 0.0 and (F >= CAPACITY_FRACTION * C or (0.0 < lam < 1.0 and F / lam > C)):
+                found.append((kind, info.name, info.line, F, C))
+    if not found:
+        return None
+    kind, name, line, F, C = found[0]
+    more = f" (and {len(found) - 1} more)" if len(found) > 1 else ""
+    need = F / lam if 0.0 < lam < 1.0 else None
+    load = (f"the full static load is about {need:.6g} N or more" if need is not None
+            else "the static load is more than that")
+    what = (f"{kind} '{name}'{more} holding line '{line}' carries {F:.6g} N at load factor {lam:.4g}, "
+            f"beyond its capacity {C:.6g} N (supports.{name}.capacity) at the full load: its grips slip")
+    hint = (f"{kind} '{name}' holds at most supports.{name}.capacity = {C:.6g} N and carries {F:.6g} N at load "
+            f"factor {lam:.4g}, so {load}: give supports.{name}.capacity above it (or hold the line elsewhere too)")
+    return what, hint
+
+
 def _solve(system: System, state: State | None, tolerance: float, max_iterations: int, load_steps: int,
            progress, rope_tangent: bool = False) -> tuple[State, StaticsInfo]:
     """Newton with load ramping. ``rope_tangent``: the exact tangent of slack rope elements
@@ -471,12 +504,17 @@ def _solve(system: System, state: State | None, tolerance: float, max_iterations
         st.ref.X[:] = ref_good.X
         dlam *= 0.5
         if dlam < 1e-4 or total_its >= max_iterations:
-            system.static_residual(st.q, st.ref, max(lam_done, dlam), r)
+            lam_fail = max(lam_done, dlam)
+            system.static_residual(st.q, st.ref, lam_fail, r)
             rn = _norm(r, mask, ls, force_ref)
             elem = int(np.argmax(np.abs(r).max(axis=1)))
+            # a tensioner or reel whose grips all slip: its capacity, not an element, is the cause
+            held = capacity_hint(system, lam_fail)
             raise SolverError("static equilibrium not found: Newton did not converge "
-                              f"(load factor {lam_done:.4g} reached, residual {rn:.3g} x force scale {force_ref:.3g} N)",
-                              time=st.t, element=model.describe_rfe(elem), quantity="static residual")
+                              f"(load factor {lam_done:.4g} reached, residual {rn:.3g} x force scale {force_ref:.3g} N)"
+                              + (f"; {held[0]}" if held else ""),
+                              time=st.t, element=model.describe_rfe(elem), quantity="static residual",
+                              hint=held[1] if held else None)
     info = StaticsInfo(iterations=total_its, load_steps=nsteps, residual=rn, converged=True,
                        message=f"converged in {total_its} Newton iterations, {nsteps} load steps")
     return st, info

@@ -82,8 +82,9 @@ def test_constant_tension_payout_settles_at_the_usual_step():
 
 def test_reel_lay_with_a_constant_tension_tensioner_starts_without_a_transient():
     """Tensioner set to its own static force with a 30 kN band: nothing should move. The reel
-    holds the back tension statics settled (its law acts on the tension just off the drum,
-    its set point is that back tension), so the tensioner's load stays at its static value.
+    holds the back tension statics settled (its law acts on its grip force less the offset
+    statics fixed, grip - back tension; its set point is that back tension), so the
+    tensioner's load stays at its static value.
     Before: the reel's law acted on its grip force (69 kN, which carries the moment of the
     pipe leaving the drum) with a set point of half the back tension (8.7 kN): it paid out at
     once, compressed the pipe on the ramp and raised the tensioner's load from 174 to 214 kN."""
