@@ -62,14 +62,14 @@ def reel_forces(reel_att, reel_centre, reel_axis, reel_dir, reel_radius, reel_wr
                 reel_cap, reel_line_lo, reel_line_hi, reel_mode, reel_table_t, reel_table_d, reel_table_v,
                 reel_count, t, att_p, att_R, rfe_length, r, F, grip_a, grip_on, grip_a_trial, grip_on_trial,
                 D_committed, grip_force, reel_set, reel_band, reel_gain, reel_vmax, h_step, reel_offset,
-                D_trial=None):
+                D_trial):
     """Add the forces of every reel on the RFEs on its wrap to F (at the centres: no
     moment). grip_a/grip_on (n,) committed grip anchors (material coordinate, m) and
     whether each RFE is gripped; the trial values are written. grip_force (nreel,) the
     tangential force each reel carries (N, positive when it holds the line back). h_step: time
     since the last commit (a driven reel's D is solved implicitly over it, from its grip force
     less reel_offset[j] (nreel,), the workspace's reel_offset, and kept in D_trial[j] (nreel,),
-    the workspace's reel_D_trial; without it in reel_table_d[j, 1])."""
+    the workspace's reel_D_trial)."""
     for j in range(reel_centre.shape[0]):
         at = reel_att[j]
         Ra = att_R[at]
@@ -112,10 +112,7 @@ def reel_forces(reel_att, reel_centre, reel_axis, reel_dir, reel_radius, reel_wr
             elif h_step > 0.0:
                 v, dv = payout_speed(0.0, reel_set[j], reel_band[j], reel_gain[j], reel_vmax[j])
                 D += h_step * v
-            if D_trial is None:
-                reel_table_d[j, 1] = D
-            else:
-                D_trial[j] = D
+            D_trial[j] = D
         total = 0.0
         for i in range(reel_line_lo[j], reel_line_hi[j]):
             px = r[i, 0] - cx

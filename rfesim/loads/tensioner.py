@@ -33,8 +33,7 @@ with the pipe inside the step: the loop of grip stiffness k = sum k_g l w (1e8 N
 (used before) needed h < 2 gain / k (2 ms at gain 1e5 N s/m) and chattered beyond it
 (docs/theory.md, 'Driven payout'). The trial D is kept in the workspace (``D_trial``,
 ``Workspace.tens_D_trial``; the model's arrays stay constant) and committed with the grips.
-Kernel-level callers that pass no ``D_trial`` get it in ``table_d[j, 1]`` (unused by a
-driven row), as before. RFEs that enter the track are gripped where they
+RFEs that enter the track are gripped where they
 are, RFEs that leave it are released: no RFE is created or deleted, the line's length, mass
 and momentum stay those of the material (the stored pipe upstream of the tensioner is part
 of the line).
@@ -154,14 +153,13 @@ MAX_PAYOUT_ITERATIONS = 60
 def tensioner_forces(tens_att, tens_point, tens_axis, tens_length, tens_kl, tens_kg, tens_cap, tens_line_lo,
                      tens_line_hi, tens_mode, tens_table_t, tens_table_d, tens_table_v, tens_count, t, att_p, att_R,
                      rfe_length, r, F, grip_a, grip_on, grip_a_trial, grip_on_trial, D_committed, grip_force,
-                     tens_set, tens_band, tens_gain, tens_vmax, h, D_trial=None):
+                     tens_set, tens_band, tens_gain, tens_vmax, h, D_trial):
     """Add the forces of every tensioner on the RFEs in its track to F (at the centres: no
     moment). grip_a/grip_on (n,) committed grip anchors (material coordinate, m) and
     whether each RFE is gripped; the trial values are written. grip_force (ntens,) the
     axial force each tensioner carries (N, positive when it holds the line back). h: time
     since the last commit (a driven tensioner's D is solved implicitly over it and kept in
-    D_trial[j] (ntens,), the workspace's tens_D_trial; without it in tens_table_d[j, 1]; 0 in
-    statics)."""
+    D_trial[j] (ntens,), the workspace's tens_D_trial; 0 in statics)."""
     for j in range(tens_point.shape[0]):
         a = tens_att[j]
         R = att_R[a]
@@ -196,10 +194,7 @@ def tensioner_forces(tens_att, tens_point, tens_axis, tens_length, tens_kl, tens
             elif h > 0.0:
                 v, dv = payout_speed(0.0, tens_set[j], tens_band[j], tens_gain[j], tens_vmax[j])
                 D += h * v
-            if D_trial is None:
-                tens_table_d[j, 1] = D
-            else:
-                D_trial[j] = D
+            D_trial[j] = D
         total = 0.0
         for i in range(tens_line_lo[j], tens_line_hi[j]):
             dx = r[i, 0] - px
@@ -262,17 +257,13 @@ def solve_driven_payout(D0, h, offset, T_set, band, gain, vmax, lo, hi, px, py, 
 
 
 @njit(cache=True)
-def commit_tensioners(tens_mode, tens_table_d, D_committed, h, grip_a, grip_on, grip_a_trial, grip_on_trial,
-                      tens_line_lo, tens_line_hi, D_trial=None):
+def commit_tensioners(tens_mode, D_trial, D_committed, h, grip_a, grip_on, grip_a_trial, grip_on_trial,
+                      tens_line_lo, tens_line_hi):
     """Accept the trial grips and, after a step (h > 0), the driven tensioners' paid-out
-    length solved implicitly in the step's last force evaluation (kept in D_trial[j]; without
-    it in table_d[j, 1], as ``tensioner_forces`` keeps it then)."""
+    length solved implicitly in the step's last force evaluation (kept in D_trial[j])."""
     for j in range(tens_mode.shape[0]):
         for i in range(tens_line_lo[j], tens_line_hi[j]):
             grip_a[i] = grip_a_trial[i]
             grip_on[i] = grip_on_trial[i]
         if tens_mode[j] == MODE_TENSION and h > 0.0:
-            if D_trial is None:
-                D_committed[j] = tens_table_d[j, 1]
-            else:
-                D_committed[j] = D_trial[j]
+            D_committed[j] = D_trial[j]

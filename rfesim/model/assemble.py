@@ -709,15 +709,14 @@ def commit_history(km, ws):
     if km.has_tensioners:
         # driven tensioners: the paid-out length solved implicitly in this step's last evaluation
         h = ws.tens_time[1] - ws.tens_time[0]
-        commit_tensioners(km.tens_mode, km.tens_table_d, ws.tens_D, h, ws.grip_a, ws.grip_on, ws.grip_a_trial,
-                          ws.grip_on_trial, km.tens_line_lo, km.tens_line_hi, ws.tens_D_trial)
+        commit_tensioners(km.tens_mode, ws.tens_D_trial, ws.tens_D, h, ws.grip_a, ws.grip_on, ws.grip_a_trial,
+                          ws.grip_on_trial, km.tens_line_lo, km.tens_line_hi)
         ws.tens_time[0] = ws.tens_time[1]
     if km.has_reels:
         # the same spring-sliders and payout law as the tensioners, on the reels' arrays
         h = ws.reel_time[1] - ws.reel_time[0]
-        commit_tensioners(km.reel_mode, km.reel_table_d, ws.reel_D, h, ws.reel_grip_a, ws.reel_grip_on,
-                          ws.reel_grip_a_trial, ws.reel_grip_on_trial, km.reel_line_lo, km.reel_line_hi,
-                          ws.reel_D_trial)
+        commit_tensioners(km.reel_mode, ws.reel_D_trial, ws.reel_D, h, ws.reel_grip_a, ws.reel_grip_on,
+                          ws.reel_grip_a_trial, ws.reel_grip_on_trial, km.reel_line_lo, km.reel_line_hi)
         ws.reel_time[0] = ws.reel_time[1]
 
 

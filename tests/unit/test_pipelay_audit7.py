@@ -155,7 +155,7 @@ def test_track_capacity_is_the_whole_tracks_holding_force():
                      np.array([MODE_TABLE]), np.zeros((1, 2)), np.zeros((1, 2)), np.zeros((1, 2)), np.array([2]),
                      0.0, np.zeros((1, 3)), np.eye(3)[None], lengths, r, F, xi - 5.0, np.ones(n, np.int64),
                      np.zeros(n), np.zeros(n, np.int64), np.zeros(1), force, np.zeros(1), np.zeros(1), np.ones(1),
-                     np.zeros(1), 0.0)
+                     np.zeros(1), 0.0, np.zeros(1))
     assert force[0] == pytest.approx(cap, rel=1e-12)
     assert -F[:, 0].sum() == pytest.approx(cap, rel=1e-12)
 

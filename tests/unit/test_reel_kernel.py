@@ -77,7 +77,7 @@ def run_kernel(C, a, d, R, W, kr, kl, kg, cap, table_t, table_d, t, lengths, r, 
                 np.array([MODE_TABLE]), np.array([table_t]), np.array([table_d]),
                 np.array([np.gradient(table_d, table_t)]), np.array([len(table_t)]), t, att_p, att_R, lengths, r, F,
                 np.asarray(anchor, float), np.asarray(gripped, np.int64), at, ont, np.zeros(1), force, np.zeros(1),
-                np.zeros(1), np.ones(1), np.zeros(1), 0.0, np.zeros(1))
+                np.zeros(1), np.ones(1), np.zeros(1), 0.0, np.zeros(1), np.zeros(1))
     return F, at, ont, force[0]
 
 

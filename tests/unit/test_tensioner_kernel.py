@@ -57,7 +57,7 @@ def run_kernel(P, e, L, kl, kg, cap, table_t, table_d, t, lengths, r, anchor, gr
                      np.array([table_d]), np.array([np.gradient(table_d, table_t)]), np.array([len(table_t)]), t,
                      att_p, att_R, lengths, r, F,
                      np.asarray(anchor, float), np.asarray(gripped, np.int64), at, ont, np.array([D_committed]),
-                     force, np.zeros(1), np.zeros(1), np.ones(1), np.zeros(1), 0.0)
+                     force, np.zeros(1), np.zeros(1), np.ones(1), np.zeros(1), 0.0, np.zeros(1))
     return F, at, ont, force[0]
 
 
@@ -113,7 +113,7 @@ def test_track_on_a_moving_vessel_and_the_characteristic():
                      np.array([MODE_TENSION]), np.zeros((1, 2)), np.zeros((1, 2)), np.zeros((1, 2)), np.array([2]),
                      0.0, att_p,
                      att_R, np.array([2.0]), r, F, np.zeros(1), np.zeros(1, np.int64), at, ont, np.array([0.0]),
-                     force, np.array([1.0e5]), np.array([0.2e5]), np.array([4e4]), np.array([1.0]), 0.0)
+                     force, np.array([1.0e5]), np.array([0.2e5]), np.array([4e4]), np.array([1.0]), 0.0, np.zeros(1))
     np.testing.assert_allclose(F[0], [-1e5 * 2.0 * 0.01, 0.0, 0.0], atol=1e-9)
     assert ont[0] == 1 and at[0] == pytest.approx(3.0)
     for grip, expected in [(1.2e5, 0.0), (1.6e5, (1.6e5 - 1.0e5 - 0.2e5) / 4e4),
@@ -121,10 +121,10 @@ def test_track_on_a_moving_vessel_and_the_characteristic():
         assert payout_speed(grip, 1.0e5, 0.2e5, 4e4, 1.0)[0] == pytest.approx(expected)
     # the commit takes the paid-out length solved in the step's last evaluation
     D = np.array([0.0])
-    table_d = np.array([[0.0, 0.37]])
-    commit_tensioners(np.array([MODE_TENSION]), table_d, D, 0.5, np.zeros(1), np.zeros(1, np.int64),
+    D_trial = np.array([0.37])
+    commit_tensioners(np.array([MODE_TENSION]), D_trial, D, 0.5, np.zeros(1), np.zeros(1, np.int64),
                       np.zeros(1), np.zeros(1, np.int64), np.array([0]), np.array([1]))
     assert D[0] == 0.37
-    commit_tensioners(np.array([MODE_TENSION]), table_d, D, 0.0, np.zeros(1), np.zeros(1, np.int64),
+    commit_tensioners(np.array([MODE_TENSION]), D_trial, D, 0.0, np.zeros(1), np.zeros(1, np.int64),
                       np.zeros(1), np.zeros(1, np.int64), np.array([0]), np.array([1]))
     assert D[0] == 0.37                   # statics (h = 0) does not move it
