@@ -748,6 +748,11 @@ def simulate_chain(model: ChainModel | Chain, t_end: float, dt: float, q0=None, 
     flexible links' dofs selection removes coordinates that are not needed. A step above
     that limit makes the state diverge: the run stops (success False, message and
     failure_time say where) with the history recorded so far, never raises.
+
+    ``progress(fraction)`` is called after every step, once that step's output (if it is
+    an output step) is recorded. A KeyboardInterrupt (Ctrl-C, or one the progress callback
+    raises) propagates with the history recorded so far as ``history`` (a ChainResult,
+    success False, message "interrupted at t = ..."; None before the first output).
     """
     if isinstance(model, Chain):
         model = model.compile()
@@ -773,40 +778,53 @@ def simulate_chain(model: ChainModel | Chain, t_end: float, dt: float, q0=None, 
     message = "completed"
     success = True
     failure_time = None
-    for n in range(nsteps + 1):
-        try:
-            qdd, qq, vv = rhs(t, yq, yv)
-        except np.linalg.LinAlgError as exc:         # a diverged state: stop with what was recorded
-            success, message, failure_time = False, str(exc), t
-            break
-        if not (np.all(np.isfinite(yq)) and np.all(np.isfinite(yv)) and np.all(np.isfinite(qdd))):
-            success, message, failure_time = False, f"non-finite state at t = {t:.6g} s", t
-            break
-        if n % output_every == 0 or n == nsteps:
-            ts.append(t)
-            qs.append(qq)
-            qds.append(vv)
-            qdds.append(qdd)
-        if n == nsteps:
-            break
-        try:
-            k1q, k1v = yv, qdd[fr]
-            k2q = yv + 0.5 * dt * k1v
-            k2v = rhs(t + 0.5 * dt, yq + 0.5 * dt * k1q, k2q)[0][fr]
-            k3q = yv + 0.5 * dt * k2v
-            k3v = rhs(t + 0.5 * dt, yq + 0.5 * dt * k2q, k3q)[0][fr]
-            k4q = yv + dt * k3v
-            k4v = rhs(t + dt, yq + dt * k3q, k4q)[0][fr]
-        except np.linalg.LinAlgError as exc:
-            success, message, failure_time = False, str(exc), t
-            break
-        yq = yq + dt / 6.0 * (k1q + 2 * k2q + 2 * k3q + k4q)
-        yv = yv + dt / 6.0 * (k1v + 2 * k2v + 2 * k3v + k4v)
-        t = (n + 1) * dt
-        if progress is not None:
-            progress(t / t_end)
-    shape = (0, nq)
-    return ChainResult(model, np.array(ts), np.array(qs).reshape(-1, nq) if qs else np.zeros(shape),
-                       np.array(qds).reshape(-1, nq) if qds else np.zeros(shape),
-                       np.array(qdds).reshape(-1, nq) if qdds else np.zeros(shape), success, message, nsteps,
-                       data.nfev, failure_time)
+
+    def result(success, message, failure_time):
+        # the rows recorded in full (an interruption may fall between the appends)
+        k = min(len(ts), len(qs), len(qds), len(qdds))
+        shape = (0, nq)
+        return ChainResult(model, np.array(ts[:k]), np.array(qs[:k]).reshape(-1, nq) if k else np.zeros(shape),
+                           np.array(qds[:k]).reshape(-1, nq) if k else np.zeros(shape),
+                           np.array(qdds[:k]).reshape(-1, nq) if k else np.zeros(shape), success, message, nsteps,
+                           data.nfev, failure_time)
+
+    try:
+        for n in range(nsteps + 1):
+            try:
+                qdd, qq, vv = rhs(t, yq, yv)
+            except np.linalg.LinAlgError as exc:         # a diverged state: stop with what was recorded
+                success, message, failure_time = False, str(exc), t
+                break
+            if not (np.all(np.isfinite(yq)) and np.all(np.isfinite(yv)) and np.all(np.isfinite(qdd))):
+                success, message, failure_time = False, f"non-finite state at t = {t:.6g} s", t
+                break
+            if n % output_every == 0 or n == nsteps:
+                ts.append(t)
+                qs.append(qq)
+                qds.append(vv)
+                qdds.append(qdd)
+            if n > 0 and progress is not None:
+                progress(t / t_end)
+            if n == nsteps:
+                break
+            try:
+                k1q, k1v = yv, qdd[fr]
+                k2q = yv + 0.5 * dt * k1v
+                k2v = rhs(t + 0.5 * dt, yq + 0.5 * dt * k1q, k2q)[0][fr]
+                k3q = yv + 0.5 * dt * k2v
+                k3v = rhs(t + 0.5 * dt, yq + 0.5 * dt * k2q, k3q)[0][fr]
+                k4q = yv + dt * k3v
+                k4v = rhs(t + dt, yq + dt * k3q, k4q)[0][fr]
+            except np.linalg.LinAlgError as exc:
+                success, message, failure_time = False, str(exc), t
+                break
+            yq = yq + dt / 6.0 * (k1q + 2 * k2q + 2 * k3q + k4q)
+            yv = yv + dt / 6.0 * (k1v + 2 * k2v + 2 * k3v + k4v)
+            t = (n + 1) * dt
+    except KeyboardInterrupt as exc:
+        part = result(False, "interrupted", None)
+        if len(part.t):
+            part.message = f"interrupted at t = {part.t[-1]:.6g} s"
+        exc.history = part if len(part.t) else None
+        raise
+    return result(success, message, failure_time)

@@ -733,6 +733,13 @@ class _Recorded:
         for k, pt in enumerate(ms.points):
             self.loads[k].append((pt.force.value.copy(), pt.moment.value.copy()))
 
+    def complete(self) -> int:
+        """The number of outputs recorded in full (an interruption may stop a `record`
+        half way), the line recorder cut back to them."""
+        n = min([self.rec.k] + [len(a) for a in self.Q + self.QD + self.QDD + self.loads])
+        self.rec.k = n
+        return n
+
     def results(self, sc, **kw):
         from .. import __version__
         ms = self.ms
@@ -825,6 +832,11 @@ def start_dynamics(ms: MixedScene, st: State, c) -> None:
 
 
 def simulate(sc, progress=None):
+    """Statics (if enabled) and dynamics of a scene mixing chains with absolute-coordinate
+    lines -> Results. ``progress(fraction, time)`` after every output (an exception from it
+    stops the run as CancelledError). A SolverError carries the results so far (status 1),
+    a KeyboardInterrupt in the dynamics (Ctrl-C, or a SIGTERM the command line turns into
+    it) too (``results``, status 2, "interrupted at t = ..."), as for a scene of lines."""
     ms = MixedScene(sc)
     an = sc.analysis
     wall0 = _time.perf_counter()
@@ -864,6 +876,18 @@ def simulate(sc, progress=None):
         counters.update(vars(ig.stats))
         exc.results = rec.results(sc, status=1, message=_with_warnings(str(exc), ms.statics_warnings),
                                   counters=counters, kind="dynamics")
+        raise
+    except KeyboardInterrupt as exc:
+        # Ctrl-C (or a SIGTERM the command line turns into it): the results so far go with the
+        # interruption, as for a scene of lines (rfesim.solvers.dynamics.run_dynamics)
+        from ..solvers.dynamics import INTERRUPTED
+        counters.update(vars(ig.stats))
+        counters["time_step"] = h
+        counters["wall_time"] = _time.perf_counter() - wall0
+        n = rec.complete()
+        if n:
+            message = _with_warnings(f"interrupted at t = {float(rec.rec.time[n - 1]):.6g} s", ms.statics_warnings)
+            exc.results = rec.results(sc, status=INTERRUPTED, message=message, counters=counters, kind="dynamics")
         raise
     counters.update(vars(ig.stats))
     counters["time_step"] = h

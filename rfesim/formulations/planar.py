@@ -523,25 +523,41 @@ class PlanarDynamics:
 
 def planar_dynamics(model: PlanarModel, t_end: float, step: float, q0=None, qd0=None,
                     method: str = "rk4", record_every: int = 1, rho_inf: float = 0.8,
-                    tolerance: float = 1e-9, max_iterations: int = 25) -> PlanarDynamics:
+                    tolerance: float = 1e-9, max_iterations: int = 25, progress=None) -> PlanarDynamics:
     """Time integration from t = 0. ``rk4``: fixed-step classical Runge-Kutta on the O(n)
     forward dynamics, the whole loop compiled (end-B constraints are then held at the
     acceleration level only and drift as O(h^4)). ``generalized-alpha``: Chung-Hulbert
     with spectral radius rho_inf at infinite frequency, Newton on the banded KKT system
-    (O(n) per iteration), end-B constraints at the position level (index 3)."""
+    (O(n) per iteration), end-B constraints at the position level (index 3).
+
+    ``progress(fraction)`` is called after recorded outputs (generalized-alpha: every one;
+    rk4: after each compiled stretch of about a hundredth of the run). A KeyboardInterrupt
+    (Ctrl-C, or one the progress callback raises) propagates with the outputs recorded so
+    far as ``history`` (a PlanarDynamics, success False, message "interrupted at t = ...")."""
     q = np.array(model.q_initial if q0 is None else q0, float)
     qd = np.zeros_like(q) if qd0 is None else np.array(qd0, float)
     nsteps = int(round(t_end / step))
     if nsteps < 1:
         raise ValueError("step: must be smaller than t_end")
     if method == "rk4":
-        return _rk4(model, q, qd, step, nsteps, record_every)
+        return _rk4(model, q, qd, step, nsteps, record_every, progress)
     if method in ("generalized-alpha", "generalised-alpha"):
-        return _generalized_alpha(model, q, qd, step, nsteps, record_every, rho_inf, tolerance, max_iterations)
+        return _generalized_alpha(model, q, qd, step, nsteps, record_every, rho_inf, tolerance, max_iterations,
+                                  progress)
     raise ValueError(f"method: must be 'rk4' or 'generalized-alpha', got {method!r}")
 
 
-def _rk4(model, q, qd, h, nsteps, record_every):
+RK4_STRETCHES = 100     # the compiled RK4 runs in about this many stretches (progress, Ctrl-C between them)
+
+
+def _interrupted(exc, t, q_out, qd_out, rec, method, steps):
+    """Attach the first ``rec`` recorded outputs to a KeyboardInterrupt as ``history``."""
+    exc.history = PlanarDynamics(t=t[:rec].copy(), q=q_out[:rec].copy(), qd=qd_out[:rec].copy(), method=method,
+                                 steps=steps, success=False,
+                                 message=f"interrupted at t = {t[rec - 1]:.6g} s") if rec else None
+
+
+def _rk4(model, q, qd, h, nsteps, record_every, progress=None):
     pres = model.prescribed()
     base = np.zeros((3, nsteps, 3, 3))   # (pos/vel/acc, step, stage, comp)
     for k in range(nsteps):
@@ -553,14 +569,31 @@ def _rk4(model, q, qd, h, nsteps, record_every):
     nrec = nsteps // record_every + 1
     q_out = np.zeros((nrec, q.size))
     qd_out = np.zeros((nrec, q.size))
-    w = PlanarWork(model)
-    ok = pk.rk4_run(q, qd, h, nsteps, base[0], base[1], base[2], pres, model.mass, model.inertia,
-                    model.z_in, model.z_out, model.sde_stiffness, model.sde_damping, model.sde_rest_angle,
-                    model.gravity, model.end_a, model.end_b, *_loads(model), record_every, q_out, qd_out,
-                    *w.schur(), w.reaction)
     t = np.arange(nrec) * h * record_every
-    if not ok:
-        raise SolverError("planar RK4: state became non-finite (step too large?)")
+    w = PlanarWork(model)
+    args = (model.mass, model.inertia, model.z_in, model.z_out, model.sde_stiffness, model.sde_damping,
+            model.sde_rest_angle, model.gravity, model.end_a, model.end_b, *_loads(model), record_every)
+    # stretches of whole output intervals; the kernel writes the stretch's start into its row 0
+    # (the previous stretch's last output, the same values) and the outputs after it
+    per = max(1, (nrec - 1) // RK4_STRETCHES)
+    done = 0            # steps integrated
+    rec = 1             # outputs recorded (row 0: the initial state, written by the first stretch)
+    q_out[0], qd_out[0] = q, qd
+    try:
+        while done < nsteps:
+            m = min(per * record_every, nsteps - done)
+            r0 = done // record_every
+            ok = pk.rk4_run(q, qd, h, m, base[0, done:done + m], base[1, done:done + m], base[2, done:done + m],
+                            pres, *args, q_out[r0:], qd_out[r0:], *w.schur(), w.reaction)
+            if not ok:
+                raise SolverError("planar RK4: state became non-finite (step too large?)")
+            done += m
+            rec = done // record_every + 1
+            if progress is not None:
+                progress(done / nsteps)
+    except KeyboardInterrupt as exc:
+        _interrupted(exc, t, q_out, qd_out, rec, "rk4", done)
+        raise
     return PlanarDynamics(t=t, q=q_out, qd=qd_out, method="rk4", steps=nsteps)
 
 
@@ -573,7 +606,7 @@ def genalpha_parameters(rho_inf: float):
     return am, af, beta, gamma
 
 
-def _generalized_alpha(model, q, qd, h, nsteps, record_every, rho_inf, tol, max_iterations):
+def _generalized_alpha(model, q, qd, h, nsteps, record_every, rho_inf, tol, max_iterations, progress=None):
     am, af, beta, gamma = genalpha_parameters(rho_inf)
     w = PlanarWork(model)
     pres = model.prescribed()
@@ -592,42 +625,49 @@ def _generalized_alpha(model, q, qd, h, nsteps, record_every, rho_inf, tol, max_
     q_out[0], qd_out[0] = q, qd
     newton_total = 0
     rec = 1
-    for k in range(nsteps):
-        t1 = (k + 1) * h
-        p, v, a_base = model.base_state(t1)
-        qdd1 = qdd.copy()
-        qdd1[:3][pres] = a_base[pres]
+    k = 0
+    try:
+        for k in range(nsteps):
+            t1 = (k + 1) * h
+            p, v, a_base = model.base_state(t1)
+            qdd1 = qdd.copy()
+            qdd1[:3][pres] = a_base[pres]
 
-        def update(qdd_new):
-            a_new = ((1.0 - af) * qdd_new + af * qdd - am * acc_alg) / (1.0 - am)
-            q_new = q + h * qd + h * h * ((0.5 - beta) * acc_alg + beta * a_new)
-            v_new = qd + h * ((1.0 - gamma) * acc_alg + gamma * a_new)
-            q_new[:3][pres] = p[pres]
-            v_new[:3][pres] = v[pres]
-            return a_new, q_new, v_new
+            def update(qdd_new):
+                a_new = ((1.0 - af) * qdd_new + af * qdd - am * acc_alg) / (1.0 - am)
+                q_new = q + h * qd + h * h * ((0.5 - beta) * acc_alg + beta * a_new)
+                v_new = qd + h * ((1.0 - gamma) * acc_alg + gamma * a_new)
+                q_new[:3][pres] = p[pres]
+                v_new[:3][pres] = v[pres]
+                return a_new, q_new, v_new
 
-        a1, q1, v1 = update(qdd1)
-        converged = False
-        for it in range(max_iterations):
-            r = residual(model, q1, v1, qdd1, mu, w)
-            viol = _end_violation(model, q1)
-            dqdd, dmu = _newton_correction(model, w, q1, v1, r, viol, 1.0, c_v, c_q, 1.0, mu)
-            newton_total += 1
-            dqdd[:3][pres] = 0.0
-            qdd1 += dqdd
-            mu += dmu
             a1, q1, v1 = update(qdd1)
-            if np.linalg.norm(dqdd[free]) * c_q <= tol * model.length:
-                converged = True
-                break
-        if not converged or not np.all(np.isfinite(q1)):
-            q_out, qd_out = q_out[:rec], qd_out[:rec]
-            return PlanarDynamics(t=np.arange(rec) * h * record_every, q=q_out, qd=qd_out,
-                                  method="generalized-alpha", steps=k, newton_iterations=newton_total,
-                                  success=False, message=f"Newton did not converge at t = {t1:.6g} s")
-        q, qd, qdd, acc_alg = q1, v1, qdd1, a1
-        if (k + 1) % record_every == 0:
-            q_out[rec], qd_out[rec] = q, qd
-            rec += 1
+            converged = False
+            for it in range(max_iterations):
+                r = residual(model, q1, v1, qdd1, mu, w)
+                viol = _end_violation(model, q1)
+                dqdd, dmu = _newton_correction(model, w, q1, v1, r, viol, 1.0, c_v, c_q, 1.0, mu)
+                newton_total += 1
+                dqdd[:3][pres] = 0.0
+                qdd1 += dqdd
+                mu += dmu
+                a1, q1, v1 = update(qdd1)
+                if np.linalg.norm(dqdd[free]) * c_q <= tol * model.length:
+                    converged = True
+                    break
+            if not converged or not np.all(np.isfinite(q1)):
+                q_out, qd_out = q_out[:rec], qd_out[:rec]
+                return PlanarDynamics(t=np.arange(rec) * h * record_every, q=q_out, qd=qd_out,
+                                      method="generalized-alpha", steps=k, newton_iterations=newton_total,
+                                      success=False, message=f"Newton did not converge at t = {t1:.6g} s")
+            q, qd, qdd, acc_alg = q1, v1, qdd1, a1
+            if (k + 1) % record_every == 0:
+                q_out[rec], qd_out[rec] = q, qd
+                rec += 1
+                if progress is not None:
+                    progress((k + 1) / nsteps)
+    except KeyboardInterrupt as exc:
+        _interrupted(exc, np.arange(nrec) * h * record_every, q_out, qd_out, rec, "generalized-alpha", k)
+        raise
     return PlanarDynamics(t=np.arange(nrec) * h * record_every, q=q_out, qd=qd_out, method="generalized-alpha",
                           steps=nsteps, newton_iterations=newton_total)

@@ -615,7 +615,94 @@ def _partial(sc, scene, times, hist, n_keep, message, counters):
     return res
 
 
+def _unit_rows(unit, times, Q, QD):
+    """(Q, QD, QDD) of a unit at ``times`` from its coordinates and rates: the prescribed
+    coordinates set from their drives (or the base motion), the accelerations from the
+    equations of motion (NaN where the mass matrix is singular, as in `_adaptive`)."""
+    Q, QD = np.array(Q, float, copy=True), np.array(QD, float, copy=True)
+    QDD = np.zeros_like(Q)
+    if isinstance(unit, PlanarUnit):
+        pm = unit.model
+        pres = pm.prescribed()
+        w = pl.PlanarWork(pm)
+        for i, t in enumerate(times):
+            p, v, _ = pm.base_state(float(t))
+            Q[i, :3][pres], QD[i, :3][pres] = p[pres], v[pres]
+            QDD[i] = pl.accelerations(pm, Q[i], QD[i], float(t), w)[0]
+        return Q, QD, QDD
+    model = unit.model
+    data = ChainData(model)
+    for i, t in enumerate(times):
+        fill_prescribed(model, float(t), Q[i], QD[i], np.zeros(model.nq))
+        try:
+            QDD[i] = accelerations(model, data, float(t), Q[i], QD[i])
+        except np.linalg.LinAlgError:
+            QDD[i] = np.nan
+    return Q, QD, QDD
+
+
+def _interrupted(sc, scene, states, rates, recorded, counters, per_out=None, failure=None):
+    """The Results (status 2) of a run interrupted by a KeyboardInterrupt (Ctrl-C, or a
+    SIGTERM the command line turns into it) while its units were integrated, or None when
+    no unit had recorded an output yet (as `rfesim.solvers.dynamics.run_dynamics` before its
+    first one).
+
+    ``recorded[k]``: (times, Q, QD, QDD or None) that unit k had recorded, or None. The units
+    are integrated one after another, so an interruption finds the earlier ones at the end
+    of the run, one part way and the later ones not started. The results keep the time span
+    every unit reached (the shortest record; a unit not started counts with its start state
+    at t = 0, the statics or the initial shape), so that every output time holds the whole
+    scene: no unit's channels are padded or extrapolated. The message says when units had
+    got further than that, and names a unit that had diverged before (``failure``: label,
+    time, reason), which the finished run would have raised as a SolverError."""
+    from .. import __version__
+    from ..solvers.dynamics import INTERRUPTED
+    units = scene.chains + scene.planars
+    if not any(r is not None and len(r[0]) for r in recorded):
+        return None
+    started = [r is not None and len(r[0]) > 0 for r in recorded]
+    rows = [r if ok else (np.zeros(1), q[None], qd[None], None)
+            for r, ok, q, qd in zip(recorded, started, states, rates)]
+    lengths = [len(r[0]) for r in rows]
+    lag = int(np.argmin(lengths))
+    n = lengths[lag]
+    times = np.asarray(rows[lag][0][:n], float)
+    hist = []
+    for unit, (_, Q, QD, QDD) in zip(units, rows):
+        if QDD is None:
+            hist.append(_unit_rows(unit, times, Q[:n], QD[:n]))
+        else:
+            hist.append((Q[:n], QD[:n], QDD[:n]))
+    t_end = float(times[-1])
+    message = f"interrupted at t = {t_end:.6g} s"
+    further = [f"{u.label} t = {float(r[0][-1]):.6g} s" for u, r in zip(units, rows) if len(r[0]) > n]
+    if further:
+        reached = "had not started" if not started[lag] else f"had reached t = {t_end:.6g} s"
+        message += (f"; the units are integrated one after another and {units[lag].label} {reached}: the results "
+                    f"keep the time span all units reached (further: {', '.join(further)})")
+    if failure is not None:
+        label, t_fail, why = failure[:3]
+        message += f"; {label} had diverged at t = {t_fail:.6g} s ({why})"
+    counters = dict(counters)
+    if per_out is not None:
+        counters["steps"] = (n - 1) * per_out        # the steps of the time span kept
+    res = _results(sc, scene, times, hist, kind="dynamics", message=message, counters=counters,
+                   version=__version__)
+    res.status = INTERRUPTED
+    return res
+
+
 def simulate(sc, progress=None):
+    """Statics (if enabled) and dynamics of a scene of classical / modified / planar lines
+    and chains (mixed with absolute-coordinate lines: `mixed.simulate`) -> Results.
+
+    The units (each line, each chain) are uncoupled and are integrated one after another
+    over the whole run. A diverging unit raises SolverError with the results of the time
+    span all units reached (status 1). A KeyboardInterrupt in the dynamics (Ctrl-C, or a
+    SIGTERM the command line turns into it) propagates with ``results`` attached (status 2,
+    "interrupted at t = ..."; `_interrupted`): the time span every unit had reached, so with
+    units still to integrate only the start state at t = 0 (statics or the initial shape),
+    or None when nothing was recorded yet."""
     from .. import __version__
     from ..solvers.dynamics import output_schedule
     from . import mixed
@@ -641,6 +728,10 @@ def simulate(sc, progress=None):
         return _results(sc, scene, np.zeros(1), hist, kind="statics", message="statics only", counters=counters,
                         version=__version__)
     integ = dyn.integrator
+    nunits = len(scene.chains) + len(scene.planars)
+    recorded = [None] * nunits      # per unit: (times, Q, QD, QDD or None) so far, for an interruption
+    per_out = None
+    failure = None                  # the first unit that diverged: (label, time, message)
 
     def report(fraction):
         if progress is None:
@@ -650,76 +741,100 @@ def simulate(sc, progress=None):
         except Exception as exc:
             raise CancelledError(f"cancelled at t = {fraction * dyn.duration:.6g} s: {exc}") from exc
 
-    if integ.kind == "adaptive":
-        times, hist, counters2, failure = _adaptive(scene, states, rates, dyn, report)
-        counters.update(counters2)
-        if failure is not None:
-            label, t_fail, why, n_keep = failure
-            msg = (f"{label}: {why}; the adaptive integrator lost accuracy (tighten "
-                   f"analysis.dynamics.integrator.rtol / atol or set max_step)")
-            counters["wall_time"] = _time.perf_counter() - wall0
-            raise SolverError(msg, time=t_fail, element=label,
-                              results=_partial(sc, scene, times, hist, n_keep, f"{msg} at t = {t_fail:.6g} s",
-                                               counters))
-    else:
-        T = float(dyn.duration)
-        step = integ.time_step
-        if step is None:
-            step, how = default_step(scene, states, rates, dyn)
-            counters["time_step_rule"] = how
-        out_dt, n_out, step = output_schedule(T, float(step), dyn.output_interval)
-        per_out = max(1, int(round(out_dt / step)))
-        nsteps = n_out * per_out
-        t_end = n_out * out_dt
-        times, hist = None, []
-        nunits = len(scene.chains) + len(scene.planars)
-        failure = None          # (label, time, message)
-        for k, (unit, q, qd) in enumerate(zip(scene.chains, states, rates)):
-            res = simulate_chain(unit.model, t_end, step, q0=q, qd0=qd, output_every=per_out,
-                                 progress=lambda f, k=k: report((k + f) / nunits))
-            if not res.success and failure is None:
-                failure = (unit.label, res.failure_time if res.failure_time is not None else float(res.t[-1]),
-                           res.message)
-            if times is None or len(res.t) < len(times):
-                times = res.t
-            hist.append((res.q, res.qd, res.qdd))
-        for k, (u, q, qd) in enumerate(zip(scene.planars, states[len(scene.chains):], rates[len(scene.chains):])):
-            method = "rk4" if integ.kind == "rk4" else "generalized-alpha"
-            kw = {"rho_inf": integ.rho_inf} if method != "rk4" else {}
-            r = pl.planar_dynamics(u.model, t_end, step, q0=q, qd0=qd, method=method, record_every=per_out,
-                                   **kw)
-            if not r.success:
-                raise SolverError(f"{u.label}: {r.message}")
-            qdd = np.array([pl.accelerations(u.model, qi, vi, ti)[0] for ti, qi, vi in zip(r.t, r.q, r.qd)])
-            if times is None or len(r.t) < len(times):
-                times = r.t
-            hist.append((r.q, r.qd, qdd))
-            report((len(scene.chains) + k + 1) / nunits)
-        counters.update({"steps": nsteps, "time_step": step})
-        if failure is not None:
-            label, t_fail, why = failure
-            limit = ""
-            try:
-                w = _omega_max(scene, states)
-                if w > 0.0:
-                    limit = f" (its RK4 stability limit is about {RK4_LIMIT / w:.3g} s)"
-            except SolverError:
-                pass
-            msg = (f"{label}: the state diverged ({why}) with the time step {step:.4g} s{limit}; reduce "
-                   f"analysis.dynamics.integrator.time_step")
-            counters["wall_time"] = _time.perf_counter() - wall0
-            n_keep = len(times)
-            raise SolverError(msg, time=t_fail, element=label,
-                              results=_partial(sc, scene, times, hist, n_keep, f"{msg} at t = {t_fail:.6g} s",
-                                               counters))
+    def keep(k, exc):
+        """The outputs unit k recorded before an interruption (its integrator attaches them)."""
+        part = getattr(exc, "history", None)
+        if part is not None and len(part.t):
+            recorded[k] = (part.t, part.q, part.qd, getattr(part, "qdd", None))
+
+    try:
+        if integ.kind == "adaptive":
+            times, hist, counters2, failure = _adaptive(scene, states, rates, dyn, report, recorded)
+            counters.update(counters2)
+            if failure is not None:
+                label, t_fail, why, n_keep = failure
+                msg = (f"{label}: {why}; the adaptive integrator lost accuracy (tighten "
+                       f"analysis.dynamics.integrator.rtol / atol or set max_step)")
+                counters["wall_time"] = _time.perf_counter() - wall0
+                raise SolverError(msg, time=t_fail, element=label,
+                                  results=_partial(sc, scene, times, hist, n_keep, f"{msg} at t = {t_fail:.6g} s",
+                                                   counters))
+        else:
+            T = float(dyn.duration)
+            step = integ.time_step
+            if step is None:
+                step, how = default_step(scene, states, rates, dyn)
+                counters["time_step_rule"] = how
+            out_dt, n_out, step = output_schedule(T, float(step), dyn.output_interval)
+            per_out = max(1, int(round(out_dt / step)))
+            counters["time_step"] = step
+            nsteps = n_out * per_out
+            t_end = n_out * out_dt
+            times, hist = None, []
+            for k, (unit, q, qd) in enumerate(zip(scene.chains, states, rates)):
+                try:
+                    res = simulate_chain(unit.model, t_end, step, q0=q, qd0=qd, output_every=per_out,
+                                         progress=lambda f, k=k: report((k + f) / nunits))
+                except KeyboardInterrupt as exc:
+                    keep(k, exc)
+                    raise
+                recorded[k] = (res.t, res.q, res.qd, res.qdd)
+                if not res.success and failure is None:
+                    failure = (unit.label, res.failure_time if res.failure_time is not None else float(res.t[-1]),
+                               res.message)
+                if times is None or len(res.t) < len(times):
+                    times = res.t
+                hist.append((res.q, res.qd, res.qdd))
+            nch = len(scene.chains)
+            for k, (u, q, qd) in enumerate(zip(scene.planars, states[nch:], rates[nch:])):
+                method = "rk4" if integ.kind == "rk4" else "generalized-alpha"
+                kw = {"rho_inf": integ.rho_inf} if method != "rk4" else {}
+                try:
+                    r = pl.planar_dynamics(u.model, t_end, step, q0=q, qd0=qd, method=method, record_every=per_out,
+                                           progress=lambda f, k=k: report((nch + k + f) / nunits), **kw)
+                except KeyboardInterrupt as exc:
+                    keep(nch + k, exc)
+                    raise
+                if not r.success and failure is None:
+                    # Newton failed: the outputs before it are kept, as for a chain that diverged
+                    failure = (u.label, float(r.t[-1]) if len(r.t) else 0.0, r.message)
+                recorded[nch + k] = (r.t, r.q, r.qd, None)
+                qdd = np.array([pl.accelerations(u.model, qi, vi, ti)[0] for ti, qi, vi in zip(r.t, r.q, r.qd)])
+                recorded[nch + k] = (r.t, r.q, r.qd, qdd)
+                if times is None or len(r.t) < len(times):
+                    times = r.t
+                hist.append((r.q, r.qd, qdd))
+            counters.update({"steps": nsteps, "time_step": step})
+            if failure is not None:
+                label, t_fail, why = failure
+                limit = ""
+                try:
+                    w = _omega_max(scene, states)
+                    if w > 0.0:
+                        limit = f" (its RK4 stability limit is about {RK4_LIMIT / w:.3g} s)"
+                except SolverError:
+                    pass
+                msg = (f"{label}: the state diverged ({why}) with the time step {step:.4g} s{limit}; reduce "
+                       f"analysis.dynamics.integrator.time_step")
+                counters["wall_time"] = _time.perf_counter() - wall0
+                n_keep = len(times)
+                raise SolverError(msg, time=t_fail, element=label,
+                                  results=_partial(sc, scene, times, hist, n_keep, f"{msg} at t = {t_fail:.6g} s",
+                                                   counters))
+    except KeyboardInterrupt as exc:
+        counters["wall_time"] = _time.perf_counter() - wall0
+        exc.results = _interrupted(sc, scene, states, rates, recorded, counters, per_out, failure)
+        raise
     counters["wall_time"] = _time.perf_counter() - wall0
     return _results(sc, scene, times, hist, kind="dynamics", message=f"finished: {counters.get('steps', 0)} steps",
                     counters=counters, version=__version__)
 
 
-def _dop853(rhs, y0, times, kw):
+def _dop853(rhs, y0, times, kw, progress=None):
     """DOP853 stepped by hand with dense output at `times`: (Y (len, n) so far, None) or,
-    when a step fails or the right-hand side raises LinAlgError, (Y so far, (t, why))."""
+    when a step fails or the right-hand side raises LinAlgError, (Y so far, (t, why)).
+    ``progress(fraction)`` after every step, its outputs recorded; a KeyboardInterrupt
+    propagates with Y so far as ``history_rows``."""
     from scipy.integrate import DOP853
     T = float(times[-1])
     Y = [np.array(y0, float)]
@@ -739,15 +854,22 @@ def _dop853(rhs, y0, times, kw):
                 while k < len(times):
                     Y.append(solver.y.copy())
                     k += 1
+            if progress is not None:
+                progress(min(1.0, solver.t / T) if T > 0.0 else 1.0)
     except np.linalg.LinAlgError as exc:
         return np.array(Y), (solver.t if solver is not None else 0.0, str(exc))
+    except KeyboardInterrupt as exc:
+        exc.history_rows = np.array(Y)
+        raise
     return np.array(Y), None
 
 
-def _adaptive(scene, states, rates, dyn, report):
+def _adaptive(scene, states, rates, dyn, report, recorded=None):
     """DOP853 on each unit's first-order system, output every output_interval (made to divide
     the duration as for the fixed-step integrators, `output_schedule`). Returns (times, hist,
-    counters, failure): failure is None or (unit label, time, reason, outputs kept)."""
+    counters, failure): failure is None or (unit label, time, reason, outputs kept).
+    ``recorded`` (a list, one item per unit) gets each unit's (times, Q, QD, QDD or None) as
+    it is integrated, the outputs so far of one a KeyboardInterrupt stops included."""
     from ..solvers.dynamics import output_schedule
     integ = dyn.integrator
     out_dt, n_out, _ = output_schedule(float(dyn.duration), 0.0, dyn.output_interval, adaptive=True)
@@ -760,7 +882,22 @@ def _adaptive(scene, states, rates, dyn, report):
         kw["first_step"] = integ.first_step
     failure = None
     n_keep = len(times)
-    for unit, q, qd in zip(scene.chains, states, rates):
+    nunits = len(scene.chains) + len(scene.planars)
+    recorded = recorded if recorded is not None else [None] * nunits
+
+    def integrate(k, rhs, y0, expand):
+        """DOP853 of unit k; expand(Y) -> (Q, QD). An interruption leaves its outputs so far
+        in recorded[k] (without accelerations: `_interrupted` computes them)."""
+        try:
+            return _dop853(rhs, y0, times[:n_keep], kw, progress=lambda f: report((k + f) / nunits))
+        except KeyboardInterrupt as exc:
+            Y = getattr(exc, "history_rows", None)
+            if Y is not None and len(Y):
+                Q, QD = expand(Y)
+                recorded[k] = (times[:len(Y)], Q, QD, None)
+            raise
+
+    for k, (unit, q, qd) in enumerate(zip(scene.chains, states, rates)):
         model = unit.model
         data = ChainData(model)
         fr = model.free
@@ -775,7 +912,11 @@ def _adaptive(scene, states, rates, dyn, report):
         def rhs(t, y, model=model, data=data, fr=fr, full=full):
             qq, vv = full(t, y)
             return np.concatenate([vv[fr], accelerations(model, data, t, qq, vv)[fr]])
-        Y, fail = _dop853(rhs, np.concatenate([q[fr], qd[fr]]), times[:n_keep], kw)
+
+        def expand(Y, full=full, nq=model.nq):
+            rows = [full(t, y) for t, y in zip(times, Y)]
+            return (np.array([a for a, _ in rows]).reshape(-1, nq), np.array([b for _, b in rows]).reshape(-1, nq))
+        Y, fail = integrate(k, rhs, np.concatenate([q[fr], qd[fr]]), expand)
         nfev += data.nfev
         Q, QD, QDD = [], [], []
         for t, y in zip(times, Y):
@@ -788,10 +929,12 @@ def _adaptive(scene, states, rates, dyn, report):
             QD.append(vv)
         hist.append((np.array(Q).reshape(-1, model.nq), np.array(QD).reshape(-1, model.nq),
                      np.array(QDD).reshape(-1, model.nq)))
+        recorded[k] = (times[:len(Y)],) + hist[-1]
         if fail is not None and failure is None:
             failure = (unit.label, float(fail[0]), fail[1])
         n_keep = min(n_keep, len(Y))
-    for u, q, qd in zip(scene.planars, states[len(scene.chains):], rates[len(scene.chains):]):
+    nch = len(scene.chains)
+    for k, (u, q, qd) in enumerate(zip(scene.planars, states[nch:], rates[nch:]), start=nch):
         pm = u.model
         free = pm.free_mask()
         w = pl.PlanarWork(pm)
@@ -805,7 +948,11 @@ def _adaptive(scene, states, rates, dyn, report):
         def prhs(t, y, pm=pm, w=w, pfull=pfull, free=free):
             qq, vv = pfull(y)
             return np.concatenate([vv[free], pl.accelerations(pm, qq, vv, t, w)[0][free]])
-        Y, fail = _dop853(prhs, np.concatenate([q[free], qd[free]]), times[:n_keep], kw)
+
+        def pexpand(Y, pfull=pfull, m=pm.ncoord):
+            rows = [pfull(y) for y in Y]
+            return (np.array([a for a, _ in rows]).reshape(-1, m), np.array([b for _, b in rows]).reshape(-1, m))
+        Y, fail = integrate(k, prhs, np.concatenate([q[free], qd[free]]), pexpand)
         Q, QD = [], []
         for y in Y:
             a, b = pfull(y)
@@ -814,6 +961,7 @@ def _adaptive(scene, states, rates, dyn, report):
         QDD = [pl.accelerations(pm, a, b, t, w)[0] for t, a, b in zip(times, Q, QD)]
         m = pm.ncoord
         hist.append((np.array(Q).reshape(-1, m), np.array(QD).reshape(-1, m), np.array(QDD).reshape(-1, m)))
+        recorded[k] = (times[:len(Y)],) + hist[-1]
         if fail is not None and failure is None:
             failure = (u.label, float(fail[0]), fail[1])
         n_keep = min(n_keep, len(Y))
