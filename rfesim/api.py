@@ -205,15 +205,25 @@ def _static_state(system: System, sc: Scenario, progress=None):
                 raise
             raise SolverError(exc.message, time=exc.time,
                               element=exc.element, quantity=exc.quantity, results=exc.results, hint=hint) from None
+
+    def resolve(st):
+        return solve_statics(system, st, tolerance=s.tolerance, max_iterations=s.max_iterations,
+                             seabed_friction=s.seabed_friction)
+
     if system.km.has_reels:
         # reels that hold a back tension: turn the drums until they do (rfesim.solvers.reel_statics)
         from .solvers.reel_statics import settle_back_tension
-        state, info = settle_back_tension(
-            system, sc, state, info,
-            lambda st: solve_statics(system, st, tolerance=s.tolerance, max_iterations=s.max_iterations,
-                                     seabed_friction=s.seabed_friction))
-    info.warnings = (_no_static_shape(sc, system.model) + list(info.warnings) + buckling_warnings(system, state)
-                     + shear_warnings(system, state))
+        state, info = settle_back_tension(system, sc, state, info, resolve)
+    if system.km.has_tensioners and any(getattr(sup, "horizontal_tension", None) is not None
+                                        for sup in sc.supports.values()):
+        # tensioners that set the horizontal lay tension: pay out until the line carries it
+        # (rfesim.solvers.lay_statics); a reel on that line turns with them, and settles again
+        from .solvers.lay_statics import settle_lay_tension
+        state, info = settle_lay_tension(system, sc, state, info, resolve)
+        if system.km.has_reels:
+            state, info = settle_back_tension(system, sc, state, info, resolve)
+    info.warnings = (list(getattr(sc, "_template_warnings", [])) + _no_static_shape(sc, system.model)
+                     + list(info.warnings) + buckling_warnings(system, state) + shear_warnings(system, state))
     for w in info.warnings:
         log.warning("statics: %s", w)
     return state, info
@@ -260,6 +270,22 @@ def _with_warnings(message: str, info) -> str:
     return "".join([message] + [f"{STATICS_WARNING}{w}" for w in warnings])
 
 
+def check_model(scenario) -> None:
+    """Build the model of a scenario without solving anything: what ``rfesim check`` runs
+    after validation. It raises the ScenarioError a run would raise while compiling (a line
+    whose ends coincide, a reeving to an unknown line, a support past the line's end, ...),
+    naming the field; statics and dynamics are not started (their failures need a solve)."""
+    sc = _scenario(scenario)
+    if _other_formulations(sc):
+        from .formulations import mixed, scene
+        if mixed.is_mixed(sc):
+            mixed.MixedScene(sc)
+        else:
+            scene.compile_scene(sc)
+        return
+    compile_scenario(sc)
+
+
 def statics(scenario, *, progress=None):
     """Static equilibrium of a scenario -> Results with one time point."""
     sc = _scenario(scenario)
@@ -282,14 +308,28 @@ def simulate(scenario, *, progress=None):
 
     ``progress(fraction, time)`` is called as the run advances; if it raises, the run stops
     with ``rfesim.CancelledError``. A diverging run raises ``rfesim.SolverError`` whose
-    ``results`` hold everything computed before; a KeyboardInterrupt in the dynamics (of a
-    scene of absolute-coordinate lines) carries them the same way (``results``, status 2,
-    or None when nothing was recorded yet).
+    ``results`` hold everything computed before; a KeyboardInterrupt in the dynamics (Ctrl-C,
+    or a SIGTERM the command line turns into it; a BaseException, so a progress callback that
+    raises it is not turned into CancelledError) carries them the same way (``results``,
+    status 2, "interrupted at t = ...", or None when nothing was recorded yet), in every
+    formulation: absolute-coordinate lines, mixed chain and line scenes
+    (rfesim.formulations.mixed.simulate), and scenes of chains and classical / modified /
+    planar lines (rfesim.formulations.scene.simulate), whose uncoupled units are integrated
+    one after another: their results keep the time span every unit reached (t = 0 only
+    while some unit had not started). Interrupted statics carry nothing.
     """
     sc = _scenario(scenario)
     if _other_formulations(sc):
         from .formulations import scene
-        return scene.simulate(sc, progress)
+        try:
+            res = scene.simulate(sc, progress)
+        except SolverError as exc:
+            if exc.results is not None:
+                exc.results.message += _dynamic_warnings(None, exc.results, sc)
+            raise
+        if res.kind == "dynamics":
+            res.message += _dynamic_warnings(None, res, sc)
+        return res
     model = compile_scenario(sc)
     system = System(model)
     an = sc.analysis
@@ -312,7 +352,7 @@ def simulate(scenario, *, progress=None):
         if exc.results is not None:
             exc.results.scenario_json = meta["scenario_json"]
             exc.results.version = __version__
-            exc.results.message = _with_warnings(exc.results.message, info) + _dynamic_warnings(model, exc.results)
+            exc.results.message = _with_warnings(exc.results.message, info) + _dynamic_warnings(model, exc.results, sc)
         raise
     except CancelledError:
         raise
@@ -326,17 +366,21 @@ def simulate(scenario, *, progress=None):
         raise
     res = rec.results(status=0, message=_with_warnings(f"finished: {counters.get('steps', 0)} steps", info),
                       counters=dict(counters), **meta)
-    res.message += _dynamic_warnings(model, res)
+    res.message += _dynamic_warnings(model, res, sc)
     return res
 
 
 DYNAMICS_WARNING = "; dynamics warning: "   # what precedes each dynamics warning in a results' message
 
 
-def _dynamic_warnings(model, results) -> str:
-    """The lines whose tension in the run went past their fem shear limit
-    (rfesim.solvers.buckling.dynamic_shear_warnings), logged and as text for the message."""
-    warnings = dynamic_shear_warnings(model, results)
+def _dynamic_warnings(model, results, sc=None) -> str:
+    """The RAO vessels whose table leaves out a noticeable part of the sea
+    (rfesim.sea.rao.rao_range_warnings) and the lines whose tension in the run went past
+    their fem shear limit (rfesim.solvers.buckling.dynamic_shear_warnings; ``model`` None:
+    a scene of other formulations), logged and as text for the message."""
+    from .sea.rao import rao_range_warnings
+    warnings = (rao_range_warnings(sc) if sc is not None else []) + (
+        dynamic_shear_warnings(model, results) if model is not None else [])
     for w in warnings:
         log.warning("dynamics: %s", w)
     return "".join(f"{DYNAMICS_WARNING}{w}" for w in warnings)

@@ -245,6 +245,8 @@ def cmd_check(args) -> int:
     from .scenario.load import check_runnable
     if check_runnable(sc):          # what `run` refuses too (rfesim.model.compile)
         raise ScenarioError(check_runnable(sc))
+    from .api import check_model
+    check_model(sc)                 # and what compiling the model refuses (no solve)
     an = sc.analysis
     parts = [f"{len(sc.lines)} lines", f"{len(sc.vessels)} vessels", f"{len(sc.line_types)} line types",
              f"{sum(li.elements for li in sc.lines.values())} elements"]
@@ -556,7 +558,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="number of modes (default: analysis.modal.modes, or 10)")
     p.set_defaults(func=cmd_modes)
 
-    p = sub.add_parser("check", parents=[common], help="validate a scenario only")
+    p = sub.add_parser("check", parents=[common], help="validate a scenario and build its model (no solve)")
     p.add_argument("scenario", metavar="SCENARIO")
     p.add_argument("--expand", action="store_true",
                    help="print the scenario with its pipelay and crane templates expanded (JSON)")

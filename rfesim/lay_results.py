@@ -6,13 +6,20 @@ supports.
 
     res = rfesim.simulate("scenarios/s_lay_template.json")
     out = lay_summary(res)                 # the line with supports, or lay_summary(res, "lay")
-    out["top_tension"]                     # (nt,) N, held by the tensioner / collar
+    out["top_tension"]                     # (nt,) N, axial: held by the tensioner / collar
     out["departure_angle"]                 # (nt,) deg below horizontal at the lift-off point
 
 The lift-off point is the most downstream support exit along the line: the stinger tip
-(last roller station), the exit of a tensioner / collar track, or a roller. The scenario
-is read from the results (``scenario_json``: the expanded scenario), so results read back
-from a file work as well.
+(last roller station), the exit of a tensioner / collar track, or a roller. It is a point
+of the geometry, not where the pipe last touches: the pipe may leave the stinger a station
+or two before its tip (``roller_reactions`` of the last stations 0), and the departure
+angle is then the angle at which it passes above the tip. The scenario is read from the
+results (``scenario_json``: the expanded scenario), so results read back from a file work
+as well.
+
+Range graphs and maxima are per material SDE (arc length from end A): with a payout a
+material SDE moves from the tensioner and stinger into the span, so its range then mixes
+places along the lay.
 """
 from __future__ import annotations
 
@@ -77,6 +84,41 @@ def _tension_past(sc: dict, res, lr, sup: dict, pos: np.ndarray) -> np.ndarray:
     return out
 
 
+def _axial_strain(sc: dict, lt: dict, pos: np.ndarray, tension: np.ndarray) -> np.ndarray:
+    """(nt, nsde) axial strain of the pipe wall: the true wall tension
+    T_w = T_e + p_i A_i - p_e A_e (T_e the effective tension of the SDEs) with the Lame
+    stresses' Poisson contraction, eps_a = (T_w - 2 nu (p_i A_i - p_e A_e)) / EA (thick
+    wall: sigma_h + sigma_r = 2 (p_i A_i - p_e A_e) / A through the wall). Hydrostatic
+    pressures as the von Mises channel (rfesim.solvers.dynamics, docs/theory.md "Stresses"):
+    p_e = rho_w g (surface - z) below the still-water surface, p_i = rho_c g (z_top - z) from
+    the contents at rest, open at the line's highest point (a line type without a wall
+    thickness: no internal pressure). A_e is the displaced (outer) area, A_i the bore.
+    Elastic: the SDEs yield in bending only (rfesim.materials.sde_plastic), so for a
+    yielded section this is the elastic part of the axial strain (the fibre section's
+    axial strain at the same tension and curvature is larger)."""
+    from .model.sections import section_from_type
+    from .scenario.schema import LineType
+    ltm = LineType.model_validate(lt)
+    sec = section_from_type(ltm)
+    env = sc.get("environment") or {}
+    g = float(env.get("gravity", 9.81))
+    water = env.get("water") or None
+    z = pos[:, 1:-1, 2]
+    p_e = np.zeros_like(z)
+    if water is not None:
+        p_e = float(water.get("density", 1025.0)) * g * np.maximum(float(water.get("surface_level", 0.0)) - z, 0.0)
+    A_e = sec.displaced_area
+    A_i = 0.0
+    p_i = np.zeros_like(z)
+    if ltm.wall_thickness is not None and ltm.outer_diameter is not None:
+        A_i = math.pi / 4.0 * (ltm.outer_diameter - 2.0 * ltm.wall_thickness) ** 2
+        if ltm.contents_density > 0.0:
+            p_i = ltm.contents_density * g * (pos[:, :, 2].max(axis=1)[:, None] - z)
+    nu = ltm.poisson_ratio
+    wall = tension + p_i * A_i - p_e * A_e
+    return (wall - 2.0 * nu * (p_i * A_i - p_e * A_e)) / sec.EA
+
+
 def _pick_line(sc: dict, res, line: str | None) -> str:
     if line is not None:
         res.line(line)
@@ -95,18 +137,26 @@ def lay_summary(res, line: str | None = None, *, outer_diameter: float | None = 
     outer_diameter; give it for a coated pipe, whose line type has the coated diameter).
     ``t_from``: range graphs and maxima from this time on (default: the whole run).
 
-    Returns a dict: ``time`` (nt,); ``top_tension`` (nt,) N, the axial force the most
-    downstream tensioner (or collar) holds, or the force at end A without one (a line
-    stored on a reel: the tension just past that tensioner's exit, which the reel's back
-    tension and the tensioner hold together);
+    Returns a dict: ``time`` (nt,); ``top_tension`` (nt,) N, the axial force at the top of
+    the line: the force the most downstream tensioner (or collar) holds along its track (its
+    grip force), or without one the component of the end-A force along the line's tangent
+    there, ``end_a_force . end_a_direction`` (the axial tension; the clamp's shear is left
+    out); a line stored on a reel: the tension just past that tensioner's exit, which the
+    reel's back tension and the tensioner hold together;
     ``departure_angle`` (nt,) deg below horizontal of the line just past the lift-off
     point, ``departure_arc_length`` (nt,) m; ``touchdown_position`` (nt, 3) m,
     ``touchdown_arc_length`` (nt,) m; ``sagbend_moment``, ``sagbend_curvature``,
     ``sagbend_strain``, ``overbend_moment``, ``overbend_curvature``, ``overbend_strain``
     (maxima over the run; sagbend: concave-up part above the touchdown, overbend: concave
-    down, on the stinger/aligner); ``roller_reactions`` {support: (nt, nroller) N};
+    down, on the stinger/aligner; the ``*_strain`` are bending only, kappa D / 2);
+    ``sagbend_total_strain``, ``overbend_total_strain``: the largest outer-fibre strain
+    axial + bending, eps_a + kappa D / 2 (the fibre on the tension side; eps_a the wall's
+    axial strain, ``_axial_strain``), which strain criteria such as DNV-ST-F101's (the
+    overbend strain of its simplified laying criteria, the displacement-controlled
+    local-buckling check) take; ``roller_reactions`` {support: (nt, nroller) N};
     ``roller_reaction_max`` {support: (nroller,) N}; ``range_graphs`` {channel: {arc_length,
-    min, max, mean}} for tension, bend_moment, curvature, bending_strain, position_z;
+    min, max, mean}} for tension, bend_moment, curvature, bending_strain (kappa D / 2),
+    axial_strain (eps_a), total_strain (eps_a + kappa D / 2), position_z;
     ``residual_curvature`` (nsde,) 1/m at the last time, curvature - M/EI (the curvature
     left after elastic unloading; 0 for an elastic pipe up to round-off; for an elasto-plastic
     pipe the ``residual_curvature`` channel, from the plastic memory), and
@@ -145,8 +195,9 @@ def lay_summary(res, line: str | None = None, *, outer_diameter: float | None = 
         dep_index[k] = min(best, pos.shape[1] - 2)
     tangent = pos[np.arange(nt), dep_index + 1] - pos[np.arange(nt), dep_index]
     departure = np.degrees(np.arctan2(-tangent[:, 2], np.hypot(tangent[:, 0], tangent[:, 1])))
-    # top tension: the most downstream tensioner's grip force
-    top = np.linalg.norm(np.asarray(lr.end_a_force), axis=1)
+    # top tension: the most downstream tensioner's grip force; without one the axial force
+    # at end A (along the end's tangent: a clamp's shear is not tension)
+    top = np.einsum("ij,ij->i", np.asarray(lr.end_a_force, float), np.asarray(lr.end_a_direction, float))
     tens = [(n, s) for n, s in supports.items() if s.get("kind") == "tensioner" and n in res.tensioners]
     if tens:
         def exit_arc(item):
@@ -166,7 +217,12 @@ def lay_summary(res, line: str | None = None, *, outer_diameter: float | None = 
     moment = np.asarray(lr.bend_moment)
     curv = np.asarray(lr.curvature)
     td = np.asarray(lr.touchdown_arc_length) if lr.touchdown_arc_length is not None else np.full(nt, np.nan)
-    out = {"sagbend_moment": 0.0, "sagbend_curvature": 0.0, "overbend_moment": 0.0, "overbend_curvature": 0.0}
+    try:
+        total = np.asarray(_axial_strain(sc, lt, pos, np.asarray(lr.tension, float))) + curv * 0.5 * D
+    except (ValueError, TypeError, KeyError, ZeroDivisionError):        # a section without EA: no axial strain
+        total = np.full(curv.shape, np.nan)
+    out = {"sagbend_moment": 0.0, "sagbend_curvature": 0.0, "overbend_moment": 0.0, "overbend_curvature": 0.0,
+           "sagbend_total_strain": 0.0, "overbend_total_strain": 0.0}
     for k in np.flatnonzero(keep):
         zpp = np.gradient(np.gradient(pos[k, :, 2], s_pts), s_pts)
         zpp_sde = np.interp(s_sde, s_pts, zpp)
@@ -175,11 +231,17 @@ def lay_summary(res, line: str | None = None, *, outer_diameter: float | None = 
             if mask.any():
                 out[f"{part}_moment"] = max(out[f"{part}_moment"], float(moment[k][mask].max()))
                 out[f"{part}_curvature"] = max(out[f"{part}_curvature"], float(curv[k][mask].max()))
+                out[f"{part}_total_strain"] = max(out[f"{part}_total_strain"], float(np.nanmax(total[k][mask],
+                                                                                              initial=0.0)))
     out["sagbend_strain"] = out["sagbend_curvature"] * 0.5 * D
     out["overbend_strain"] = out["overbend_curvature"] * 0.5 * D
     graphs = {ch: lr.range_graph(ch, t_from, time) for ch in ("tension", "bend_moment", "curvature", "position_z")}
     graphs["bending_strain"] = {"arc_length": graphs["curvature"]["arc_length"],
                                 **{q: graphs["curvature"][q] * 0.5 * D for q in ("min", "max", "mean")}}
+    rows = np.flatnonzero(keep)
+    for name_, data in (("axial_strain", total - curv * 0.5 * D), ("total_strain", total)):
+        graphs[name_] = {"arc_length": graphs["curvature"]["arc_length"], "min": data[rows].min(axis=0),
+                         "max": data[rows].max(axis=0), "mean": data[rows].mean(axis=0)}
     residual = curv[-1] - moment[-1] / EI
     if lr.residual_curvature is not None and (lt.get("material") or {}).get("kind") == "elastoplastic":
         residual = np.asarray(lr.residual_curvature)[-1]        # from the plastic memory (reverse yield too)

@@ -83,7 +83,8 @@ def line_top_tension(res, name: str):
 
     The top is the end held on board: for a line with supports (a pipelay line, end A on the
     vessel and end B pinned on the seabed) the force the tensioner (or collar) holds, or the
-    force at end A without one (rfesim.lay_results.lay_summary); otherwise the force at the
+    axial force at end A without one (along the line's end tangent: rfesim.lay_results.lay_summary);
+    otherwise the force at the
     end attached to a vessel, end B when both or neither are (a riser's top, as
     ``LineResults.top_tension``)."""
     import numpy as np
@@ -316,8 +317,8 @@ def check_vary_paths(base: dict, vary: dict[str, list]) -> None:
     expanded = None
     for path, values in vary.items():
         parts = str(path).split(".")
-        if len(parts) < 2 or parts[0] not in _named_maps():
-            continue
+        if len(parts) < 2 or parts[0] not in _named_maps() or not parts[1]:
+            continue                              # an empty part: set_path names it
         group, name = parts[0], parts[1]
         have = base.get(group) if isinstance(base.get(group), dict) else {}
         if name in have:
@@ -336,7 +337,7 @@ def check_vary_paths(base: dict, vary: dict[str, list]) -> None:
         known = sorted(set(have) | set(made))
         close = difflib.get_close_matches(name, known, n=1)
         hint = f"; did you mean '{group}.{close[0]}'?" if close else ""
-        errors.append((str(path), f"--vary names {group} entry '{name}', which the scenario does not have "
+        errors.append((str(path), f"names {group} entry '{name}', which the scenario does not have "
                                   f"({group}: {', '.join(known) or 'none'}){hint}"))
     if errors:
         raise ScenarioError(errors)

@@ -75,6 +75,29 @@ def test_check_several_errors_one_per_line(tmp_path, capsys):
     assert any(line.strip().startswith("lines.pipe.lenght:") for line in err)
 
 
+def test_check_refuses_what_compiling_the_model_refuses(tmp_path, capsys):
+    # both ends at one point passes validation but the model compiler refuses it; `check`
+    # used to say OK and only `run` failed
+    data = copy.deepcopy(CANTILEVER)
+    data["lines"]["pipe"]["end_b"] = {"attach": "fixed", "position": [0.0, 0.0, 0.0]}
+    path = write_scenario(tmp_path, data, "coincide.json")
+    assert main(["check", str(path)]) == 1
+    err = capsys.readouterr().err
+    assert "lines.pipe.end_b.position: end B coincides with end A" in err
+    assert "Traceback" not in err
+
+
+def test_check_builds_a_scene_of_the_other_formulations(tmp_path, capsys):
+    # `check` builds the chain model of a modified-formulation line (rfesim.api.check_model)
+    # instead of the absolute-coordinate compiler, which would refuse it
+    data = copy.deepcopy(CANTILEVER)
+    data["lines"]["pipe"]["formulation"] = "modified"
+    data["analysis"]["dynamics"]["integrator"] = {"kind": "rk4", "time_step": 1.0e-4}
+    path = write_scenario(tmp_path, data, "modified.json")
+    assert main(["check", str(path)]) == 0
+    assert capsys.readouterr().out.startswith("OK: cli cantilever")
+
+
 def test_verbose_logs_library_messages(tmp_path, capsys):
     data = copy.deepcopy(CANTILEVER)
     data["line_types"]["beam"]["EIy"] = 0.0      # a flexible line: the model compiler says so at INFO

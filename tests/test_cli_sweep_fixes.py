@@ -287,3 +287,19 @@ def test_a_varied_path_that_would_replace_an_override_is_refused(good):
                         overrides={"analysis.dynamics": {"duration": 1.0, "output_interval": 0.1}})
     assert [c[1]["analysis"]["dynamics"]["duration"] for c in cases] == [0.3, 0.4]
     assert all(c[1]["analysis"]["dynamics"]["output_interval"] == 0.1 for c in cases)
+
+
+def test_load_scenario_overrides_refuse_a_misspelled_entry():
+    # rfesim.load_scenario(overrides=...) and apply_overrides: the same check as --vary
+    import rfesim
+    from rfesim.errors import ScenarioError
+
+    path = SCENARIOS / "catenary_riser.json"
+    vessel = next(iter(json.loads(path.read_text())["vessels"]))
+    with pytest.raises(ScenarioError, match=rf"vessels.{vessel}o.position: .*did you mean 'vessels.{vessel}'\?"):
+        rfesim.load_scenario(path, overrides={f"vessels.{vessel}o.position": [20.0, 0.0, 0.0]})
+    sc = rfesim.load_scenario(path, overrides={f"vessels.{vessel}.position": [20.0, 0.0, 0.0]})
+    assert list(sc.vessels[vessel].position) == [20.0, 0.0, 0.0]
+    # a whole new entry is added on purpose
+    sc = rfesim.load_scenario(path, overrides={"vessels.tug": {"position": [0.0, 50.0, 0.0]}})
+    assert set(sc.vessels) == {vessel, "tug"}

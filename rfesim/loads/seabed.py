@@ -4,14 +4,17 @@ friction by a spring-slider (stick/slip) law.
 
 Geometry. The seabed is a profile z_b(s) along a horizontal direction d (a plane is a
 profile of two points; a flat seabed has equal heights), linear between its points and
-continued with the end slopes. Each RFE meets the tangent plane of the seabed under its
-centre, with unit normal n. The penetration of the pipe's underside,
-``p(s) = a - n . (P(s) - P_b)`` with ``a`` the contact radius and ``P_b`` the seabed point
-under the centre, is linear along a straight RFE; the spring force per unit length ``k p``
+continued with the end slopes (a scenario's profile is given flat end rows that hold its
+end depths: rfesim.scenario.schema.Seabed.profile_table). Each RFE meets the tangent
+plane of the seabed under its centre, with unit normal n. The penetration of the pipe's
+underside, ``p(s) = a - n . (P(s) - P_b)`` with ``a`` the contact radius and ``P_b`` the
+seabed point under the centre, is linear along a straight RFE; the spring force per unit length ``k p``
 over the penetrated part is integrated exactly (a triangle or a trapezoid) and applied at
 its centroid along n, so the force is continuously differentiable in the RFE's position as
 contact spreads along it (smooth touchdown, good Newton convergence). The damper
-``c (v . n)`` acts on the same length; the total normal force ``N`` is never tensile.
+``c (v . n)`` acts on the same length; the total normal force ``N`` is never tensile: an
+RFE lifting off so fast that the damper would pull has N = 0 and is out of contact
+(``contact_length`` 0, the touchdown output skips it; no friction).
 
 Friction (stick/slip). Each RFE in contact carries an anchor point ``A`` (history: the
 committed anchor is read, the trial one written; the integrators commit after every
@@ -110,14 +113,17 @@ def seabed_forces(rfe_length, rfe_contact_radius, rfe_seabed_c, bed_s, bed_z, be
         vy = v[i, 1] + w[i, 2] * dx - w[i, 0] * dz
         vz = v[i, 2] + w[i, 0] * dy - w[i, 1] * dx
         fn = fk - rfe_seabed_c[i] * lc * (vx * nx + vy * ny + vz * nz)
-        if fn < 0.0:
-            fn = 0.0
+        if fn <= 0.0:
+            # lifting off faster than the spring unloads: the damper would pull, so the seabed
+            # lets go (N = 0) and the RFE is out of contact: no contact length (the touchdown
+            # point is never placed on it), no friction, its anchor released
+            continue
         fx = fn * nx
         fy = fn * ny
         fz = fn * nz
         contact_force[i] = fn
         contact_length[i] = lc
-        if fmode != 2 and fn > 0.0 and (mu[0] > 0.0 or mu[1] > 0.0):
+        if fmode != 2 and (mu[0] > 0.0 or mu[1] > 0.0):
             # axial direction on the seabed e1 (the RFE axis projected), lateral e2 = n x e1
             e1x = tx - dt * nx
             e1y = ty - dt * ny

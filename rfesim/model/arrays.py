@@ -113,6 +113,8 @@ class KernelModel(NamedTuple):
     body_volume: np.ndarray = np.zeros(0)            # (nb,) m^3, displaced volume fully submerged
     body_height: np.ndarray = np.zeros(0)            # (nb,) m, vertical extent (submerged fraction)
     body_cob: np.ndarray = np.zeros((0, 3))          # (nb, 3) m, centre of buoyancy from the centre, body axes
+    body_box: np.ndarray = np.zeros((0, 3))          # (nb, 3) m, half-sizes of a box body about the centre of
+    #                                                  buoyancy, body axes (zeros: no box, body_height's model)
     body_drag: np.ndarray = np.zeros((0, 3))         # (nb, 3) m^2, cd * projected area per body axis
     body_added_mass: np.ndarray = np.zeros((0, 3))   # (nb, 3) kg, added mass per body axis, fully submerged
     body_added_inertia: np.ndarray = np.zeros((0, 3))  # (nb, 3) kg*m^2, added rotational inertia, body axes
@@ -229,7 +231,7 @@ class Workspace(NamedTuple):
     sub_frac: np.ndarray    # (n,) submerged fraction of each RFE
     sub_point: np.ndarray   # (n, 3) m, centroid of the submerged part
     contact_force: np.ndarray   # (n,) N, seabed normal force on each RFE
-    contact_length: np.ndarray  # (n,) m, length of each RFE in seabed contact
+    contact_length: np.ndarray  # (n,) m, length of each RFE in seabed contact (0 where the seabed pushes nothing)
     Mgen: np.ndarray        # (n, 6, 6) generalised mass block of each RFE
     fgen: np.ndarray        # (n, 6) generalised force (applied - velocity terms)
     tmp3: np.ndarray        # (8, 3) scratch

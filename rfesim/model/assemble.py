@@ -393,7 +393,7 @@ def local_loads(km, att, ws, scale):
                            km.rfe_cat, km.water_density, ws.R, ws.r, ws.v, ws.w, ws.sub_frac, ws.sub_point,
                            ws.water_vel, ws.water_acc, ws.F, ws.M, ws.Ma, ws.Ja)
         if km.has_bodies:
-            body_hydro_forces(km.body_rfe, km.body_volume, km.body_height, km.body_cob, km.body_drag,
+            body_hydro_forces(km.body_rfe, km.body_volume, km.body_height, km.body_box, km.body_cob, km.body_drag,
                               km.body_added_mass, km.body_added_inertia, km.body_slam, km.water_density, km.gravity,
                               scale, ws.R, ws.r, ws.v, ws.w, ws.surface_z, ws.water_vel, ws.water_acc, ws.F, ws.M,
                               ws.Ma, ws.Ja, ws.sub_frac, ws.sub_point)
@@ -458,8 +458,8 @@ SEA_MARGIN = 1.0        # m added to every reach: the kinematics stay frozen ove
 def sea_reach(km, ws):
     """ws.sea_reach: how far below its centre each RFE can be wet -- half its length times
     the vertical component of its axis plus its radius, a body's centre of buoyancy offset
-    plus half its height -- plus SEA_MARGIN; an RFE without displaced area or diameter
-    (no sea loads) is never wet."""
+    plus half its height (a box body: half its diagonal) -- plus SEA_MARGIN; an RFE without
+    displaced area or diameter (no sea loads) is never wet."""
     for i in range(ws.r.shape[0]):
         if km.rfe_disp_area[i] <= 0.0 and km.rfe_diameter[i] <= 0.0:
             ws.sea_reach[i] = -1e300
@@ -469,8 +469,12 @@ def sea_reach(km, ws):
         for j in range(km.body_rfe.shape[0]):
             i = km.body_rfe[j]
             c = km.body_cob[j]
+            b = km.body_box[j]
+            ext = 0.5 * km.body_height[j]
+            if b[0] > 0.0:
+                ext = max(ext, math.sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]))
             ws.sea_reach[i] = max(ws.sea_reach[i], math.sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2])
-                                  + 0.5 * km.body_height[j] + SEA_MARGIN)
+                                  + ext + SEA_MARGIN)
 
 
 @njit(cache=True, _nrt=False)

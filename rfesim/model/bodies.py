@@ -101,6 +101,7 @@ def body_arrays(sc, infos: list[BodyInfo]) -> dict:
         body_volume=np.asarray([b.volume for b in bodies], float).reshape(nb),
         body_height=np.asarray([b.vertical_extent() for b in bodies], float).reshape(nb),
         body_cob=np.asarray([b.centre_of_buoyancy for b in bodies], float).reshape(nb, 3),
+        body_box=np.asarray([b.box_half_sizes() for b in bodies], float).reshape(nb, 3),
         body_drag=np.asarray([b.drag_cd_area() for b in bodies], float).reshape(nb, 3),
         body_added_mass=np.asarray([b.added_mass_per_axis(rho) for b in bodies], float).reshape(nb, 3),
         body_added_inertia=np.asarray([b.added_mass.inertia if b.added_mass is not None else [0.0] * 3

@@ -275,6 +275,33 @@ def _seabed_fold(line, sec: Section, sc, A, B) -> tuple | None:
     return line.length, span, max(hang, 0.0), limit
 
 
+def _plane_above_water(sc, centres: np.ndarray, lines) -> tuple[str, str] | None:
+    """A sloped plane seabed rises through the water surface somewhere; the (field, reason)
+    error when it does under the scene: under an RFE centre of the start shape or a vessel
+    at rest. (A profile holds its end depths beyond its rows, all below the surface, so it
+    never does: Seabed.profile_table.) None otherwise."""
+    env = sc.environment
+    sb, water = env.seabed, env.water
+    if sb is None or water is None or sb.profile is not None or sb.slope_deg == 0.0:
+        return None
+    where = [(f"the start shape of line '{li.name}'", centres[k])
+             for li in lines for k in range(li.rfe_start, li.rfe_stop)]
+    where += [(f"vessel '{name}'", np.asarray(v.position, float)) for name, v in sc.vessels.items()]
+    surface = water.surface_level
+    for what, p in where:
+        zb = env.seabed_z_at(float(p[0]), float(p[1]))
+        if zb >= surface:
+            g = math.tan(math.radians(sb.slope_deg))
+            shore = (surface - env.seabed_z_at(0.0, 0.0)) / g
+            return ("environment.seabed.slope_deg",
+                    f"the plane seabed sloping {sb.slope_deg:g} deg reaches the water surface (z = {surface:g} m) "
+                    f"{shore:.6g} m from the global origin along slope_direction_deg "
+                    f"({sb.slope_direction_deg:g} deg) and continues above it, and {what} lies over it there "
+                    f"(at x = {p[0]:.6g} m, y = {p[1]:.6g} m the seabed is {zb - surface:.4g} m above the "
+                    f"water): give a gentler slope, or the seabed as a profile (flat beyond its last row)")
+    return None
+
+
 def _submerged_weight(sec: Section, sc) -> float:
     g = sc.environment.gravity
     w = sec.mass_per_length * g
@@ -957,6 +984,9 @@ def compile_scenario(sc, start: str | None = None) -> Model:
     q0 = np.vstack(q0_blocks)
     ref = Reference(R=np.concatenate(R0_blocks, axis=0), X=np.concatenate(X0_blocks, axis=0))
     initial = State(t=0.0, q=q0, qd=np.zeros((n, 6)), qdd=np.zeros((n, 6)), ref=ref, aux=np.zeros((n, 6)))
+    beach = _plane_above_water(sc, initial.positions(), lines)
+    if beach is not None:
+        raise ScenarioError([beach])
     model = Model(scenario=sc, km=km, lines=lines, attachment_names=attachment_names, motions=motions,
                   plastic_history_width=int(plastic_width), supports=support_infos, tensioners=tens_infos,
                   dof_mask=dof_mask, initial=initial, line_index={li.name: k for k, li in enumerate(lines)},

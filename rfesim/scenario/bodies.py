@@ -13,7 +13,9 @@ at t = 0 it is turned by ``orientation_deg`` (roll, pitch, yaw; ZYX) from the gl
                            "position": [0, 0, -20]}}
 
 Hydrodynamics scale with the submerged fraction of the body's vertical extent
-(rfesim.loads.bodies). Units SI.
+(rfesim.loads.bodies), or, for a body given as a box (``"dimensions": [a, b, c]`` along its
+axes, centred on the centre of buoyancy), with the exact fraction of the box under water at
+its current attitude, acting at the centroid of that part. Units SI.
 """
 from __future__ import annotations
 
@@ -118,7 +120,8 @@ class BodyDeck(_Strict):
                             "deck [-]")
     footprint: Annotated[list[float], Field(min_length=2, max_length=2)] | None = _units(
         "m", "Size [a, b] of the rectangle the body stands on, along its x and y axes (contact at its four "
-        "corners); default: a square of side sqrt(volume / height), or the height without a volume", default=None)
+        "corners); default: the body's box dimensions [a, b], else a square of side sqrt(volume / height), or the "
+        "height without a volume", default=None)
 
     @model_validator(mode="after")
     def _footprint(self):
@@ -142,8 +145,15 @@ class Body(_Strict):
                                   "added mass and slamming scale with the submerged part of it); default: "
                                   "the cube root of the volume", default=None, gt=0.0)
     centre_of_buoyancy: Vector3 = _units("m", "Centre of buoyancy from the centre of mass, body axes (also the "
-                                         "middle of the vertical extent and where drag acts)",
-                                         default=[0.0, 0.0, 0.0])
+                                         "middle of the vertical extent, or the box's centre, and where drag "
+                                         "acts when fully submerged)", default=[0.0, 0.0, 0.0])
+    dimensions: Vector3 | None = _units("m", "The body as a box [a, b, c] along its axes x, y, z, centred on the "
+                                        "centre of buoyancy: the submerged fraction is the part of the box under "
+                                        "water at the body's attitude, and buoyancy, drag and water inertia act "
+                                        "at that part's centroid (a tilted box in the splash zone gets its "
+                                        "restoring moment); c is the height (give one). The volume is spread "
+                                        "uniformly over the box. Without it: the vertical extent `height`, "
+                                        "whatever the attitude", default=None, limit=LENGTH_LIMIT)
     drag: BodyDrag | None = None
     added_mass: BodyAddedMass | None = None
     slam_coefficient: float = Field(math.pi, ge=0.0, le=100.0, description="Slamming coefficient C_s: while the "
@@ -187,6 +197,23 @@ class Body(_Strict):
         return self
 
     @model_validator(mode="after")
+    def _box(self):
+        if self.dimensions is None:
+            return self
+        for k, x in enumerate(self.dimensions):
+            if not (math.isfinite(x) and x > 0.0):
+                raise FieldError(f"dimensions.{k}", f"must be a length greater than 0 m, got {x}")
+        _check_at_most(self.dimensions, "dimensions", MAX_LENGTH, "m", LENGTH_LIMIT)
+        a, b, c = (float(x) for x in self.dimensions)
+        if self.height is not None and abs(self.height - c) > 1e-9 * c:
+            raise FieldError("height", f"{self.height} m differs from the box's height dimensions.2 = {c} m: give "
+                                       f"one of them")
+        if self.volume > a * b * c * (1.0 + 1e-9):
+            raise FieldError("volume", f"{self.volume} m^3 is more than the box dimensions {a} x {b} x {c} m "
+                                       f"holds ({a * b * c:.6g} m^3)")
+        return self
+
+    @model_validator(mode="after")
     def _added_mass_volume(self):
         am = self.added_mass
         if am is not None and am.ca is not None and self.volume <= 0.0 and any(c > 0.0 for c in per_axis(am.ca)):
@@ -202,19 +229,29 @@ class Body(_Strict):
         return [self.mass * r * r for r in per_axis(self.radius_of_gyration)]
 
     def deck_footprint(self) -> list[float]:
-        """[a, b] m: the rectangle the body stands on (deck.footprint, or a square of side
-        sqrt(volume / height), or the height)."""
+        """[a, b] m: the rectangle the body stands on (deck.footprint, or the box's [a, b], or a
+        square of side sqrt(volume / height), or the height)."""
         if self.deck is not None and self.deck.footprint is not None:
             return [float(x) for x in self.deck.footprint]
+        if self.dimensions is not None:
+            return [float(self.dimensions[0]), float(self.dimensions[1])]
         h = self.vertical_extent()
         side = math.sqrt(self.volume / h) if self.volume > 0.0 else h
         return [side, side]
 
     def vertical_extent(self) -> float:
-        """m: the height, or the cube root of the volume (1 m without a volume)."""
+        """m: the height (or the box's c), or the cube root of the volume (1 m without a volume)."""
         if self.height is not None:
             return float(self.height)
+        if self.dimensions is not None:
+            return float(self.dimensions[2])
         return float(self.volume) ** (1.0 / 3.0) if self.volume > 0.0 else 1.0
+
+    def box_half_sizes(self) -> list[float]:
+        """[a/2, b/2, c/2] m of a box body, [0, 0, 0] without dimensions."""
+        if self.dimensions is None:
+            return [0.0, 0.0, 0.0]
+        return [0.5 * float(x) for x in self.dimensions]
 
     def drag_cd_area(self) -> list[float]:
         """cd * area per body axis (m^2)."""

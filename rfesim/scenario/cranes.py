@@ -410,13 +410,19 @@ _TEMPLATES = TypeAdapter(dict[str, CraneTemplate])
 
 
 # ============================================================================ geometry
-def cylinder_angle(cyl: CylinderSpec, length: float, span: tuple[float, float] | None = None) -> float:
+def cylinder_angle(cyl: CylinderSpec, length: float, span: tuple[float, float] | None = None,
+                   through: float | None = None) -> float:
     """Boom angle (rad, from the luffing plane's x axis toward z) at which the cylinder
     between ``cyl.base`` and the eye at ``cyl.eye`` along the boom has ``length``: the
     branch on which the cylinder lengthens as the angle grows; with ``span`` (lo, hi rad),
-    the branch whose angle lies in it (an A-frame's cylinder from an inboard base lengthens
-    as the legs tilt outboard, toward smaller plane angles). Raises FieldError when the
-    triangle cannot close, or neither branch lies in span."""
+    the branch whose angle lies in it. The two branches meet where the boom points at the
+    base (the shortest cylinder) or away from it (the longest), and a cylinder cannot drive
+    the boom through either; ``through`` (rad) is an angle the mechanism works through: of
+    two branches in span, the one between those dead points that holds it (an A-frame's legs
+    work through upright, pi/2: from an inboard base the cylinder lengthens as they tilt
+    outboard, toward smaller plane angles, even when the base is above the hinge and the
+    mirror branch, tilted inboard past the base, lies in span too). Raises FieldError when
+    the triangle cannot close, or neither branch lies in span."""
     bx, bz = cyl.base
     rho = math.hypot(bx, bz)
     b = cyl.eye
@@ -425,10 +431,14 @@ def cylinder_angle(cyl: CylinderSpec, length: float, span: tuple[float, float] |
         lo, hi = abs(b - rho), b + rho
         raise FieldError("cylinder.stroke", f"a cylinder of {length:.4g} m cannot reach: with this base and eye "
                                             f"its length lies in [{lo:.4g}, {hi:.4g}] m")
-    first = math.atan2(bz, bx) + math.acos(c)
+    phi = math.atan2(bz, bx)
+    first = phi + math.acos(c)
     if span is None:
         return first
-    for a in (first, math.atan2(bz, bx) - math.acos(c)):
+    branches = (first, phi - math.acos(c))
+    if through is not None and math.sin(through - phi) < 0.0:
+        branches = branches[::-1]       # ``through`` lies on the branch below the base direction
+    for a in branches:
         a = math.atan2(math.sin(a), math.cos(a))
         if span[0] <= a <= span[1]:
             return a
@@ -500,9 +510,10 @@ def _angle_profile(tpl, field: str, to_plane) -> tuple[float, list | None]:
     # the luffing plane angles the template allows (column: the boom angle; A-frame: 90 - tilt)
     span = (math.radians(10.0), math.radians(170.0)) if tpl.type == "a-frame" else \
         (math.radians(-10.0), math.radians(85.0))
+    through = math.pi / 2.0 if tpl.type == "a-frame" else None       # the legs work through upright
     for i, (t, length) in enumerate(tpl.cylinder.stroke):
         try:
-            a = cylinder_angle(tpl.cylinder, length, span)
+            a = cylinder_angle(tpl.cylinder, length, span, through)
         except FieldError as exc:
             raise FieldError(f"cylinder.stroke.{i}.1", exc.reason) from None
         rows.append([float(t), math.degrees(to_plane(a, inverse=True))])

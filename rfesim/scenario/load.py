@@ -493,6 +493,18 @@ def check_references(sc: Scenario) -> list[tuple[str, str]]:
         if sup.line not in sc.lines:
             known = ", ".join(sorted(sc.lines)) or "none defined"
             errors.append((f"{base}.line", f"unknown line '{sup.line}' (lines: {known})"))
+        elif getattr(sup, "horizontal_tension", None) is not None:
+            # rfesim.solvers.lay_statics: H is the horizontal force on the line's end B
+            if sc.lines[sup.line].end_b.attach == "free" or ":" in sc.lines[sup.line].end_b.attach:
+                errors.append((f"{base}.horizontal_tension", f"needs end B of line '{sup.line}' held (fixed or on "
+                                                             f"a vessel): statics pays the line out until the "
+                                                             f"horizontal force on its end B is this tension"))
+            others = [n for n, o in sc.supports.items() if n < sname and o.kind == "tensioner"
+                      and o.line == sup.line and getattr(o, "horizontal_tension", None) is not None]
+            if others:
+                errors.append((f"{base}.horizontal_tension", f"supports.{others[0]} sets the horizontal tension "
+                                                             f"of line '{sup.line}' already: give it on one "
+                                                             f"tensioner of the line"))
         elif sc.line_types.get(sc.lines[sup.line].type) is not None and \
                 sc.line_types[sc.lines[sup.line].type].outer_diameter is None:
             errors.append((f"{base}.line", f"line '{sup.line}' has no outer_diameter (its type "
@@ -630,9 +642,9 @@ def validate_dict(obj: Any, _raw: Callable | None = None) -> Scenario:
         raise ScenarioError([("", f"a scenario must be a JSON/YAML object (a mapping of keys to values), "
                                   f"got {what}")])
     raw = _raw or (lambda o: super(Scenario, Scenario).model_validate(o))
-    from .pipelay import recording_origins, template_path
+    from .pipelay import recording_origins, recording_warnings, template_path
     from .templates import expand
-    with recording_origins() as origins:
+    with recording_origins() as origins, recording_warnings() as template_warnings:
         obj = expand(obj)          # pipelay and crane templates -> ordinary sections (rfesim.scenario.templates)
 
     def user_fields(errors: list[tuple[str, str]]) -> ScenarioError:
@@ -654,6 +666,7 @@ def validate_dict(obj: Any, _raw: Callable | None = None) -> Scenario:
         raise user_fields([arithmetic_error(exc, "", ((), obj))]) from None
     if errors:
         raise user_fields(errors)
+    sc._template_warnings = list(template_warnings)     # added to a run's statics warnings (rfesim.api)
     return sc
 
 
@@ -967,11 +980,19 @@ def set_path(data: dict, path: str, value: Any) -> None:
 
 def apply_overrides(data: dict, overrides: dict[str, Any] | None) -> dict:
     """A deep copy of ``data`` with dotted-path overrides applied (copies of their values: a
-    later path inside one, such as a sweep's varied value, must not change the caller's)."""
+    later path inside one, such as a sweep's varied value, must not change the caller's).
+    A path into an entry of a named map that ``data`` (or its templates) does not have is a
+    ScenarioError naming the path (rfesim.sweep.check_vary_paths); ``map.X`` given a whole
+    object adds entry X on purpose."""
     if overrides is not None and not isinstance(overrides, Mapping):
         raise ScenarioError([("", f"overrides must be a mapping of dotted field paths to values, such as "
                                   f"{{'lines.pipe.elements': 40}}, got {_show(overrides)} "
                                   f"({type(overrides).__name__})")])
+    if overrides and isinstance(data, Mapping):
+        # a misspelled entry name (``vessels.fpsoo.position``) would add a new, unused entry and
+        # leave the case unchanged: refused, naming the path (as for `rfesim sweep --vary`)
+        from ..sweep import check_vary_paths
+        check_vary_paths(data, {str(path): [value] for path, value in overrides.items()})
     out = copy.deepcopy(data)
     for path, value in (overrides or {}).items():
         set_path(out, path, copy.deepcopy(value))

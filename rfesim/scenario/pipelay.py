@@ -12,8 +12,16 @@ the collar, a tensioner-kind track along the tower; reel-lay: reel, aligner, str
 tensioner on the ramp) and, without one, a seabed. The suspended pipe follows the natural
 catenary (``rfesim.catenary.natural_catenary``) with the horizontal lay tension H from
 its lift-off point (stinger tip, tower or ramp exit) to the touchdown point, so statics
-starts next to its solution. Geometry is in the vessel frame; the pipe leaves along the
-vessel's x axis (turn the vessel with ``heading_deg`` to lay elsewhere).
+starts next to its solution. An S-lay or J-lay template that gives ``tension`` sets it as
+the track's ``horizontal_tension``: statics pays the pipe out (or hauls it in) through the
+tensioner or collar until the pipe carries H to its pinned end B
+(rfesim.solvers.lay_statics); the bending stiffness leaves a little more pipe in the span
+than the catenary has, so without it H would settle a few per cent low (the S-lay template:
+143.6 kN for 150 kN). A J-lay or reel-lay template given the tower or ramp angle, and a
+reel-lay template given the tension, hold the pipe where the catenary puts it, and H
+settles where that length puts it (scenarios/j_lay.json: 40.1 kN, 1.7 % below the 40.8 kN
+of the 85 deg catenary). Geometry is in the vessel frame; the
+pipe leaves along the vessel's x axis (turn the vessel with ``heading_deg`` to lay elsewhere).
 
 Names made: the line ``line`` (default: the template's name), line type ``<line>_pipe``,
 vessel ``<name>_vessel`` (inline vessels), supports ``<line>_tensioner``, ``<line>_stinger``,
@@ -141,14 +149,21 @@ class _Template(_Strict):
     vessel: Union[str, Vessel] = Field(default_factory=Vessel, description="A vessel name of `vessels`, or a "
                                        "vessel (position, heading_deg, motion) made as <name>_vessel")
     pipe: PipeSpec
-    tension: float | None = _units("N", "Horizontal lay tension H of the suspended pipe (the bottom tension)",
+    tension: float | None = _units("N", "Horizontal lay tension H of the suspended pipe (the bottom tension): the "
+                                   "start shape's catenary has it, and for s-lay and j-lay statics pays the pipe "
+                                   "out or hauls it in through the tensioner (collar) until the pipe carries it "
+                                   "to its pinned end B (the track's horizontal_tension); reel-lay holds the "
+                                   "length of that catenary, and H settles a few per cent lower",
                                    default=None, le=1.0e9,
                                    limit="beyond any lay vessel: the largest tensioners hold about 20 MN "
                                          "(check the units, newtons)")
     laid_length: float = _units("m", "Pipe on the seabed beyond the touchdown point, to the pinned end B",
                                 default=50.0, gt=0.0, le=1.0e5)
-    element_length: float | None = _units("m", "Target element length (default: set by the method; or give "
-                                          "elements)", default=None, ge=MIN_ELEMENT_LENGTH,
+    element_length: float | None = _units("m", "Target element length (default: set by the method: s-lay a third "
+                                          "of the stinger's station spacing, at most 4 m; j-lay 10 m; reel-lay 2 "
+                                          "m; or give elements). An s-lay element longer than half the station "
+                                          "spacing gets a warning: the roller reactions scatter", default=None,
+                                          ge=MIN_ELEMENT_LENGTH,
                                           floor=ELEMENT_LENGTH_FLOOR)
     elements: int | None = Field(None, ge=4, le=100000, description="Number of elements of the line (instead "
                                  "of element_length)")
@@ -184,7 +199,10 @@ class JLayTemplate(_Template):
 
     method: Literal["j-lay"]
     tower_angle_deg: float | None = _units("deg", "Tower angle from the horizontal (90: vertical), 70 to 90; "
-                                           "default: the catenary's departure angle for the given tension",
+                                           "default: the catenary's departure angle for the given tension. Given "
+                                           "the angle, the collar holds the pipe where the catenary of that angle "
+                                           "puts it and statics settles H where that length puts it (a little "
+                                           "below w h cos/(1 - cos): the bending stiffness)",
                                            default=None)
     exit: Vector3 = _units("m", "Tower exit (the foot of the collar, where the pipe leaves), vessel frame",
                            default=[0.0, 0.0, 0.0])
@@ -254,6 +272,9 @@ PipelayTemplate = Annotated[Union[SLayTemplate, JLayTemplate, ReelLayTemplate], 
 _TEMPLATES = TypeAdapter(dict[str, PipelayTemplate])
 
 DEFAULT_ELEMENT_LENGTH = {"s-lay": 4.0, "j-lay": 10.0, "reel-lay": 2.0}
+# S-lay: the default element is at most this fraction of the stinger's station spacing (_s_lay)
+STINGER_ELEMENTS_PER_SPACING = 3.0
+MAX_STINGER_STATIONS = 10000        # as the stinger support (rfesim.scenario.schema.StingerSupport)
 
 
 # --------------------------------------------------------------------------- expansion
@@ -360,6 +381,29 @@ class Origin:
 
 _CURRENT: ContextVar[str | None] = ContextVar("rfesim_template", default=None)
 _ORIGINS: ContextVar[dict | None] = ContextVar("rfesim_template_origins", default=None)
+_WARNINGS: ContextVar[list | None] = ContextVar("rfesim_template_warnings", default=None)
+
+
+@contextmanager
+def recording_warnings() -> Iterator[list]:
+    """Collect the warnings of the templates expanded within (``template_warning``): texts
+    that name the template field; rfesim.scenario.load keeps them on the Scenario
+    (``_template_warnings``), and a run adds them to its statics warnings (rfesim.api)."""
+    warnings: list = []
+    token = _WARNINGS.set(warnings)
+    try:
+        yield warnings
+    finally:
+        _WARNINGS.reset(token)
+
+
+def template_warning(field: str, text: str) -> None:
+    """Record a warning about ``field`` of the template being expanded (a no-op outside
+    ``recording_warnings``): "<template>.<field>: <text>"."""
+    warnings, template = _WARNINGS.get(), _CURRENT.get()
+    if warnings is not None:
+        where = f"{template}.{field}" if template else field
+        warnings.append(f"{where}: {text}")
 
 
 @contextmanager
@@ -502,23 +546,31 @@ def _seabed(out: dict, env, tpl) -> tuple[float, float]:
 _SUPPORT_FIELDS = {"tensioner": "tensioner", "collar": "tensioner", "stinger": "stinger", "reel": "reel"}
 
 
-def _element_count(tpl, length: float) -> int:
+def _element_count(tpl, length: float, default: float | None = None) -> int:
+    """Elements of the line: given, or from element_length, or from ``default`` (the
+    method's own default, DEFAULT_ELEMENT_LENGTH, when None; S-lay: a third of the station
+    spacing, so too many of them are the spacing's fault)."""
     if tpl.elements is not None:
         return tpl.elements
-    target = tpl.element_length or DEFAULT_ELEMENT_LENGTH[tpl.method]
+    target = tpl.element_length or default or DEFAULT_ELEMENT_LENGTH[tpl.method]
     n = max(4, int(math.ceil(length / target - 1e-9)))
     if n > MAX_LINE_ELEMENTS:
+        if tpl.element_length is None and default is not None:
+            raise FieldError("stinger.spacing", f"the default elements, a third of the station spacing ({target:.3g} "
+                                                f"m), make {n} elements on the {length:.6g} m line, more than the "
+                                                f"{MAX_LINE_ELEMENTS} a line may have: give a spacing of at least "
+                                                f"{3.0 * length / MAX_LINE_ELEMENTS:.3g} m, or element_length")
         raise FieldError("element_length", f"{target:g} m gives {n} elements on the {length:.6g} m line, more than "
                                            f"the {MAX_LINE_ELEMENTS} a line may have: give at least "
                                            f"{length / MAX_LINE_ELEMENTS:.3g} m")
     return n
 
 
-def _track_length(tpl, length_estimate: float) -> float:
+def _track_length(tpl, length_estimate: float, default_element: float | None = None) -> float:
     """Tensioner/collar length: given, or 10 m and at least three elements."""
     if tpl.tensioner.length is not None:
         return tpl.tensioner.length
-    n = _element_count(tpl, length_estimate)
+    n = _element_count(tpl, length_estimate, default_element)
     return max(10.0, 3.0 * length_estimate / n)
 
 
@@ -531,12 +583,14 @@ def _payout_reach(pay) -> float:
 
 
 def _tensioner(tpl, line: str, vname: str, entry, axis, length: float, top_tension: float,
-               static_load: float | None = None, what: str = "tensioner", upstream: float | None = None) -> dict:
+               static_load: float | None = None, what: str = "tensioner", upstream: float | None = None,
+               horizontal_tension: float | None = None) -> dict:
     """The track's support. ``static_load``: the axial force it holds in statics (estimate,
     N): a given capacity below it is refused here (statics would fail with the pipe slipping
     through, at some element far away). ``upstream``: the pipe held upstream of the track's
     exit at the start (m): a payout table reaching beyond it is refused (the pipe's end would
-    leave the track and the pipe drop)."""
+    leave the track and the pipe drop). ``horizontal_tension``: the H statics pays the pipe
+    out (or hauls it in) to (the template's given ``tension``; rfesim.solvers.lay_statics)."""
     spec = tpl.tensioner
     out = {"kind": "tensioner", "attach": vname, "line": line, "entry": [float(c) for c in entry],
            "axis": [float(c) for c in axis], "length": length,
@@ -556,6 +610,8 @@ def _tensioner(tpl, line: str, vname: str, entry, axis, length: float, top_tensi
                                              f"at most {upstream:.6g} m, or give a longer tensioner.length")
     if spec.payout is not None:
         out["payout"] = spec.payout.model_dump(mode="json")
+    if horizontal_tension is not None:
+        out["horizontal_tension"] = horizontal_tension
     return out
 
 
@@ -580,11 +636,20 @@ def _expand_one(out: dict, name: str, tpl, raw_tpl: dict, env) -> None:
     geo = build(tpl, pipe, vpos, heading, z_bed_axis, natural_catenary)
     # the line: end A free at the first track's entry, end B pinned on the seabed
     length = geo["length"]
-    n = _element_count(tpl, length)
+    n = _element_count(tpl, length, geo.get("default_element"))
     if length / n > geo["max_element"]:
         raise FieldError("element_length" if tpl.elements is None else "elements",
                          f"elements of {length / n:.3g} m are longer than {geo['max_element']:.3g} m: the "
                          f"{geo['max_element_reason']}")
+    spacing = geo.get("station_spacing")
+    if spacing is not None and length / n > 0.5 * spacing:
+        # only a given element_length or elements gets here: the default is a third of the spacing
+        template_warning("element_length" if tpl.elements is None else "elements",
+                         f"elements of {length / n:.4g} m are longer than half the stinger's roller-station "
+                         f"spacing ({spacing:.4g} m): a rigid element lies l^2/(8R) inside the arc at its "
+                         f"middle, so the stations alternate between element ends and middles and the roller "
+                         f"reactions scatter (every other station unloaded, its neighbours doubled); give "
+                         f"elements of at most a third of the spacing ({spacing / 3.0:.4g} m, the default)")
     type_name = f"{line}_pipe"
     _add(out, "line_types", type_name, pipe.line_type(), "line", origin="pipe")
     _add(out, "lines", line, {
@@ -672,17 +737,26 @@ def _s_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
                 "end_a_direction": u,
                 "end_b": [tip_g[0] + along * u[0], tip_g[1] + along * u[1], z_bed]}
 
-    track = _track_length(tpl, geometry(10.0)["length"])
+    # elements of at most a third of the station spacing by default: a rigid element of
+    # length l lies l^2 / (8 R) inside the arc at its middle, which against the roller
+    # stiffness is a large force, so with 1.5 elements per spacing (4 m elements, 6 m
+    # spacing) every other station carries nothing and its neighbours twice their share;
+    # at spacing / 3 the station reactions are within 1.5 % of a converged mesh
+    default_element = min(DEFAULT_ELEMENT_LENGTH["s-lay"], spacing / STINGER_ELEMENTS_PER_SPACING)
+    if length_stinger / spacing > MAX_STINGER_STATIONS:
+        default_element = None      # the stinger support refuses the spacing itself, naming it
+    track = _track_length(tpl, geometry(10.0)["length"], default_element)
     geo = geometry(track)
     top = H + w * h + pipe.weight * max(zA + vpos[2], 0.0)
     layer = math.sqrt(pipe.EI / H)
     geo.update(
+        default_element=default_element, station_spacing=spacing,
         max_element=min(layer, 0.5 * track),
         max_element_reason=f"bending boundary layer sqrt(EI/H) = {layer:.3g} m and half the tensioner "
                            f"({0.5 * track:.3g} m) must each span at least one element",
         supports={
             "tensioner": _tensioner(tpl, "", None, [x0 - gap - track, y0, zA], [1.0, 0.0, 0.0], track, top,
-                                    static_load=top, upstream=track),
+                                    static_load=top, upstream=track, horizontal_tension=H),
             "stinger": {"kind": "stinger", "start": list(st.start), "direction": [1.0, 0.0, 0.0],
                         "radius": st.radius, "length": length_stinger, "spacing": spacing,
                         "roller_width": st.roller_width, "roller_radius": st.roller_radius,
@@ -725,7 +799,8 @@ def _j_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
     layer = math.sqrt(pipe.EI / H)
     # the collar holds the catenary's top tension and the pipe in the tower (in air)
     collar = _tensioner(tpl, "", None, geo.pop("entry"), axis, track, H + w * h,
-                        static_load=H + w * h + pipe.weight * track * math.sin(th), what="collar", upstream=track)
+                        static_load=H + w * h + pipe.weight * track * math.sin(th), what="collar", upstream=track,
+                        horizontal_tension=tpl.tension)
     collar.pop("line")
     collar["attach"] = None
     geo.update(max_element=min(layer, 0.5 * track),
@@ -826,6 +901,9 @@ def _reel_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
     layer = math.sqrt(pipe.EI / H)
     back_tension = tpl.reel.back_tension or 0.1 * (H + w * h)
     # the tensioner holds the catenary's top tension and the pipe on the ramp less the back tension
+    # no horizontal_tension: paying the plastic pipe through the straightener and over the
+    # aligner until H is reached takes statics from 10 s to about 5 minutes (1.45 m in six
+    # shifts for 54.9 kN); H settles where the held length puts it (docs/theory.md)
     tensioner = _tensioner(tpl, "", None, geo.pop("entry_t"), e, track, H + w * h,
                            static_load=H + w * h + pipe.weight * track * math.sin(al) - back_tension)
     entry_s, arc_start, take_off = geo.pop("entry_s"), geo.pop("arc_start"), geo.pop("take_off")

@@ -624,6 +624,9 @@ class Water(_Strict):
 ProfilePoint = Annotated[list[float], _fixed_length_numbers(2, "[distance, z]"), Field(min_length=2, max_length=2)]
 
 
+PROFILE_HOLD = 1000.0   # m, length of the flat rows that hold a seabed profile's end depths (any > 0 will do)
+
+
 class Seabed(_Strict):
     """Seabed: a flat plane, a sloped plane or a 2-D profile, with a normal spring-damper and
     Coulomb friction (spring-slider stick/slip) per unit length of line in contact."""
@@ -636,8 +639,9 @@ class Seabed(_Strict):
     profile: list[ProfilePoint] | None = Field(
         None, min_length=2,
         description="2-D seabed profile: rows [horizontal distance (m) along profile_direction_deg from the "
-                    "global origin, seabed z (m)], distances increasing; linear between rows, the end slopes "
-                    "continue beyond the table", json_schema_extra={"units": "m"})
+                    "global origin, seabed z (m)], distances increasing; linear between rows, flat beyond the "
+                    "table at the depth of its first and last rows (every row must lie below the water surface, "
+                    "so the seabed does everywhere)", json_schema_extra={"units": "m"})
     profile_direction_deg: float = _units("deg", "Direction of the profile's distance axis (from global x)",
                                           default=0.0)
     normal_stiffness: float = _units("N/m/m", "Normal contact stiffness per unit length of line",
@@ -696,10 +700,15 @@ class Seabed(_Strict):
         return self.friction if self.friction_lateral is None else self.friction_lateral
 
     def profile_table(self, z_origin: float | None) -> tuple[list[float], list[float], float]:
-        """The seabed as (distances, z values, direction_deg): a profile, or the plane through
-        z_origin with the given slope (two points; the end slopes continue)."""
+        """The seabed as (distances, z values, direction_deg), continued beyond its ends with
+        the end slopes (rfesim.loads.seabed.seabed_height): a profile, with a flat row
+        PROFILE_HOLD m beyond each end so that it holds its end depths (the user's profile may
+        end on a slope that would rise through the water surface); or the plane through
+        z_origin with the given slope (two points; the plane continues)."""
         if self.profile is not None:
-            return [p[0] for p in self.profile], [p[1] for p in self.profile], self.profile_direction_deg
+            ds, zs = [p[0] for p in self.profile], [p[1] for p in self.profile]
+            return ([ds[0] - PROFILE_HOLD] + ds + [ds[-1] + PROFILE_HOLD], [zs[0]] + zs + [zs[-1]],
+                    self.profile_direction_deg)
         g = math.tan(math.radians(self.slope_deg))
         return [-1.0, 1.0], [z_origin - g, z_origin + g], self.slope_direction_deg
 
@@ -1609,6 +1618,11 @@ class TensionerSupport(_Strict):
     payout: Annotated[Union[PayoutTable, PayoutConstantTension], Field(discriminator="kind")] = Field(
         default_factory=lambda: PayoutTable(kind="table", rows=[[0.0, 0.0]]),
         description="Prescribed payout, or driven by the tension characteristic (default: holds the line)")
+    horizontal_tension: float | None = _units(
+        "N", "Horizontal lay tension H that statics sets: it pays the line out (or hauls it in) through the "
+             "track until the horizontal force of the line on its end B (a laid pipe's pinned end on the "
+             "seabed) equals H to 0.5 %; the shift stays in the payout for the run (default: the track holds "
+             "the line where it starts)", default=None, gt=0.0, le=MAX_FORCE, limit=FORCE_LIMIT)
 
     @model_validator(mode="after")
     def _axis(self):
@@ -1836,6 +1850,9 @@ class Scenario(_Strict):
     cranes: dict[str, CraneTemplate] = Field(default_factory=dict, description="Crane templates (column, "
                                              "a-frame), expanded into vessels, line_types, lines, bodies and "
                                              "winches before validation (rfesim.scenario.expand); empty after")
+    # what the templates' expansion found worth a warning (rfesim.scenario.pipelay.template_warning),
+    # each naming the template field; added to the statics warnings of a run (rfesim.api)
+    _template_warnings: list = PrivateAttr(default_factory=list)
 
     @model_validator(mode="after")
     def _formulations(self):

@@ -28,7 +28,8 @@ Modes (payout positive, haul-in negative):
 ``heave_compensation`` adds a PID speed v_c = kp e + ki int(e) + kd de/dt (+ zeta' with
 feedforward) with e = zeta - D_c, zeta the vertical motion of the rope's end-A point
 since the start and D_c the payout the compensation has made. ``shock_absorber`` puts a
-spring-damper in series with the rope at the winch. Units SI.
+spring k_sa with a damper c_sa beside it in series with the rope at the winch (both
+required; ``"damping": 0`` for a plain spring). Units SI.
 """
 from __future__ import annotations
 
@@ -156,10 +157,24 @@ class HeaveCompensation(_Strict):
 
 
 class ShockAbsorber(_Strict):
-    """A spring-damper in series with the rope at the winch."""
+    """A spring k_sa with a damper c_sa beside it (Kelvin-Voigt), in series with the rope at
+    the winch. The damping has no default: an absorber's damping is what makes it one (an
+    undamped spring under the payload rings at its bounce frequency with nothing to stop it);
+    give 0 for a plain spring."""
 
-    stiffness: float = _units("N/m", "Spring stiffness", gt=0.0, le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
-    damping: float = _units("N*s/m", "Damping", default=0.0, ge=0.0, le=MAX_DAMPING, limit=DAMPING_LIMIT)
+    stiffness: float = _units("N/m", "Spring stiffness k_sa", gt=0.0, le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
+    damping: float | None = _units("N*s/m", "Damping c_sa of the damper beside the spring (required; 0: a plain "
+                                   "spring; critical on a payload of mass m: 2 sqrt(k_sa m))", default=None, ge=0.0,
+                                   le=MAX_DAMPING, limit=DAMPING_LIMIT)
+
+    @model_validator(mode="after")
+    def _damping_given(self):
+        if self.damping is None:
+            raise FieldError("damping", "give the absorber's damping c_sa (N*s/m), e.g. a fraction of critical "
+                                        "2 sqrt(k_sa m) on the payload's mass m: an undamped spring in series with "
+                                        "the rope rings for ever at the payload's bounce frequency (0 for a plain "
+                                        "spring)")
+        return self
 
 
 class Winch(_Strict):

@@ -180,6 +180,58 @@ class RaoVessel(HarmonicVessel):
         return (a * s).sum(axis=0), (a * self.omega * c).sum(axis=0), -(a * self.omega ** 2 * s).sum(axis=0)
 
 
+RAO_RANGE_ENERGY = 0.01    # share of the sea's m0 beyond an RAO table's frequencies that is warned about
+
+
+def _period_text(omega: float) -> str:
+    return f"{omega:.4g} rad/s ({2.0 * math.pi / omega:.3g} s)"
+
+
+def rao_range_warnings(sc) -> list[str]:
+    """The RAO vessels of a scenario whose table leaves out a noticeable part of the sea:
+    more than RAO_RANGE_ENERGY of the wave components' energy (m0 = sum a_j^2 / 2) lies above
+    the table's highest frequency (or below its lowest) on components that the held end row
+    moves the vessel with (a row of zeros held beyond the table is the RAO tapering to zero,
+    so those components are not counted). One warning per vessel and side, naming the
+    vessel's motion field, the table's end frequency and the share; [] without waves."""
+    env = sc.environment
+    water = getattr(env, "water", None)
+    rao = [(name, v) for name, v in sc.vessels.items() if v.motion.kind == "rao"]
+    if not rao or water is None or water.waves is None:
+        return []
+    waves = wave_components(water.waves, water_depth(env), env.gravity)
+    energy = 0.5 * np.asarray(waves.amplitude, float) ** 2
+    m0 = float(energy.sum())
+    if not m0 > 0.0:
+        return []
+    out = []
+    for name, vessel in rao:
+        table = vessel.motion.table()
+        field = f"vessels.{name}.motion." + ("raos" if vessel.motion.raos is not None else "file")
+        w_tab = _table_arrays(table)[0]
+        amp, _ = rao_response(table, waves.omega, np.degrees(waves.direction) - vessel.heading_deg)
+        moves = amp.max(axis=1) > 0.0
+        for side, outside, end, more, knob in (
+                ("above", waves.omega > w_tab[-1], w_tab[-1], "shorter", "omega_max"),
+                ("below", waves.omega < w_tab[0], w_tab[0], "longer", "omega_min")):
+            share = float(energy[outside & moves].sum()) / m0
+            if not share > RAO_RANGE_ENERGY:
+                continue
+            held = amp[outside & moves].max(axis=0)
+            held[3:] = np.degrees(held[3:])
+            largest = ", ".join(f"{DOF_NAMES[k]} {held[k]:.3g} {'m/m' if k < 3 else 'deg/m'}"
+                                for k in np.argsort(-held) if held[k] > 0.0)
+            far = waves.omega[outside].max() if side == "above" else waves.omega[outside].min()
+            remedy = f"extend the table to {more} periods"
+            if hasattr(water.waves, knob):
+                remedy += f", or set environment.water.waves.{knob} to {end:.4g} rad/s"
+            out.append(f"vessel '{name}' ({field}): {100.0 * share:.3g} % of the sea's energy (m0) lies {side} the "
+                       f"RAO table's {'highest' if side == 'above' else 'lowest'} frequency, {_period_text(end)}, "
+                       f"out to {_period_text(far)}; there the vessel moves with the table's end row held "
+                       f"(up to {largest}) instead of its real RAOs: {remedy}")
+    return out
+
+
 def rao_vessel(vessel, environment) -> RaoVessel:
     """The motion of a scenario vessel with an ``rao`` motion in the environment's waves."""
     water = getattr(environment, "water", None)

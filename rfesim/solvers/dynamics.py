@@ -658,7 +658,9 @@ def touchdown(km, ws, li):
     """(arc length from end A, position) of the touchdown point of a line: going from its
     upper end (end B, or end A when that is higher) towards the other, the end of the first
     RFE in seabed contact where its contact begins
-    (the contact of an RFE is a contiguous part of it, so its length places the point)."""
+    (the contact of an RFE is a contiguous part of it, so its length places the point; an
+    RFE lifting off that the seabed no longer pushes has no contact length,
+    rfesim.loads.seabed)."""
     lengths = km.rfe_length[li.rfe_start:li.rfe_stop]
     contact = ws.contact_length[li.rfe_start:li.rfe_stop]
     idx = np.nonzero(contact > 0.0)[0]

@@ -327,3 +327,24 @@ def test_dask_job_stopped_with_the_service_is_not_cancelled_after_the_restart(tm
         assert (tmp_path / "b.nc").is_file()
     finally:
         cluster.close()
+
+
+# --------------------------------------------------------------------------- misspelled entry names in vary / overrides
+
+def test_misspelled_entry_in_vary_or_overrides_is_422_naming_the_path(api):
+    # vessels.fpsoo (the vessel is fpso) used to be accepted: every case ran the unchanged
+    # offset while the sweep table showed the varied values
+    bad = "vessels.fpsoo.position"
+    r = api.client.post("/sweeps", json={"scenario": "catenary_riser", "vary": {bad: [[0, 0, 0], [20, 0, 0]]}})
+    assert r.status_code == 422, r.text
+    (entry,) = r.json()["detail"]
+    assert bad in ".".join(map(str, entry["loc"])) and "did you mean 'vessels.fpso'?" in entry["msg"]
+    r = api.client.post("/jobs", json={"scenario": "catenary_riser", "overrides": {bad: [20, 0, 0]}})
+    assert r.status_code == 422, r.text
+    (entry,) = r.json()["detail"]
+    assert bad in ".".join(map(str, entry["loc"])) and "did you mean 'vessels.fpso'?" in entry["msg"]
+    # the right name is accepted
+    r = api.client.post("/sweeps", json={"scenario": "catenary_riser",
+                                         "vary": {"vessels.fpso.position": [[0, 0, 0], [20, 0, 0]]},
+                                         "overrides": {"analysis.dynamics.enabled": False}})
+    assert r.status_code == 202, r.text

@@ -390,7 +390,8 @@ def seabed_contact_by_quadrature(length, contact_radius, seabed_damping, seabed_
     """Seabed reaction of a straight RFE by numerical integration along its axis:
     penetration p(s) = z_seabed - (z(s) - a); spring force integral of k max(0, p) ds
     (trapezoid rule) applied at its centroid (first moment / force); the damper
-    c l_contact v_z(centroid); the total is never tensile.
+    c l_contact v_z(centroid); the total is never tensile, and an element the damper would
+    pull is out of contact (contact length 0).
     Returns (force, moment about the centre, normal force, contact length)."""
     tangent = rotation[:, 0]
     s = np.linspace(-0.5 * length, 0.5 * length, points)
@@ -410,6 +411,9 @@ def seabed_contact_by_quadrature(length, contact_radius, seabed_damping, seabed_
     arm = centroid_s * tangent
     vertical_velocity = (velocity + np.cross(angular_velocity, arm))[2]
     normal_force = max(0.0, spring_force - seabed_damping * contact_length * vertical_velocity)
+    if normal_force == 0.0:
+        # lifting off faster than the spring unloads: out of contact (no contact length)
+        return np.zeros(3), np.zeros(3), 0.0, 0.0
     force = normal_force * UNIT_Z
     return force, np.cross(arm, force), normal_force, contact_length
 
@@ -543,7 +547,8 @@ def seabed_on_plane_by_quadrature(length, contact_radius, seabed_damping, plane_
                                   centre, velocity, angular_velocity, points=20001):
     """Normal seabed reaction of a straight RFE on a plane (point, unit normal) by numerical
     integration: penetration p(s) = a - n.(P(s) - P0); spring integral at its centroid; the
-    damper on the contact length; never tensile. Returns (force, moment, normal force, contact length)."""
+    damper on the contact length; never tensile (an element the damper would pull is out of
+    contact: contact length 0). Returns (force, moment, normal force, contact length)."""
     tangent = rotation[:, 0]
     s = np.linspace(-0.5 * length, 0.5 * length, points)
     P = centre[None, :] + s[:, None] * tangent[None, :]
@@ -558,6 +563,9 @@ def seabed_on_plane_by_quadrature(length, contact_radius, seabed_damping, plane_
     arm = centroid_s * tangent
     normal_velocity = (velocity + np.cross(angular_velocity, arm)) @ normal
     normal_force = max(0.0, spring_force - seabed_damping * contact_length * normal_velocity)
+    if normal_force == 0.0:
+        # lifting off faster than the spring unloads: out of contact (no contact length)
+        return np.zeros(3), np.zeros(3), 0.0, 0.0
     force = normal_force * normal
     return force, np.cross(arm, force), normal_force, contact_length
 

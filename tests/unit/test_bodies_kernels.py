@@ -1,7 +1,11 @@
 """Rigid bodies and ropes: the kernels against readable numpy references, and the schema's errors.
 
 * rfesim.loads.bodies.body_hydro_forces against ``body_hydro_reference`` below, written
-  from the formulas of the module text, on random poses, velocities and sea kinematics;
+  from the formulas of the module text, on random poses, velocities and sea kinematics,
+  with and without box dimensions (the box's submerged part from a Delaunay tetrahedralisation
+  of its clipped corners, not the kernel's face clipping);
+* a tilted half-submerged box: buoyancy and moment against the hand-computed wedge (the
+  metacentric formula BM - BG), restoring for a flat box and capsizing for a tall one;
 * rfesim.loads.tension_only: after the correction, forces equal those of the SDE kernel
   with the axial stiffness and damping removed on the SDEs whose axial force was
   compressive (the force is linear in the section forces), and the elastic forces of a
@@ -11,6 +15,7 @@
 from __future__ import annotations
 
 import copy
+import itertools
 import math
 
 import numpy as np
@@ -28,12 +33,39 @@ RHO, G = 1025.0, 9.81
 
 # ----------------------------------------------------------------------------- body hydrodynamics
 
+def box_below(half, n, d):
+    """(fraction, centroid) of the box |x_k| <= half_k below the plane n . x = d: the convex
+    hull of the corners below and the edges' crossings, cut into tetrahedra by Delaunay."""
+    from scipy.spatial import Delaunay
+    corners = [np.array(c) * half for c in itertools.product((-1.0, 1.0), repeat=3)]
+    pts = [c for c in corners if n @ c <= d]
+    for a, b in itertools.combinations(corners, 2):
+        if np.count_nonzero(a != b) == 1 and (n @ a <= d) != (n @ b <= d):
+            pts.append(a + (n @ a - d) / (n @ a - n @ b) * (b - a))
+    if len(pts) < 4:
+        return 0.0, np.zeros(3)
+    pts = np.array(pts)
+    vol, moment = 0.0, np.zeros(3)
+    for simplex in Delaunay(pts).simplices:
+        q = pts[simplex]
+        tv = abs(np.linalg.det(q[1:] - q[0])) / 6.0
+        vol += tv
+        moment += tv * q.mean(axis=0)
+    return vol / (8.0 * np.prod(half)), moment / vol
+
+
 def body_hydro_reference(R, r, v, w, surface_z, water_vel, water_acc, volume, height, cob, cd_area, added_mass,
-                         added_inertia, slam, scale):
-    """Force, moment (about the centre), Ma, Ja, fraction and P of one body (module text)."""
+                         added_inertia, slam, scale, box=(0.0, 0.0, 0.0)):
+    """Force, moment (about the centre), Ma, Ja, fraction and point of application of one
+    body (module text); ``box`` half-sizes > 0: the box's submerged part at its centroid."""
     d = R @ cob
-    P = r + d
-    f = float(np.clip((surface_z - (P[2] - 0.5 * height)) / height, 0.0, 1.0))
+    if box[0] > 0.0:
+        f, xs = box_below(np.asarray(box), R[2], surface_z - (r[2] + d[2]))
+        d = d + R @ xs
+        P = r + d
+    else:
+        P = r + d
+        f = float(np.clip((surface_z - (P[2] - 0.5 * height)) / height, 0.0, 1.0))
     Ma = f * R @ np.diag(added_mass) @ R.T
     Ja = f * np.asarray(added_inertia)
     force = np.zeros(3)
@@ -52,12 +84,20 @@ def random_bodies(rng, nb, n):
     rfe = rng.choice(n, size=nb, replace=False).astype(np.int64)
     R = np.array([ref.random_rotation(rng) for _ in range(n)])
     r = rng.uniform(-3.0, 3.0, size=(n, 3))
-    return dict(body_rfe=rfe, body_volume=rng.uniform(0.5, 5.0, nb), body_height=rng.uniform(0.5, 3.0, nb),
-                body_cob=rng.normal(scale=0.5, size=(nb, 3)), body_drag=rng.uniform(0.0, 5.0, (nb, 3)),
-                body_added_mass=rng.uniform(0.0, 5e3, (nb, 3)), body_added_inertia=rng.uniform(0.0, 1e3, (nb, 3)),
-                body_slam=rng.uniform(0.0, 10.0, nb), R=R, r=r, v=rng.normal(size=(n, 3)), w=rng.normal(size=(n, 3)),
-                surface_z=rng.uniform(-1.0, 1.0, n), water_vel=rng.normal(size=(n, 3)),
-                water_acc=rng.normal(size=(n, 3)))
+    b = dict(body_rfe=rfe, body_volume=rng.uniform(0.5, 5.0, nb), body_height=rng.uniform(0.5, 3.0, nb),
+             body_cob=rng.normal(scale=0.5, size=(nb, 3)), body_drag=rng.uniform(0.0, 5.0, (nb, 3)),
+             body_added_mass=rng.uniform(0.0, 5e3, (nb, 3)), body_added_inertia=rng.uniform(0.0, 1e3, (nb, 3)),
+             body_slam=rng.uniform(0.0, 10.0, nb), R=R, r=r, v=rng.normal(size=(n, 3)), w=rng.normal(size=(n, 3)),
+             surface_z=rng.uniform(-1.0, 1.0, n), water_vel=rng.normal(size=(n, 3)),
+             water_acc=rng.normal(size=(n, 3)))
+    # every other body a box (half-sizes), its centre of buoyancy near the surface: cut by it
+    box = rng.uniform(0.3, 1.5, (nb, 3))
+    box[::2] = 0.0
+    for j in range(1, nb, 2):
+        i = rfe[j]
+        r[i, 2] = b["surface_z"][i] - (R[i] @ b["body_cob"][j])[2] + rng.uniform(-0.5, 0.5)
+    b["body_box"] = box
+    return b
 
 
 @pytest.mark.parametrize("seed", range(6))
@@ -71,24 +111,28 @@ def test_body_hydro_kernel_matches_reference(seed):
     Ma, Ja = np.full((n, 3, 3), 7.0), np.full((n, 3), 7.0)
     sub_frac, sub_point = np.full(n, -1.0), np.zeros((n, 3))
     scale = 0.7
-    body_hydro_forces(b["body_rfe"], b["body_volume"], b["body_height"], b["body_cob"], b["body_drag"],
-                      b["body_added_mass"], b["body_added_inertia"], b["body_slam"], RHO, G, scale, b["R"], b["r"],
-                      b["v"], b["w"], b["surface_z"], b["water_vel"], b["water_acc"], F, M, Ma, Ja, sub_frac,
-                      sub_point)
+    body_hydro_forces(b["body_rfe"], b["body_volume"], b["body_height"], b["body_box"], b["body_cob"],
+                      b["body_drag"], b["body_added_mass"], b["body_added_inertia"], b["body_slam"], RHO, G, scale,
+                      b["R"], b["r"], b["v"], b["w"], b["surface_z"], b["water_vel"], b["water_acc"], F, M, Ma, Ja,
+                      sub_frac, sub_point)
     fractions = []
     for j, i in enumerate(b["body_rfe"]):
         force, moment, ma, ja, f, P = body_hydro_reference(
             b["R"][i], b["r"][i], b["v"][i], b["w"][i], b["surface_z"][i], b["water_vel"][i], b["water_acc"][i],
             b["body_volume"][j], b["body_height"][j], b["body_cob"][j], b["body_drag"][j], b["body_added_mass"][j],
-            b["body_added_inertia"][j], b["body_slam"][j], scale)
+            b["body_added_inertia"][j], b["body_slam"][j], scale, b["body_box"][j])
         fractions.append(f)
         size = np.abs(force).max() + 1.0
-        np.testing.assert_allclose(F[i] - F0[i], force, rtol=0, atol=1e-12 * size)
-        np.testing.assert_allclose(M[i] - M0[i], moment, rtol=0, atol=1e-12 * size * 10)
-        np.testing.assert_allclose(Ma[i], ma, rtol=0, atol=1e-12 * 5e3)
-        np.testing.assert_allclose(Ja[i], ja, rtol=0, atol=1e-12 * 1e3)
-        assert sub_frac[i] == pytest.approx(f, abs=1e-15)
-        np.testing.assert_allclose(sub_point[i], P, rtol=0, atol=1e-14 * 10)
+        # a box's part under water: two different exact constructions, round-off apart
+        tol = 1e-12 if b["body_box"][j, 0] == 0.0 else 1e-10
+        np.testing.assert_allclose(F[i] - F0[i], force, rtol=0, atol=tol * size)
+        np.testing.assert_allclose(M[i] - M0[i], moment, rtol=0, atol=tol * size * 10)
+        np.testing.assert_allclose(Ma[i], ma, rtol=0, atol=tol * 5e3)
+        np.testing.assert_allclose(Ja[i], ja, rtol=0, atol=tol * 1e3)
+        assert sub_frac[i] == pytest.approx(f, abs=1e-15 if tol == 1e-12 else 1e-11)
+        np.testing.assert_allclose(sub_point[i], P, rtol=0, atol=1e-14 * 10 if tol == 1e-12 else 1e-10)
+        if b["body_box"][j, 0] > 0.0:
+            assert 0.0 < f < 1.0                                   # the box is cut by the surface
     others = np.setdiff1d(np.arange(n), b["body_rfe"])
     np.testing.assert_array_equal(F[others], F0[others])           # other RFEs untouched
     assert np.all(sub_frac[others] == -1.0)
@@ -98,8 +142,9 @@ def test_body_submergence_fraction_and_slamming_limits():
     """Buoyancy rho g V f with f linear over the height; slamming only entering, only while crossing."""
     R = np.eye(3)[None]
     base = dict(body_rfe=np.array([0]), body_volume=np.array([2.0]), body_height=np.array([2.0]),
-                body_cob=np.zeros((1, 3)), body_drag=np.zeros((1, 3)), body_added_mass=np.zeros((1, 3)),
-                body_added_inertia=np.zeros((1, 3)), body_slam=np.array([math.pi * 3.0]))
+                body_box=np.zeros((1, 3)), body_cob=np.zeros((1, 3)), body_drag=np.zeros((1, 3)),
+                body_added_mass=np.zeros((1, 3)), body_added_inertia=np.zeros((1, 3)),
+                body_slam=np.array([math.pi * 3.0]))
 
     def fz(z, vz):
         F, M = np.zeros((1, 3)), np.zeros((1, 3))
@@ -115,6 +160,86 @@ def test_body_submergence_fraction_and_slamming_limits():
     assert fz(0.0, 2.0) == pytest.approx(fz(0.0, 0.0), rel=1e-14)              # leaving: no slam
     assert fz(-1.5, -2.0) == pytest.approx(fz(-1.5, 0.0), rel=1e-14)           # submerged: no slam
     assert fz(2.0, -2.0) == 0.0                                                # in air: nothing
+
+
+def still_box(half, R, z, volume, cob=(0.0, 0.0, 0.0), height=None):
+    """Force, moment about the centre of mass, fraction and point of application of one body
+    at rest in still water (surface z = 0), its centre of mass at height z: with box
+    half-sizes ``half``, or without (``half`` zeros, vertical extent ``height``)."""
+    F, M = np.zeros((1, 3)), np.zeros((1, 3))
+    frac, point = np.zeros(1), np.zeros((1, 3))
+    body_hydro_forces(np.array([0]), np.array([volume]), np.array([height or 2.0 * half[2]]),
+                      np.array([half], float), np.array([cob], float), np.zeros((1, 3)), np.zeros((1, 3)),
+                      np.zeros((1, 3)), np.zeros(1), RHO, G, 1.0, np.asarray(R, float)[None],
+                      np.array([[0.0, 0.0, z]]), np.zeros((1, 3)), np.zeros((1, 3)), np.zeros(1), np.zeros((1, 3)),
+                      np.zeros((1, 3)), F, M, np.zeros((1, 3, 3)), np.zeros((1, 3)), frac, point)
+    return F[0], M[0], frac[0], point[0]
+
+
+def pitch(theta):
+    """Rotation by theta about the global y axis (body z tilts toward +x)."""
+    c, s = math.cos(theta), math.sin(theta)
+    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
+
+
+@pytest.mark.parametrize("half, theta_deg, cob_z, restoring", [
+    ((2.0, 1.0, 0.5), 10.0, 0.0, True),        # flat box: BM = a^2/(3c) = 2.67 m > BG = c/2 = 0.25 m
+    ((2.0, 1.0, 0.5), 10.0, 0.3, True),        # centre of buoyancy 0.3 m above the centre of mass
+    ((0.3, 0.5, 1.0), 5.0, 0.0, False),        # tall box: BM = 0.03 m < BG = 0.5 m, it capsizes
+])
+def test_tilted_half_submerged_box_buoyancy_and_moment(half, theta_deg, cob_z, restoring):
+    """A box (half-sizes a, b, c) pitched by theta, its centre on the surface: the plane
+    z' = x' tan(theta) through the centre leaves the lower half under water (volume fraction
+    1/2 by symmetry, buoyancy rho g V / 2) with its centroid at x' = a^2 t / (3c),
+    z' = a^2 t^2 / (6c) - c/2 (t = tan theta, body axes; the wedge integrals over
+    -c <= z' <= x' t). The moment about the centre of mass is -X rho g V / 2 about y, X the
+    global horizontal arm of that centroid (plus the centre of buoyancy's offset): negative
+    (restoring) when BM = a^2 / (3c) exceeds BG = c/2 - cob."""
+    a, b, c = half
+    th = math.radians(theta_deg)
+    t = math.tan(th)
+    assert a * t < c                        # the plane cuts the two x faces (the wedge formula)
+    R = pitch(th)
+    volume = 0.75 * 8.0 * a * b * c         # an open box: 3/4 of its envelope displaces water
+    cob = np.array([0.0, 0.0, cob_z])
+    z = -(R @ cob)[2]                       # the box centre (centre of buoyancy) on the surface
+    F, M, f, point = still_box(half, R, z, volume, cob)
+    B = RHO * G * volume / 2.0
+    xs = np.array([a * a * t / (3.0 * c), 0.0, a * a * t * t / (6.0 * c) - c / 2.0])
+    arm = R @ (cob + xs)
+    assert f == pytest.approx(0.5, abs=1e-14)
+    np.testing.assert_allclose(F, [0.0, 0.0, B], rtol=0, atol=1e-12 * B)
+    np.testing.assert_allclose(M, [0.0, -arm[0] * B, 0.0], rtol=0, atol=1e-12 * B)
+    np.testing.assert_allclose(point, [0.0, 0.0, z] + arm, rtol=0, atol=1e-14)
+    # the metacentric form of the same moment, to first order in theta
+    gm = a * a / (3.0 * c) - (c / 2.0 - cob_z)
+    assert M[1] == pytest.approx(-B * gm * th, rel=0.02)
+    assert (M[1] < 0.0) == restoring
+
+
+def test_upright_box_is_the_height_model():
+    """Upright, a box with height c gives the height model's buoyancy (fraction linear over
+    c) and no moment; fully submerged it acts at the centre of buoyancy exactly; tilted and
+    clear of the surface it is the same as upright (the attitude matters only in the
+    splash zone)."""
+    half, volume = (2.0, 1.0, 0.5), 6.0
+    for z, frac in ((0.6, 0.0), (0.25, 0.25), (0.0, 0.5), (-0.4, 0.9), (-0.5, 1.0), (-2.0, 1.0)):
+        F, M, f, point = still_box(half, np.eye(3), z, volume)
+        F0, M0, f0, point0 = still_box((0.0, 0.0, 0.0), np.eye(3), z, volume, height=1.0)
+        assert f == pytest.approx(frac, abs=1e-14) and f0 == pytest.approx(frac, abs=1e-15)
+        np.testing.assert_allclose(F, F0, rtol=1e-13, atol=1e-9)
+        np.testing.assert_allclose(M, 0.0, atol=1e-9)
+    cob = (0.2, -0.1, 0.3)
+    R = pitch(0.4)
+    F, M, f, point = still_box(half, R, -5.0, volume, cob)
+    F0, M0, f0, point0 = still_box((0.0, 0.0, 0.0), R, -5.0, volume, cob, height=1.0)
+    assert f == 1.0
+    np.testing.assert_array_equal(F, F0)
+    np.testing.assert_array_equal(M, M0)
+    np.testing.assert_array_equal(point, point0)
+    # tilted, the box reaches higher than c/2: at z = -0.6 the height model is under, the box is not
+    F, M, f, point = still_box(half, R, -0.6, volume)
+    assert f < 1.0 and still_box((0.0, 0.0, 0.0), R, -0.6, volume, height=1.0)[2] == 1.0
 
 
 # ----------------------------------------------------------------------------- tension-only SDEs
@@ -250,11 +375,33 @@ def test_base_scenario_is_valid():
      "one line per body"),
     (lambda d: d["bodies"].update(buoy={"mass": 10.0, "radius_of_gyration": 0.2}), "bodies.buoy",
      "not attached"),
+    (lambda d: d["bodies"]["payload"].update(dimensions=[2.0, -1.0, 2.0]), "bodies.payload.dimensions.1",
+     "greater than 0 m"),
+    (lambda d: d["bodies"]["payload"].update(dimensions=[1.0, 1.0, 1.5]), "bodies.payload.height",
+     "differs from the box's height dimensions.2 = 1.5 m"),
+    (lambda d: d["bodies"]["payload"].update(dimensions=[1.0, 0.5, 2.0], volume=1.2), "bodies.payload.volume",
+     "more than the box"),
 ])
 def test_bad_bodies_name_the_field(mutate, field, words):
     errors = errors_of(mutate)
     assert field in errors, errors
     assert words in errors[field]
+
+
+def test_box_dimensions_reach_the_model():
+    """``dimensions`` [a, b, c]: the kernel's half-sizes, the height c, the deck footprint
+    [a, b]; without them the body has no box (zeros: the height model)."""
+    from rfesim.model.compile import compile_scenario
+    data = copy.deepcopy(BASE)
+    body = data["bodies"]["payload"]
+    del body["height"]
+    body.update(dimensions=[3.0, 2.0, 1.5], volume=8.0)
+    sc = rfesim.Scenario.model_validate(data)
+    assert sc.bodies["payload"].vertical_extent() == 1.5
+    assert sc.bodies["payload"].deck_footprint() == [3.0, 2.0]
+    np.testing.assert_array_equal(compile_scenario(sc).km.body_box, [[1.5, 1.0, 0.75]])
+    np.testing.assert_array_equal(compile_scenario(rfesim.Scenario.model_validate(copy.deepcopy(BASE))).km.body_box,
+                                  [[0.0, 0.0, 0.0]])
 
 
 # ----------------------------------------------------------------------------- Jacobian with a body and a slack rope

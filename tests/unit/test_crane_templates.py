@@ -235,6 +235,22 @@ def test_a_frame_stroke_table_takes_the_branch_of_the_legs():
     assert "outside their range" in errors["cranes.af.cylinder.stroke.1.1"]
 
 
+def test_a_frame_stroke_table_keeps_the_legs_branch_with_a_raised_base():
+    """A cylinder base above the hinge line puts both triangle branches inside the legs'
+    range: from the inboard base (-3, 3) the dead point (the legs pointing at the base) is
+    45 deg inboard, and a stroke for a 15 deg inboard tilt also fits 75 deg inboard, past the
+    base. The legs work through upright, so the table keeps the branch that holds it (it gave
+    -60 and -75 deg for -30 and -15 deg, a jump of 60 deg to the next row); from the outboard
+    base (3, 3) likewise."""
+    tilts = (-30.0, -15.0, 0.0, 15.0, 35.0)
+    for base in ([-3.0, 3.0], [3.0, 3.0]):
+        cyl = {"base": base, "eye": 6.0}
+        L = [cylinder_lever(CylinderSpec(**cyl), math.radians(90.0 - tilt))[0] for tilt in tilts]
+        a = expand(a_frame(tilt_deg=None, cylinder=dict(cyl, stroke=[[10.0 * k, x] for k, x in enumerate(L)])))
+        (drive,) = a["lines"]["af_legs"]["end_a"]["drives"]
+        assert np.allclose(np.array(drive["angle"]), [[10.0 * k, t] for k, t in enumerate(tilts)], atol=1e-9), base
+
+
 @pytest.mark.parametrize("tpl, over, field, words", [
     ("column", {"vessel": "tug"}, "cranes.c.vessel", "unknown vessel 'tug'"),
     ("column", {"luffing_deg": None}, "cranes.c.luffing_deg", "or cylinder.stroke"),

@@ -288,18 +288,32 @@ def test_seabed_against_quadrature(seed, damped):
 
 
 def test_seabed_force_is_never_tensile():
-    """An element lifting off fast: the damper would pull, the force is clipped to zero."""
+    """An element lifting off fast: the damper would pull, the force is clipped to zero, and
+    the element is out of contact: no contact length (the touchdown output places the
+    touchdown point on RFEs with a contact length; audit 7 found it on RFEs the seabed no
+    longer pushed, which kept the full 2 m here) and no friction, its anchor released."""
     R = np.eye(3)[None]
     r = np.array([[0.0, 0.0, -100.0 + 0.2 - 0.01]])           # 1 cm penetration, radius 0.2
     F = np.zeros((1, 3))
     M = np.zeros((1, 3))
-    contact_force = np.zeros(1)
-    contact_length = np.zeros(1)
-    call_seabed(np.array([2.0]), np.array([0.2]), np.array([1e4]), -100.0, 1e3, R, r,
-                np.array([[0.0, 0.0, 10.0]]), np.zeros((1, 3)), F, M, contact_force, contact_length)
+    contact_force = np.full(1, np.nan)
+    contact_length = np.full(1, np.nan)
+    # spring 1e3 * 2 m * 0.01 m = 20 N; damper 1e4 * 2 m * 10 m/s = 2e5 N pulling
+    anchor_trial, anchored_trial, friction = call_seabed(
+        np.array([2.0]), np.array([0.2]), np.array([1e4]), -100.0, 1e3, R, r, np.array([[0.0, 0.0, 10.0]]),
+        np.zeros((1, 3)), F, M, contact_force, contact_length, mu=(0.5, 0.5), kt=1e3,
+        anchor=r + 0.3, anchored=np.ones(1, np.int64), mode=0)
     np.testing.assert_array_equal(F, 0.0)
     np.testing.assert_array_equal(M, 0.0)
     assert contact_force[0] == 0.0
+    assert contact_length[0] == 0.0
+    np.testing.assert_array_equal(friction, 0.0)
+    assert anchored_trial[0] == 0
+    np.testing.assert_array_equal(anchor_trial, r)
+    # lifting off slowly the spring still pushes: in contact over the whole element
+    call_seabed(np.array([2.0]), np.array([0.2]), np.array([1e4]), -100.0, 1e3, R, r, np.array([[0.0, 0.0, 1e-4]]),
+                np.zeros((1, 3)), F, M, contact_force, contact_length)
+    assert contact_force[0] == pytest.approx(20.0 - 1e4 * 2.0 * 1e-4, rel=1e-12)
     assert contact_length[0] == 2.0
 
 

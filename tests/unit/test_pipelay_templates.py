@@ -84,7 +84,8 @@ def test_s_lay_geometry_follows_the_natural_catenary_from_the_stinger_tip():
     tens = data["supports"]["lay1_tensioner"]
     expected = tens["length"] + 2.0 + Rp * theta + nat["suspended_length"] + 50.0
     assert line["length"] == pytest.approx(expected, rel=1e-12)
-    assert line["elements"] == math.ceil(line["length"] / 4.0)
+    # elements of a third of the station spacing (at most 4 m): the roller reactions converge
+    assert line["elements"] == math.ceil(line["length"] / min(4.0, st["spacing"] / 3.0))
     np.testing.assert_allclose(line["end_a"]["position"], np.array([10.0, -5.0, 0.0]) + rot @ tens["entry"],
                                atol=1e-12)
     assert line["end_a"]["attach"] == "free" and tens["attach"] == "barge"

@@ -75,7 +75,7 @@ def test_normal_contact_on_a_profile_against_quadrature(seed):
         force, moment, normal, contact = ref.seabed_on_plane_by_quadrature(
             length[i], radius[i], damping[i], P0, nrm, k, R[i], r[i], v[i], w[i])
         if normal == 0.0:
-            assert np.all(F[i] == 0.0) and cf[i] == 0.0
+            assert np.all(F[i] == 0.0) and cf[i] == 0.0 and cl[i] == 0.0 == contact
             continue
         touched += 1
         np.testing.assert_allclose(F[i], force, rtol=1e-5, atol=1e-6 * normal)

@@ -176,6 +176,20 @@ def test_payout_speed_lengthens_the_rest_gap_by_the_damping_offset():
     assert km.sde_arm_left[s, 0] - conn_still == pytest.approx(expect, rel=1e-9)
 
 
+def test_shock_absorber_damping_has_no_default():
+    """An absorber without its damping is refused, naming the field and why (it used to default
+    to 0: an undamped spring that rings for ever); an explicit 0 is a plain spring: the first
+    SDE then has no axial damping at all, the rest of the rope keeps its own."""
+    errs = errors_of(scene(winches={"w": {"line": "hoist", "shock_absorber": {"stiffness": 3e6}}}))
+    assert "rings for ever" in errs["winches.w.shock_absorber.damping"], errs
+    sc = scene(winches={"w": {"line": "hoist", "shock_absorber": {"stiffness": 3e6, "damping": 0.0}}},
+               damping={"axial_ratio": 0.2})
+    model = compile_scenario(load_scenario(sc))
+    km, li = model.km, model.line("hoist")
+    assert km.sde_damping[li.sde_start, 0] == 0.0
+    assert np.all(km.sde_damping[li.sde_start + 1:li.sde_stop, 0] > 0.0)
+
+
 def test_shock_absorber_is_in_series_with_the_first_sde():
     sc = scene(winches={"w": {"line": "hoist", "shock_absorber": {"stiffness": 3e6, "damping": 4e4}}})
     model = compile_scenario(load_scenario(sc))

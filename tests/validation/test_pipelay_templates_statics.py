@@ -39,7 +39,7 @@ def test_s_lay_template_statics_match_the_natural_catenary():
     res = statics_of("scenarios/s_lay_template.json")
     line = res.line("lay")
     H = -line.end_b_force[0][0]                              # the grounded pipe carries H to end B
-    assert H == pytest.approx(H_given, rel=0.05)
+    assert H == pytest.approx(H_given, rel=0.005)            # statics pays the pipe until it does
     # the stinger tip (pipe axis) and the catenary from it with the given H
     st = data["supports"]["lay_stinger"]
     lift = (D / 2 + st["roller_radius"]) / math.cos(math.radians(st["v_angle_deg"]))
@@ -51,18 +51,22 @@ def test_s_lay_template_statics_match_the_natural_catenary():
     assert line.touchdown_position[0][0] == pytest.approx(tip[0] + nat["horizontal_span"], abs=layer)
     # top tension at the tensioner: H, the submerged weight up to the surface, the weight in
     # air above it (the rollers are normal to the pipe); within w sqrt(EI/H) of the catenary
-    # with the H the bending line settles at (given H: 150 kN, settled: 4 % lower)
+    # with the H the bending line settles at (statics pays the pipe out or in until H is the
+    # given 150 kN: rfesim.solvers.lay_statics)
     out = lay_summary(res)
     expected_top = H + W_SUB * (0.0 - z_bed) + W_AIR * zA
     assert out["top_tension"][0] == pytest.approx(expected_top, abs=W_SUB * layer)
     assert out["top_tension"][0] == pytest.approx(expected_top - H + H_given, rel=0.05)
-    # the pipe leaves the stinger tip at the catenary's departure angle, within the turn of its
-    # tangent (curvature up to w/H) over the boundary layer on either side: 4.5 deg (measured 2.5)
+    # the pipe passes the stinger tip near the catenary's departure angle, within the turn of
+    # its tangent (curvature up to w/H) over the boundary layer on either side: 4.5 deg
+    # (measured 3.2). It leaves the last roller it touches, station 9, a station before the
+    # tip (stations 10 and 11 carry nothing): the bending stiffness lifts it off early
     assert out["departure_angle"][0] == pytest.approx(nat["top_angle_deg"],
                                                       abs=math.degrees(2 * layer * W_SUB / H_given))
     # the stinger carries the pipe, no roller pulls; overbend strain D/(2R) on the stinger
     reaction = out["roller_reactions"]["lay_stinger"][0]
     assert np.all(reaction >= 0.0) and reaction[:4].min() > 0.0
+    assert reaction[-4:].max() == 0.0 and reaction[-6:-4].min() > 0.0           # lift-off at station 9
     assert out["overbend_strain"] == pytest.approx(D / (2 * Rp), rel=0.25)
     assert out["sagbend_curvature"] == pytest.approx(W_SUB / H_given, rel=0.2)
 
@@ -98,6 +102,8 @@ def test_j_lay_statics_leave_the_tower_at_its_angle():
     out = lay_summary(res)
     assert out["departure_angle"][0] == pytest.approx(85.0, abs=1.0)
     H = -line.end_b_force[0][0]
+    # given the tower angle, the collar holds the length of the 85 deg catenary and H
+    # settles 1.7 % lower (the bending stiffness leaves more pipe in the span)
     assert H == pytest.approx(H_given, rel=0.05)
     nat = natural_catenary(W_SUB, h, H_given)
     assert line.touchdown_position[0][0] == pytest.approx(nat["horizontal_span"], abs=layer)
