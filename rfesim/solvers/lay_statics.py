@@ -110,15 +110,15 @@ def settle_lay_tension(system, sc, state, info, solve):
     from ..errors import SolverError
     from ..model.compile import _submerged_weight
     model = system.model
-    todo = [(ti, sc.supports[ti.name].horizontal_tension) for ti in getattr(model, "tensioners", [])
+    held = [(ti, sc.supports[ti.name].horizontal_tension) for ti in getattr(model, "tensioners", [])
             if getattr(sc.supports[ti.name], "horizontal_tension", None) is not None]
-    if not todo:
+    if not held:
         return state, info
     km, ws = system.km, system.ws
     lines = {li.name: li for li in model.lines}
     iterations = info.iterations
     warnings = list(info.warnings)              # the first solve's (a catenary retry's note)
-    for ti, target in todo:
+    for ti, target in held:
         j, li = ti.index, lines[ti.line]
         reels = [ri.index for ri in getattr(model, "reels", []) if ri.line == ti.line]
         w = _submerged_weight(li.section, sc)
