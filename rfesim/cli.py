@@ -247,6 +247,9 @@ def cmd_check(args) -> int:
         raise ScenarioError(check_runnable(sc))
     from .api import check_model
     check_model(sc)                 # and what compiling the model refuses (no solve)
+    for w in getattr(sc, "_template_warnings", []):
+        # a template's warnings (a mesh too coarse for the rollers), as a run logs them
+        logging.getLogger("rfesim").warning("scenario: %s", w)
     an = sc.analysis
     parts = [f"{len(sc.lines)} lines", f"{len(sc.vessels)} vessels", f"{len(sc.line_types)} line types",
              f"{sum(li.elements for li in sc.lines.values())} elements"]

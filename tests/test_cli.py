@@ -5,6 +5,7 @@ import copy
 import io
 import json
 import os
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -96,6 +97,20 @@ def test_check_builds_a_scene_of_the_other_formulations(tmp_path, capsys):
     path = write_scenario(tmp_path, data, "modified.json")
     assert main(["check", str(path)]) == 0
     assert capsys.readouterr().out.startswith("OK: cli cantilever")
+
+
+def test_check_shows_a_template_warning(tmp_path, capsys):
+    # the S-lay template with elements longer than half the roller spacing: `check` says so
+    # (the warning a run puts among its statics warnings), and still passes
+    root = Path(__file__).resolve().parents[1]
+    data = json.loads((root / "scenarios" / "s_lay_template.json").read_text())
+    data["pipelay"]["lay"]["element_length"] = 4.0
+    shutil.copytree(root / "scenarios" / "data", tmp_path / "data")       # its RAO file
+    path = write_scenario(tmp_path, data, "coarse.json")
+    assert main(["check", str(path)]) == 0
+    captured = capsys.readouterr()
+    assert captured.out.startswith("OK: ")
+    assert "scenario: pipelay.lay.element_length: elements of 3.99" in captured.err
 
 
 def test_verbose_logs_library_messages(tmp_path, capsys):
