@@ -374,16 +374,22 @@ DYNAMICS_WARNING = "; dynamics warning: "   # what precedes each dynamics warnin
 
 
 def _dynamic_warnings(model, results, sc=None) -> str:
-    """The RAO vessels whose table leaves out a noticeable part of the sea
-    (rfesim.sea.rao.rao_range_warnings) and the lines whose tension in the run went past
+    """A duration the output interval does not divide, the RAO vessels whose table leaves
+    out a noticeable part of the sea (rfesim.sea.rao.rao_range_warnings) and the lines whose tension in the run went past
     their fem shear limit (rfesim.solvers.buckling.dynamic_shear_warnings; ``model`` None:
     a scene of other formulations), logged and as text for the message."""
     from .sea.rao import rao_range_warnings
+    from .solvers.dynamics import output_interval_warning
     warnings = (rao_range_warnings(sc) if sc is not None else []) + (
         dynamic_shear_warnings(model, results) if model is not None else [])
     for w in warnings:
         log.warning("dynamics: %s", w)
-    return "".join(f"{DYNAMICS_WARNING}{w}" for w in warnings)
+    # a duration the output interval does not divide: logged when the run was scheduled
+    # (rfesim.solvers.dynamics.output_schedule); the results' message keeps it too
+    dyn = sc.analysis.dynamics if sc is not None else None
+    schedule = (output_interval_warning(float(dyn.duration), float(dyn.output_interval))
+                if dyn is not None and dyn.output_interval else None)
+    return "".join(f"{DYNAMICS_WARNING}{w}" for w in [schedule] * bool(schedule) + warnings)
 
 
 def modes(scenario, n: int | None = None) -> ModalResults:

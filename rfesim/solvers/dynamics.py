@@ -788,6 +788,16 @@ def _check_output_size(system: System, nt: int) -> None:
                               f"interval or a shorter duration")])
 
 
+def output_interval_warning(T: float, out_dt: float) -> str | None:
+    """The warning of a duration that is not a whole number of output intervals (the run
+    goes on to the next output time), or None."""
+    n_out = _whole_intervals(T, out_dt)
+    if n_out * out_dt > T * (1.0 + 1e-9):
+        return (f"analysis.dynamics.duration ({T:g} s) is not a whole number of output intervals ({out_dt:g} s): "
+                f"the run goes on to the next output time, t = {n_out * out_dt:g} s")
+    return None
+
+
 def output_schedule(T: float, h: float, output_interval: float | None, adaptive: bool = False):
     """(output interval, number of output intervals, time step) of a run of duration T.
 
@@ -801,9 +811,9 @@ def output_schedule(T: float, h: float, output_interval: float | None, adaptive:
     if output_interval is not None:
         out_dt = float(output_interval)
         n_out = _whole_intervals(T, out_dt)
-        if n_out * out_dt > T * (1.0 + 1e-9):
-            log.warning("analysis.dynamics.duration (%g s) is not a whole number of output intervals (%g s): "
-                        "the run goes on to the next output time, t = %g s", T, out_dt, n_out * out_dt)
+        note = output_interval_warning(T, out_dt)
+        if note:
+            log.warning("%s", note)
     else:
         out_dt = T / 1000.0 if adaptive else h * max(1, math.ceil(T / h / 10000.0))
         n_out = _whole_intervals(T, out_dt)

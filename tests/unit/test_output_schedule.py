@@ -64,6 +64,11 @@ def test_partial_last_interval_is_run_and_reported(caplog):
     assert res.time[-1] == pytest.approx(0.12, rel=1e-12)
     assert len(res.time) == 5
     assert "not a whole number of output intervals" in caplog.text and "t = 0.12 s" in caplog.text
+    # and the results keep it (a service client or a script sees no log): once, in the message
+    assert res.message.count("; dynamics warning: analysis.dynamics.duration (0.1 s) is not a whole number of "
+                             "output intervals (0.03 s): the run goes on to the next output time, t = 0.12 s") == 1
+    whole = rfesim.simulate(rfesim.load_scenario(scenario(duration=0.12, output_interval=0.03)))
+    assert "dynamics warning" not in whole.message
 
 
 def test_step_longer_than_the_duration_runs_one_step():
