@@ -98,22 +98,21 @@ def _axial_strain(sc: dict, lt: dict, pos: np.ndarray, tension: np.ndarray) -> n
     axial strain at the same tension and curvature is larger)."""
     from .model.sections import section_from_type
     from .scenario.schema import LineType
+    from .solvers.dynamics import hydrostatic_pressures
     ltm = LineType.model_validate(lt)
     sec = section_from_type(ltm)
     env = sc.get("environment") or {}
-    g = float(env.get("gravity", 9.81))
-    water = env.get("water") or None
+    water = env.get("water") or {}
     z = pos[:, 1:-1, 2]
-    p_e = np.zeros_like(z)
-    if water is not None:
-        p_e = float(water.get("density", 1025.0)) * g * np.maximum(float(water.get("surface_level", 0.0)) - z, 0.0)
     A_e = sec.displaced_area
     A_i = 0.0
-    p_i = np.zeros_like(z)
+    rho_c = 0.0
     if ltm.wall_thickness is not None and ltm.outer_diameter is not None:
         A_i = math.pi / 4.0 * (ltm.outer_diameter - 2.0 * ltm.wall_thickness) ** 2
-        if ltm.contents_density > 0.0:
-            p_i = ltm.contents_density * g * (pos[:, :, 2].max(axis=1)[:, None] - z)
+        rho_c = ltm.contents_density
+    p_e, p_i = hydrostatic_pressures(z, pos[:, :, 2].max(axis=1)[:, None], float(env.get("gravity", 9.81)),
+                                     float(water.get("density", 1025.0)) if env.get("water") else 0.0,
+                                     float(water.get("surface_level", 0.0)), rho_c)
     nu = ltm.poisson_ratio
     wall = tension + p_i * A_i - p_e * A_e
     return (wall - 2.0 * nu * (p_i * A_i - p_e * A_e)) / sec.EA

@@ -389,16 +389,13 @@ class Recorder:
         pressure) at the line's highest point z_top now (its end points and SDE points, the
         rows of the line in self._pts_all written by record_outputs); 0 for an empty pipe."""
         z = ws.sde_point[li.sde_start:li.sde_stop, 2]
-        p_ext = np.zeros(li.elements)
-        if km.has_water and km.water_density > 0.0:
-            p_ext = km.water_density * km.gravity * np.maximum(km.water_level - z, 0.0)
-        p_int = np.zeros(li.elements)
         rho_c = self._contents_density[li.name]
+        z_top = 0.0
         if rho_c > 0.0:
             row = int(self._line_ranges[j, 4])
             z_top = float(self._pts_all[row:row + li.elements + 2, 2].max())
-            p_int = rho_c * km.gravity * (z_top - z)
-        return p_ext, p_int
+        rho_w = km.water_density if km.has_water else 0.0
+        return hydrostatic_pressures(z, z_top, km.gravity, rho_w, km.water_level, rho_c)
 
     def _record_tuggers(self, k: int, ws) -> None:
         """Tension, length and force on the body of each tugger line (rfesim.loads.tugger)."""
@@ -786,6 +783,22 @@ def _check_output_size(system: System, nt: int) -> None:
                               f"{nt:.4g} output times would store about {need / 2**30:.3g} GiB of results, more than "
                               f"half of this machine's memory ({have / 2**30:.3g} GiB): give a longer output "
                               f"interval or a shorter duration")])
+
+
+def hydrostatic_pressures(z, z_top, gravity: float, water_density: float, water_level: float,
+                          contents_density: float):
+    """(p_ext, p_int) Pa at heights z (docs/theory.md, "Stresses"): p_ext = rho_w g (surface
+    level - z) below the still-water surface, else 0 (no wave pressure; rho_w 0: no water);
+    p_int = rho_c g (z_top - z), the contents at rest and open at the line's highest point
+    z_top (0 for an empty pipe). Shared by the von Mises channel and lay_summary's axial strain."""
+    z = np.asarray(z, float)
+    p_ext = np.zeros_like(z)
+    if water_density > 0.0:
+        p_ext = water_density * gravity * np.maximum(water_level - z, 0.0)
+    p_int = np.zeros_like(z)
+    if contents_density > 0.0:
+        p_int = contents_density * gravity * (z_top - z)
+    return p_ext, p_int
 
 
 def output_interval_warning(T: float, out_dt: float) -> str | None:
