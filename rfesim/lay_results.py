@@ -146,8 +146,9 @@ def lay_summary(res, line: str | None = None, *, outer_diameter: float | None = 
     point, ``departure_arc_length`` (nt,) m; ``touchdown_position`` (nt, 3) m,
     ``touchdown_arc_length`` (nt,) m; ``sagbend_moment``, ``sagbend_curvature``,
     ``sagbend_strain``, ``overbend_moment``, ``overbend_curvature``, ``overbend_strain``
-    (maxima over the run; sagbend: concave-up part above the touchdown, overbend: concave
-    down, on the stinger/aligner; the ``*_strain`` are bending only, kappa D / 2);
+    (maxima over the run; sagbend: concave-up part between the lift-off point and the
+    touchdown, overbend: concave down above the touchdown, on the stinger/aligner; the
+    ``*_strain`` are bending only, kappa D / 2);
     ``sagbend_total_strain``, ``overbend_total_strain``: the largest outer-fibre strain
     axial + bending, eps_a + kappa D / 2 (the fibre on the tension side; eps_a the wall's
     axial strain, ``_axial_strain``), which strain criteria such as DNV-ST-F101's (the
@@ -226,7 +227,10 @@ def lay_summary(res, line: str | None = None, *, outer_diameter: float | None = 
         zpp = np.gradient(np.gradient(pos[k, :, 2], s_pts), s_pts)
         zpp_sde = np.interp(s_sde, s_pts, zpp)
         above = s_sde <= (td[k] if np.isfinite(td[k]) else s_sde[-1])
-        for part, mask in (("sagbend", above & (zpp_sde > 0.0)), ("overbend", above & (zpp_sde < 0.0))):
+        # the sag bend hangs beyond the lift-off point: a pipe bent concave up on the reel,
+        # ramp or straightener (reel-lay's plastic bends) is not the sag bend
+        free = s_sde > s_pts[dep_index[k]]
+        for part, mask in (("sagbend", above & free & (zpp_sde > 0.0)), ("overbend", above & (zpp_sde < 0.0))):
             if mask.any():
                 out[f"{part}_moment"] = max(out[f"{part}_moment"], float(moment[k][mask].max()))
                 out[f"{part}_curvature"] = max(out[f"{part}_curvature"], float(curv[k][mask].max()))

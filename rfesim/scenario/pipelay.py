@@ -12,14 +12,14 @@ the collar, a tensioner-kind track along the tower; reel-lay: reel, aligner, str
 tensioner on the ramp) and, without one, a seabed. The suspended pipe follows the natural
 catenary (``rfesim.catenary.natural_catenary``) with the horizontal lay tension H from
 its lift-off point (stinger tip, tower or ramp exit) to the touchdown point, so statics
-starts next to its solution. An S-lay or J-lay template that gives ``tension`` sets it as
-the track's ``horizontal_tension``: statics pays the pipe out (or hauls it in) through the
-tensioner or collar until the pipe carries H to its pinned end B
+starts next to its solution. A template that gives ``tension`` sets it as the track's
+``horizontal_tension``: statics pays the pipe out (or hauls it in) through the tensioner
+or collar (and turns a reel-lay reel with it) until the pipe carries H to its pinned end B
 (rfesim.solvers.lay_statics); the bending stiffness leaves a little more pipe in the span
 than the catenary has, so without it H would settle a few per cent low (the S-lay template:
-143.6 kN for 150 kN). A J-lay or reel-lay template given the tower or ramp angle, and a
-reel-lay template given the tension, hold the pipe where the catenary puts it, and H
-settles where that length puts it (scenarios/j_lay.json: 40.1 kN, 1.7 % below the 40.8 kN
+143.6 kN for 150 kN; reel-lay 53.3 kN for 54.9 kN). A J-lay or reel-lay template given the
+tower or ramp angle holds the pipe where the catenary puts it, and H settles where that
+length puts it (scenarios/j_lay.json: 40.1 kN, 1.7 % below the 40.8 kN
 of the 85 deg catenary). Geometry is in the vessel frame; the
 pipe leaves along the vessel's x axis (turn the vessel with ``heading_deg`` to lay elsewhere).
 
@@ -109,8 +109,9 @@ class TensionerSpec(_Strict):
     """The tensioner (S-lay, reel-lay) or the hang-off collar (J-lay): a straight track that
     holds the pipe (rfesim.loads.tensioner)."""
 
-    length: float | None = _units("m", "Track length (default: 10 m, at least three elements)", default=None,
-                                  gt=0.0)
+    length: float | None = _units("m", "Track length (default: 10 m, at least three elements). S-lay: the "
+                                  "expanded tensioner's track runs half an element longer, past the exit, because "
+                                  "its pads let go of the pipe over the last element", default=None, gt=0.0)
     capacity: float | None = _units("N", "Largest axial force the track holds (default: three times the top "
                                     "tension of the natural catenary, at least 1 MN)", default=None, gt=0.0,
                                     le=MAX_FORCE, limit=FORCE_LIMIT)
@@ -152,8 +153,8 @@ class _Template(_Strict):
     tension: float | None = _units("N", "Horizontal lay tension H of the suspended pipe (the bottom tension): the "
                                    "start shape's catenary has it, and for s-lay and j-lay statics pays the pipe "
                                    "out or hauls it in through the tensioner (collar) until the pipe carries it "
-                                   "to its pinned end B (the track's horizontal_tension); reel-lay holds the "
-                                   "length of that catenary, and H settles a few per cent lower",
+                                   "to its pinned end B (the track's horizontal_tension; reel-lay turns the "
+                                   "reel with it)",
                                    default=None, le=1.0e9,
                                    limit="beyond any lay vessel: the largest tensioners hold about 20 MN "
                                          "(check the units, newtons)")
@@ -467,6 +468,7 @@ class _Pipe:
         rho_w = env.water.density if env.water is not None else 0.0
         self.weight = self.mass * g                                     # N/m in air
         self.submerged_weight = self.weight - rho_w * g * math.pi / 4.0 * Dc * Dc
+        self.surface_level = env.water.surface_level if env.water is not None else 0.0   # still water, z
         self.material = pipe.material or ("elastoplastic" if method == "reel-lay" else "elastic")
         self.yield_stress = GRADE_YIELD[pipe.grade]
         self.spec = pipe
@@ -683,7 +685,10 @@ def _catenary_h(tpl, h: float, angle_deg: float | None, w: float, what: str) -> 
 def _s_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
     """S-lay: the tensioner on the deck line, 2 m of free pipe, the stinger arc to its tip;
     the tip angle equals the departure angle of the natural catenary from the tip (unless
-    the stinger length is given)."""
+    the stinger length is given). The deck line is tangent to the arc at station 0 (the
+    pipe's slope is continuous there, its curvature steps from 0 to 1/R). The tensioner
+    support's track reaches half an element past the tensioner's exit: the pads let go over
+    the last element (rfesim.loads.tensioner), so the pipe is held up to the exit."""
     st = tpl.stinger
     w, H = pipe.submerged_weight, tpl.tension
     a = H / w
@@ -747,7 +752,20 @@ def _s_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
         default_element = None      # the stinger support refuses the spacing itself, naming it
     track = _track_length(tpl, geometry(10.0)["length"], default_element)
     geo = geometry(track)
-    top = H + w * h + pipe.weight * max(zA + vpos[2], 0.0)
+    # the tensioner's grip force: the string's effective tension over a frictionless path
+    # (dT = w dz) from the laid pipe up to the deck line, submerged weight below the still
+    # water surface and the weight in air above it
+    z_top = zA + vpos[2]
+    z_surface = pipe.surface_level
+    top = H + w * (min(z_top, z_surface) - z_bed) + pipe.weight * max(z_top - z_surface, 0.0)
+    # the pads hold an RFE by min(1, xi / l, (L - xi) / l) of its centre's place xi along the
+    # track (rfesim.loads.tensioner): they let go of the pipe over the last element, and their
+    # hold ends half an element before the track's exit whatever the RFEs' places; the
+    # support's track reaches half an element past the tensioner's exit so that the pipe is
+    # held up to it and leaves it the gap's 2 m before station 0 at any mesh (docs/theory.md,
+    # "S-lay first station"; before, the free span was 2 + l/2 m and the first station's
+    # reaction 20 % low at the default elements)
+    half_element = 0.5 * geo["length"] / _element_count(tpl, geo["length"], default_element)
     layer = math.sqrt(pipe.EI / H)
     geo.update(
         default_element=default_element, station_spacing=spacing,
@@ -755,8 +773,9 @@ def _s_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
         max_element_reason=f"bending boundary layer sqrt(EI/H) = {layer:.3g} m and half the tensioner "
                            f"({0.5 * track:.3g} m) must each span at least one element",
         supports={
-            "tensioner": _tensioner(tpl, "", None, [x0 - gap - track, y0, zA], [1.0, 0.0, 0.0], track, top,
-                                    static_load=top, upstream=track, horizontal_tension=H),
+            "tensioner": _tensioner(tpl, "", None, [x0 - gap - track, y0, zA], [1.0, 0.0, 0.0],
+                                    track + half_element, top, static_load=top, upstream=track,
+                                    horizontal_tension=H),
             "stinger": {"kind": "stinger", "start": list(st.start), "direction": [1.0, 0.0, 0.0],
                         "radius": st.radius, "length": length_stinger, "spacing": spacing,
                         "roller_width": st.roller_width, "roller_radius": st.roller_radius,
@@ -901,11 +920,11 @@ def _reel_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
     layer = math.sqrt(pipe.EI / H)
     back_tension = tpl.reel.back_tension or 0.1 * (H + w * h)
     # the tensioner holds the catenary's top tension and the pipe on the ramp less the back tension
-    # no horizontal_tension: paying the plastic pipe through the straightener and over the
-    # aligner until H is reached takes statics from 10 s to about 5 minutes (1.45 m in six
-    # shifts for 54.9 kN); H settles where the held length puts it (docs/theory.md)
+    # given the tension, statics pays the pipe out through the tensioner (the reel turning
+    # with it) until the pipe carries H to end B (rfesim.solvers.lay_statics)
     tensioner = _tensioner(tpl, "", None, geo.pop("entry_t"), e, track, H + w * h,
-                           static_load=H + w * h + pipe.weight * track * math.sin(al) - back_tension)
+                           static_load=H + w * h + pipe.weight * track * math.sin(al) - back_tension,
+                           horizontal_tension=tpl.tension)
     entry_s, arc_start, take_off = geo.pop("entry_s"), geo.pop("arc_start"), geo.pop("take_off")
     arc = tpl.aligner_radius * al
     stations = max(2, round(arc / 1.0))

@@ -25,6 +25,23 @@ and the reel's back tension, stay as they were. The shift stays in the payout fo
 (a prescribed table is shifted by delta at all times, a driven tensioner's committed
 payout too; the results' ``payout`` starts at delta), so dynamics starts from that
 equilibrium without a jump.
+
+An elasto-plastic line (the reel-lay template's pipe through its straightener and over its
+aligner) takes two more measures (docs/theory.md, "reel-lay given tension"):
+
+* every shift solves from the plastic history the line had at t = 0 (the reeled pipe on the
+  drum, virgin pipe elsewhere; ``Model.initial_plastic_history``), not from the last shift's:
+  the settled state is the one a single statics solve at the settled payout gives, and a
+  shift back and forth through the straightener adds no plastic cycle (hauling in would
+  otherwise drag the pipe backwards through it, cycle by cycle);
+* Newton starts from the last equilibrium with the line slid along itself by delta
+  (``slide_line``): up to the track's exit every RFE takes the pose the line had delta
+  further on (cubic Hermite along the centres with the RFE axes as tangents, rotations
+  interpolated on SO(3)), so the pipe moves with the grips; over the suspended span the
+  slide tapers linearly to 0 at end B. Started from the grips moved alone, the grips (1e7
+  N/m per metre of track) sit at their capacity and the plastic hinges must be dragged
+  through the rollers: a 0.5 m shift of the reel-lay template's payout took 400 iterations
+  (8.5 s) and failed, four times in a row, before 0.3 m shifts went through.
 """
 from __future__ import annotations
 
@@ -90,6 +107,66 @@ def _largest_curvature(system, state, li) -> float:
     return float(ch[4][li.sde_start:li.sde_stop].max()) if li.sde_stop > li.sde_start else 0.0
 
 
+def _exp(w: np.ndarray) -> np.ndarray:
+    from ..kinematics import exp_so3_into
+    out = np.zeros((3, 3))
+    exp_so3_into(float(w[0]), float(w[1]), float(w[2]), out)
+    return out
+
+
+def _log(R: np.ndarray) -> np.ndarray:
+    from ..kinematics import log_so3_into
+    out = np.zeros(3)
+    log_so3_into(np.ascontiguousarray(R), out)
+    return out
+
+
+def slide_line(system, state, li, j: int, delta: float):
+    """A copy of ``state`` with line ``li`` slid along itself by ``delta`` (m, > 0 towards
+    end B): Newton's start after tensioner j pays out delta. The RFE at arc length s (along
+    the centres from end A) takes the pose the line had at s + delta f(s), f = 1 up to the
+    track's exit and falling linearly to 0 at end B (the suspended span takes the change of
+    length; end B stays). Between two centres the position is the cubic Hermite curve with
+    the RFE axes (times the distance) as tangents -- a chord would cut the arc of the reel
+    or aligner and press the pipe into the rollers -- and the rotation is interpolated on
+    SO(3); before end A (hauling in) the pose continues at the first element's curvature.
+    Only free RFEs move."""
+    km, ws, att = system.km, system.ws, system.att
+    system.evaluate(state)
+    i0, i1 = li.rfe_start, li.rfe_stop
+    r, R = ws.r[i0:i1].copy(), ws.R[i0:i1].copy()
+    s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(r, axis=0), axis=1))])
+    a = km.tens_att[j]
+    exit_p = att.p[a] + att.R[a] @ (km.tens_point[j] + km.tens_length[j] * km.tens_axis[j])
+    s_exit = s[int(np.argmin(np.linalg.norm(r - exit_p, axis=1)))]
+    s_b = s[-1]
+    f = np.where(s <= s_exit, 1.0, (s_b - s) / max(s_b - s_exit, 1e-300))
+    target = s + delta * f
+    rate0 = _log(R[0].T @ R[1]) / s[1]               # curvature of the first element (body frame)
+    new = state.copy()
+    for k in range(len(s)):
+        i = i0 + k
+        if km.rfe_kind[i] != 0:
+            continue
+        t = target[k]
+        if t < 0.0:
+            Rn = R[0] @ _exp(t * rate0)
+            pn = r[0] + t * (R[0] @ _exp(0.5 * t * rate0))[:, 0]
+        else:
+            t = min(t, s_b)
+            m = min(int(np.searchsorted(s, t, side="right")) - 1, len(s) - 2)
+            ln = s[m + 1] - s[m]
+            u = (t - s[m]) / ln
+            pn = ((2 * u ** 3 - 3 * u ** 2 + 1) * r[m] + (u ** 3 - 2 * u ** 2 + u) * ln * R[m][:, 0]
+                  + (3 * u ** 2 - 2 * u ** 3) * r[m + 1] + (u ** 3 - u ** 2) * ln * R[m + 1][:, 0])
+            Rn = R[m] @ _exp(u * _log(R[m].T @ R[m + 1]))
+        new.ref.X[i] = pn
+        new.ref.R[i] = Rn
+        new.q[i] = 0.0
+    system.evaluate(state)
+    return new
+
+
 def _shift(km, ws, j: int, reels: list[int], delta: float) -> None:
     """Pay out ``delta`` more through tensioner j and the reels that turn with it."""
     if km.tens_mode[j] == 0:
@@ -125,6 +202,12 @@ def settle_lay_tension(system, sc, state, info, solve):
         h = _exit_height(system, state, j, li)
         slope = catenary_slope(w, h, target) if w > 0.0 and h > 0.0 else -w
         cap = min(MAX_STEP * li.dx, 0.5 * km.tens_length[j])
+        # an elasto-plastic line: each shift from the t = 0 plastic history, Newton from the
+        # line slid with the grips (module docstring)
+        plastic = bool(km.has_plastic and np.any(km.sde_plastic[li.sde_start:li.sde_stop] == 1))
+        if plastic:
+            hist0 = (model.initial_plastic_history if getattr(model, "initial_plastic_history", None) is not None
+                     else np.zeros_like(ws.plastic_hist))[li.sde_start:li.sde_stop].copy()
         prev = None
         H = _end_b_horizontal(system, state, li)
         kappa = _largest_curvature(system, state, li)
@@ -137,9 +220,13 @@ def settle_lay_tension(system, sc, state, info, solve):
             delta = max(-cap, min(cap, -err / slope))          # H too high: pay out (delta > 0)
             for _attempt in range(RETRIES + 1):
                 saved = system.history()
+                start = state
+                if plastic:
+                    ws.plastic_hist[li.sde_start:li.sde_stop] = hist0
+                    start = slide_line(system, state, li, j, delta)
                 _shift(km, ws, j, reels, delta)
                 try:
-                    new, new_info = solve(state)
+                    new, new_info = solve(start)
                     k_new = _largest_curvature(system, new, li)
                     ok = k_new <= (1.0 + CURVATURE_JUMP) * kappa + 1e-4
                 except SolverError:

@@ -10,7 +10,11 @@ iterations on delta, until the tension of the line just off the drum (the first 
 the take-off point) equals the back tension (to 1 % or 100 N). The shift stays in
 the payout for the run (a prescribed table is shifted by delta at all times; a driven
 drum's committed D is shifted), so dynamics starts from that equilibrium without a jump.
-Then each such reel's offset ``ws.reel_offset[j]`` = grip force - back tension is stored:
+Each turn of the drum of an elasto-plastic line solves from the line's t = 0 plastic
+history (``Model.initial_plastic_history``: the reeled pipe on the drum, virgin pipe
+elsewhere), not from the last turn's, as the lay-tension shifts do
+(rfesim.solvers.lay_statics): the settled pipe carries one step from it, and turning the
+drum back and forth adds no plastic cycle. Then each such reel's offset ``ws.reel_offset[j]`` = grip force - back tension is stored:
 a driven reel's law acts on its own grip force less it (rfesim.loads.reel), so it starts
 at its set point (the back tension) and holds it in the mean.
 """
@@ -39,6 +43,13 @@ def _take_off_tension(system, state, j: int) -> float:
     return float(ch[0][i])
 
 
+def _sde_range(model, j: int) -> tuple[int, int]:
+    """SDE range of the line stored on reel j."""
+    ri = next(r for r in model.reels if r.index == j)
+    li = next(li for li in model.lines if li.name == ri.line)
+    return li.sde_start, li.sde_stop
+
+
 def settle_back_tension(system, sc, state, info, solve):
     """(state, info) with every reel that has a back tension holding it. ``solve(state)``
     -> (state, info) solves statics from a state (the committed grips kept)."""
@@ -54,6 +65,12 @@ def settle_back_tension(system, sc, state, info, solve):
         kg = km.reel_kg[j] * km.reel_radius[j] * km.reel_wrap[j]
         ea = float(np.max(model.km.sde_stiffness[:, 0] * model.km.sde_length)) if model.nsde else kg
         slope = 1.0 / (1.0 / kg + 50.0 / ea)
+        # an elasto-plastic line turns from its t = 0 plastic history each time
+        lo, hi = _sde_range(model, j)
+        hist0 = None
+        if km.has_plastic and hi > lo and np.any(km.sde_plastic[lo:hi] == 1):
+            init = getattr(model, "initial_plastic_history", None)
+            hist0 = (init if init is not None else np.zeros_like(ws.plastic_hist))[lo:hi].copy()
         prev = None
         for _ in range(MAX_SHIFTS):
             F = _take_off_tension(system, state, j)
@@ -68,6 +85,8 @@ def settle_back_tension(system, sc, state, info, solve):
             else:
                 ws.reel_D[j] += delta
             prev = (delta, F)
+            if hist0 is not None:
+                ws.plastic_hist[lo:hi] = hist0          # from the t = 0 plastic history (module docstring)
             state, info = solve(state)
             iterations += info.iterations
         else:

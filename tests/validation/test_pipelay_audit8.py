@@ -64,7 +64,8 @@ def test_s_lay_default_elements_are_a_third_of_the_station_spacing(slay):
 
 
 def test_s_lay_station_reactions_follow_the_tension_over_the_arc(slay):
-    """Away from the entry (the straight-to-arc kink at station 1) and the lift-off
+    """Away from the entry (stations 0-1, where the straight deck line turns onto the arc:
+    tests/validation/test_slay_first_station.py) and the lift-off
     (stations 7-9), a station carries the tension turned over its spacing, T s / R_p, and
     the weight of a spacing normal to the arc, w s cos(phi): stations 3 (in air), 5 and 6
     (in water) within 5 %; the V-rollers' normals lean 30 deg, so the pair's normal forces
