@@ -135,7 +135,6 @@ def test_column_crane_scenario_slews_and_lowers():
     data["environment"]["water"]["waves"]["ramp_duration"] = 10.0
     res = rfesim.simulate(data)
     out = crane_summary(res, "crane", cylinder=data["cranes"]["crane"]["cylinder"])
-    t = out["time"]
     slew = out["drive_angle"]["slewing"]
     assert slew[0] == pytest.approx(80.0, abs=1e-9) and slew[-1] == pytest.approx(90.0, abs=1e-9)
     assert np.all(np.diff(slew) >= -1e-9)
