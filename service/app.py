@@ -50,6 +50,11 @@ class JobAccepted(BaseModel):
     status_url: str
     events_url: str
     results_url: str
+    warnings: list[str] = Field(default_factory=list,
+                                description="Warnings found without a solve while checking the scenario (a "
+                                            "template's warning, an output interval that does not divide the "
+                                            "duration, an RAO table that leaves out part of the sea); the run's "
+                                            "statics and dynamics warnings are added to GET /jobs/{id}")
 
 
 class JobStatus(BaseModel):
@@ -70,6 +75,13 @@ class JobStatus(BaseModel):
     summary: dict[str, float | None] | None = Field(None, description="Max top tension, max/min tension, "
                                                     "max bend moment, touchdown range, DAF (SI units)")
     has_results: bool = False
+    warnings: list[str] = Field(default_factory=list,
+                                description="Warnings about the scenario and its run: those answered at submit, then "
+                                            "those the run logged (statics: no unique static shape, buckling, shear; "
+                                            "dynamics: ...), each once")
+    compile_time: float | None = Field(None, description="Wall time the worker spent compiling numba kernels for this "
+                                                         "run [s] (only on the first runs on a machine; part of "
+                                                         "wall_time)")
     sweep_id: str | None = None
     case_index: int | None = None
     links: dict[str, str] = Field(default_factory=dict)
@@ -103,6 +115,8 @@ class Health(BaseModel):
     running: int
     uptime: float
     manager: str
+    message: str = Field(description="What the workers are doing: ready, starting, or compiling the numba kernels "
+                                     "(the first start on a machine: a few minutes, jobs wait in the queue)")
 
 
 class SweepAccepted(BaseModel):
@@ -110,6 +124,10 @@ class SweepAccepted(BaseModel):
     status_url: str
     cases: int
     jobs: list[str]
+    warnings: list[str] = Field(default_factory=list,
+                                description="The cases' warnings found at submit (as POST /jobs): one a warning "
+                                            "every case has, with '(all n load cases)', else one per case naming "
+                                            "its values")
 
 
 class SweepStatus(BaseModel):
@@ -172,7 +190,8 @@ def _job_answer(job: dict) -> dict:
             "created": _iso(job["created"]), "started": _iso(job["started"]), "finished": _iso(job["finished"]),
             "attempts": job["attempts"], "cancel_requested": job["cancel_requested"], "worker": job["worker"],
             "worker_pid": job["worker_pid"], "wall_time": job["wall_time"], "summary": job["summary"],
-            "has_results": job["has_results"], "sweep_id": job["sweep_id"], "case_index": job["case_index"],
+            "has_results": job["has_results"], "warnings": job.get("warnings") or [],
+            "compile_time": job.get("compile_time"), "sweep_id": job["sweep_id"], "case_index": job["case_index"],
             "links": links}
 
 
@@ -287,7 +306,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     def health():
         h = manager().health()
         return {"status": "ok", "version": rfesim.__version__, "executor": h["executor"], "queued": h["queued"],
-                "running": h["running"], "uptime": time.time() - manager().started_at, "manager": h["manager"]}
+                "running": h["running"], "uptime": time.time() - manager().started_at, "manager": h["manager"],
+                "message": h["message"]}
 
     # ------------------------------------------------------------------ jobs
     job_body = {"requestBody": {"required": True, "content": {
@@ -306,23 +326,24 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         def work():
             data = validate.parse_body(body, request.headers.get("content-type"))
             scenario, sc = validate.prepare_job(data, settings, scenarios_dir)
+            warnings = validate.load_warnings(sc)
             job_id = secrets.token_urlsafe(16)
             text = validate.to_json(scenario, ["body"])
             try:
-                app.state.store.insert_jobs([{"id": job_id, "name": sc.name, "scenario": text}],
-                                            settings.max_queued_jobs)
+                app.state.store.insert_jobs([{"id": job_id, "name": sc.name, "scenario": text,
+                                              "warnings": warnings}], settings.max_queued_jobs)
             except QueueFull as exc:
                 raise HTTPException(429, str(exc), headers={"Retry-After": "30"}) from None
             folder = manager().job_dir(job_id)
             folder.mkdir(parents=True, exist_ok=True)
             (folder / "scenario.json").write_text(text, encoding="utf-8")
             manager().notify()
-            return job_id
+            return job_id, warnings
 
-        job_id = await run_in_threadpool(work)
+        job_id, warnings = await run_in_threadpool(work)
         return JSONResponse(status_code=202, headers={"Location": f"/jobs/{job_id}"}, content={
             "id": job_id, "status": "queued", "status_url": f"/jobs/{job_id}", "events_url": f"/jobs/{job_id}/events",
-            "results_url": f"/jobs/{job_id}/results"})
+            "results_url": f"/jobs/{job_id}/results", "warnings": warnings})
 
     @app.get("/jobs", response_model=JobList, tags=["jobs"], responses=_responses(401, 422),
              summary="List jobs, newest first")
@@ -449,24 +470,27 @@ def create_app(settings: Settings | None = None) -> FastAPI:
 
         def work():
             data = validate.parse_body(body, request.headers.get("content-type"))
-            vary, cases, name = validate.prepare_sweep(data, settings, scenarios_dir)
+            case_warnings: list[list[str]] = []
+            vary, cases, name = validate.prepare_sweep(data, settings, scenarios_dir, warnings=case_warnings)
             sweep_id = secrets.token_urlsafe(16)
             jobs = []
-            for i, (values, case) in enumerate(cases):
+            for i, ((values, case), warnings) in enumerate(zip(cases, case_warnings)):
                 text = validate.to_json(case, ["scenario"])
                 jobs.append({"id": secrets.token_urlsafe(16), "name": f"{name} [case {i}]", "scenario": text,
-                             "sweep_id": sweep_id, "case_index": i, "case_values": values})
+                             "sweep_id": sweep_id, "case_index": i, "case_values": values, "warnings": warnings})
             try:
                 app.state.store.insert_jobs(jobs, settings.max_queued_jobs,
                                             sweep={"id": sweep_id, "name": name, "vary": vary})
             except QueueFull as exc:
                 raise HTTPException(429, str(exc), headers={"Retry-After": "30"}) from None
             manager().notify()
-            return sweep_id, [j["id"] for j in jobs]
+            return sweep_id, [j["id"] for j in jobs], validate.sweep_warnings(
+                [(values, w) for (values, _), w in zip(cases, case_warnings)])
 
-        sweep_id, job_ids = await run_in_threadpool(work)
+        sweep_id, job_ids, warnings = await run_in_threadpool(work)
         return JSONResponse(status_code=202, headers={"Location": f"/sweeps/{sweep_id}"}, content={
-            "id": sweep_id, "status_url": f"/sweeps/{sweep_id}", "cases": len(job_ids), "jobs": job_ids})
+            "id": sweep_id, "status_url": f"/sweeps/{sweep_id}", "cases": len(job_ids), "jobs": job_ids,
+            "warnings": warnings})
 
     def sweep_or_404(sweep_id: str) -> dict:
         sweep = app.state.store.get_sweep(sweep_id) if JOB_ID.match(sweep_id) else None

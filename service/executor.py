@@ -7,7 +7,7 @@ The job manager (``service.jobs``) talks to one executor from its one thread:
     executor.submit(job_id, spec, results_path) -> bool
     executor.cancel(job_id)
     executor.wait(timeout) -> [event, ...]        # ("started", id, info) | ("progress", id, fraction, t)
-                                                  # | ("outcome", id, outcome dict)
+                                                  # | ("compiling", id, bool) | ("outcome", id, outcome dict)
     executor.wake()                               # from any thread: make wait() return now
     executor.shutdown()
 
@@ -23,7 +23,10 @@ start method), each with its own duplex pipe, one job at a time. A small supervi
   the job it was running, with the exit signal in the message, and a new worker is
   started in its place;
 * the first worker starts alone and the others once it is ready, so with a cold numba
-  cache one process compiles and writes it and the others only load it.
+  cache one process compiles and writes it and the others only load it;
+* a worker that compiles numba kernels (a cold cache: in its warm-up, or in a job using
+  kernels the warm-up does not) says so; ``status()`` counts those workers, and the job
+  it runs gets a ``("compiling", id, True)`` event (``False`` once it runs on).
 
 ``concurrent.futures.ProcessPoolExecutor`` was not used: one dead worker marks its
 whole pool broken and fails every job running in it.
@@ -98,6 +101,7 @@ class _Worker:
         self.job_id: str | None = None
         self.cancel_at: float | None = None
         self.dead = False
+        self.compiling = False
 
 
 class ProcessExecutor(JobExecutor):
@@ -274,16 +278,25 @@ class ProcessExecutor(JobExecutor):
                 kind = msg[0]
                 if kind == "ready":
                     w.ready = True
+                    w.compiling = False
                     self._failures.pop(w.index, None)
                     if self._deferred:
                         self._start_deferred()
                     log.info("worker %d (pid %s) ready (warm-up %.2f s)", w.index, msg[1], msg[2])
                 elif kind == "progress" and msg[1] == w.job_id:
                     self._events.append(("progress", msg[1], msg[2], msg[3]))
+                elif kind == "compiling":
+                    w.compiling = bool(msg[2])
+                    if msg[1] is None:
+                        log.warning("worker %d (pid %s) is compiling the numba kernels in its warm-up (a cold "
+                                    "cache: the first start on this machine takes a few minutes)", w.index, w.pid)
+                    elif msg[1] == w.job_id:
+                        self._events.append(("compiling", msg[1], w.compiling))
                 elif kind == "outcome" and msg[1] == w.job_id:
                     self._events.append(("outcome", msg[1], msg[2]))
                     w.job_id = None
                     w.cancel_at = None
+                    w.compiling = False
         except (EOFError, OSError):
             pass                       # the sentinel says why
 
@@ -314,6 +327,8 @@ class ProcessExecutor(JobExecutor):
         workers = [w for w in self.workers if w is not None and not w.dead]
         return {"kind": self.kind, "total": self.size, "started": len(workers), "ready": sum(w.ready for w in workers),
                 "busy": sum(w.job_id is not None for w in workers),
+                "warming_up": sum(not w.ready for w in workers),
+                "compiling": sum(w.compiling for w in workers),
                 "pids": [w.pid for w in workers]}
 
 

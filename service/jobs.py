@@ -22,6 +22,7 @@ from pathlib import Path
 
 from .executor import JobExecutor
 from .store import Store
+from .worker import COMPILING_NOTE, merge_warnings
 
 log = logging.getLogger("rfesim.service.jobs")
 
@@ -35,6 +36,7 @@ class JobManager:
         self.data_dir = Path(data_dir)
         self.max_attempts = max_attempts
         self.live: dict[str, tuple[float, float]] = {}       # job id -> (fraction, simulated time)
+        self._running_message: dict[str, str] = {}           # job id -> "running on ..." (its worker)
         self._flushed: dict[str, float] = {}
         self._cancels: queue.SimpleQueue = queue.SimpleQueue()
         self._stop = threading.Event()
@@ -96,15 +98,29 @@ class JobManager:
 
     def get(self, job_id: str) -> dict | None:
         job = self.store.get(job_id)
-        if job is not None and job["status"] == "running" and job_id in self.live:
-            job["progress"], job["sim_time"] = self.live[job_id]
-        return job
+        return self.overlay([job])[0] if job is not None else None
 
     def overlay(self, jobs: list[dict]) -> list[dict]:
+        """The live state on job records: the progress of running jobs, and on queued ones
+        that no worker can take yet because the workers are compiling numba kernels, a note."""
+        waiting = None
         for job in jobs:
             if job["status"] == "running" and job["id"] in self.live:
                 job["progress"], job["sim_time"] = self.live[job["id"]]
+            elif job["status"] == "queued":
+                if waiting is None:
+                    waiting = self._warm_up_note()
+                if waiting:
+                    job["message"] = f"{job['message']} ({waiting})"
         return jobs
+
+    def _warm_up_note(self) -> str:
+        """While no worker is ready and one is compiling numba kernels in its warm-up: why the
+        queue does not move; else ""."""
+        ex = self.executor.status()
+        if ex.get("compiling") and not ex.get("ready"):
+            return f"waiting for the workers' warm-up: {COMPILING_NOTE}"
+        return ""
 
     # ------------------------------------------------------------------ the loop
     def _run(self) -> None:
@@ -153,21 +169,32 @@ class JobManager:
             job = self.store.get(job_id)
             attempt = job["attempts"] if job else 1
             note = f" (attempt {attempt})" if attempt > 1 else ""
-            self.store.set_running_info(job_id, f"running on {info['worker']}{note}", info.get("worker"),
-                                        info.get("pid"))
+            message = f"running on {info['worker']}{note}"
+            self._running_message[job_id] = message
+            self.store.set_running_info(job_id, message, info.get("worker"), info.get("pid"))
             self.live[job_id] = (0.0, 0.0)
         elif kind == "progress":
             self.live[job_id] = (float(event[2]), float(event[3]))
+        elif kind == "compiling":
+            # a cold numba cache: the job shows no progress for minutes, say why
+            message = self._running_message.get(job_id, "running")
+            self.store.set_running_message(job_id, f"{message}: {COMPILING_NOTE}" if event[2] else message)
         elif kind == "outcome":
             out = event[2]
             self.live.pop(job_id, None)
             self._flushed.pop(job_id, None)
+            self._running_message.pop(job_id, None)
             status = out.get("status", "failed")
             if status not in ("done", "failed", "cancelled"):
                 status = "failed"
+            warnings = None
+            if out.get("warnings"):
+                job = self.store.get(job_id)
+                warnings = merge_warnings(job["warnings"] if job else [], [str(w) for w in out["warnings"]])
             self.store.finish(job_id, status, str(out.get("message", "")), summary=out.get("summary"),
                               wall_time=out.get("wall_time"), has_results=bool(out.get("has_results")),
-                              progress=out.get("progress"), sim_time=out.get("sim_time"))
+                              progress=out.get("progress"), sim_time=out.get("sim_time"), warnings=warnings,
+                              compile_time=out.get("compile_time"))
             log.info("job %s %s: %s", job_id, status, out.get("message", ""))
 
     def _flush(self, force: bool = False) -> None:
@@ -179,9 +206,19 @@ class JobManager:
 
     # ------------------------------------------------------------------ status
     def health(self) -> dict:
-        return {"executor": self.executor.status(), "queued": self.store.count("queued"),
-                "running": self.store.count("running"),
-                "manager": "running" if self._thread is not None and self._thread.is_alive() else "stopped"}
+        ex = self.executor.status()
+        if ex.get("compiling"):
+            message = (f"{ex['compiling']} of {ex.get('total', '?')} workers {COMPILING_NOTE}"
+                       + ("" if ex.get("ready") else "; jobs wait in the queue until a worker is ready"))
+        elif ex.get("warming_up") and not ex.get("ready"):
+            message = "the workers are starting (loading the numba kernels); jobs wait in the queue"
+        elif "ready" in ex and "total" in ex:
+            message = f"{ex['ready']} of {ex['total']} workers ready"
+        else:
+            message = "ok"
+        return {"executor": ex, "queued": self.store.count("queued"), "running": self.store.count("running"),
+                "manager": "running" if self._thread is not None and self._thread.is_alive() else "stopped",
+                "message": message}
 
     def disk_free(self) -> int | None:
         try:

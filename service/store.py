@@ -41,7 +41,9 @@ CREATE TABLE IF NOT EXISTS jobs (
     case_values TEXT,
     summary TEXT,
     wall_time REAL,
-    has_results INTEGER NOT NULL DEFAULT 0
+    has_results INTEGER NOT NULL DEFAULT 0,
+    warnings TEXT,
+    compile_time REAL
 );
 CREATE INDEX IF NOT EXISTS jobs_status ON jobs (status, seq);
 CREATE INDEX IF NOT EXISTS jobs_sweep ON jobs (sweep_id, case_index);
@@ -57,7 +59,10 @@ CREATE TABLE IF NOT EXISTS sweeps (
 
 JOB_COLUMNS = ("id", "status", "name", "progress", "sim_time", "message", "created", "started", "finished",
                "attempts", "cancel_requested", "worker", "worker_pid", "sweep_id", "case_index", "case_values",
-               "summary", "wall_time", "has_results")
+               "summary", "wall_time", "has_results", "warnings", "compile_time")
+
+# columns added after the first release: added to an older database when it is opened
+ADDED_COLUMNS = {"warnings": "TEXT", "compile_time": "REAL"}
 
 
 class QueueFull(Exception):
@@ -73,6 +78,10 @@ class Store:
         con = self._connect()
         con.execute("PRAGMA journal_mode=WAL")
         con.executescript(SCHEMA)
+        have = {r[1] for r in con.execute("PRAGMA table_info(jobs)").fetchall()}
+        for name, kind in ADDED_COLUMNS.items():
+            if name not in have:
+                con.execute(f"ALTER TABLE jobs ADD COLUMN {name} {kind}")
 
     # ------------------------------------------------------------------ connections
     def _connect(self) -> sqlite3.Connection:
@@ -115,9 +124,10 @@ class Store:
                 for j in jobs:
                     con.execute(
                         "INSERT INTO jobs (id, status, name, scenario, created, message, sweep_id, case_index, "
-                        "case_values) VALUES (?, 'queued', ?, ?, ?, 'queued', ?, ?, ?)",
+                        "case_values, warnings) VALUES (?, 'queued', ?, ?, ?, 'queued', ?, ?, ?, ?)",
                         (j["id"], j.get("name", ""), j["scenario"], now, j.get("sweep_id"), j.get("case_index"),
-                         json.dumps(j["case_values"]) if j.get("case_values") is not None else None))
+                         json.dumps(j["case_values"]) if j.get("case_values") is not None else None,
+                         json.dumps(list(j.get("warnings") or []))))
                 con.execute("COMMIT")
             except BaseException:
                 con.execute("ROLLBACK")
@@ -167,18 +177,26 @@ class Store:
         self._write("UPDATE jobs SET message=?, worker=?, worker_pid=? WHERE id=? AND status='running'",
                     (message, worker, worker_pid, job_id))
 
+    def set_running_message(self, job_id: str, message: str) -> None:
+        self._write("UPDATE jobs SET message=? WHERE id=? AND status='running'", (message, job_id))
+
     def set_progress(self, job_id: str, fraction: float, sim_time: float) -> None:
         self._write("UPDATE jobs SET progress=?, sim_time=? WHERE id=? AND status='running'",
                     (fraction, sim_time, job_id))
 
     def finish(self, job_id: str, status: str, message: str, *, summary: dict | None = None,
                wall_time: float | None = None, has_results: bool = False, progress: float | None = None,
-               sim_time: float | None = None) -> None:
+               sim_time: float | None = None, warnings: list[str] | None = None,
+               compile_time: float | None = None) -> None:
+        """A job is over. ``warnings``: the job's whole list (those found at submit and
+        those of the run), None to keep the stored one."""
         assert status in TERMINAL
         self._write("UPDATE jobs SET status=?, message=?, summary=?, wall_time=?, has_results=?, finished=?, "
-                    "progress=COALESCE(?, progress), sim_time=COALESCE(?, sim_time) WHERE id=?",
+                    "progress=COALESCE(?, progress), sim_time=COALESCE(?, sim_time), "
+                    "warnings=COALESCE(?, warnings), compile_time=COALESCE(?, compile_time) WHERE id=?",
                     (status, message, json.dumps(summary) if summary is not None else None, wall_time,
-                     int(has_results), time.time(), progress, sim_time, job_id))
+                     int(has_results), time.time(), progress, sim_time,
+                     json.dumps(list(warnings)) if warnings is not None else None, compile_time, job_id))
 
     def cancel_queued(self, job_id: str) -> bool:
         """Cancel a job that is still queued; False if it is not queued (any more)."""
@@ -255,4 +273,5 @@ def _job(row) -> dict[str, Any]:
     d["case_values"] = json.loads(d["case_values"]) if d["case_values"] else None
     d["cancel_requested"] = bool(d["cancel_requested"])
     d["has_results"] = bool(d["has_results"])
+    d["warnings"] = json.loads(d["warnings"]) if d["warnings"] else []
     return d

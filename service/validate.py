@@ -200,6 +200,29 @@ def check_limits(sc, settings, prefix: list | None = None) -> None:
         raise Invalid(errors)
 
 
+def load_warnings(sc) -> list[str]:
+    """The warnings of a validated Scenario that need no model and no solve, answered at
+    submit (a few milliseconds): the templates' warnings (a stinger mesh too coarse for its
+    rollers: what ``rfesim check`` shows), a duration the output interval does not divide,
+    and the RAO vessels whose table leaves out a noticeable part of the sea
+    (rfesim.sea.rao.rao_range_warnings). The warnings that need the compiled model or the
+    solution (statics: no unique static shape, buckling, fem shear; dynamics: shear limit
+    passed, slack ropes...) are found by the worker when the job runs and added to the job's
+    record then (``service.worker.execute``)."""
+    from rfesim.sea.rao import rao_range_warnings
+    from rfesim.solvers.dynamics import output_interval_warning
+
+    out = [f"statics: {w}" for w in getattr(sc, "_template_warnings", [])]
+    dyn = sc.analysis.dynamics
+    if dyn.enabled and dyn.duration > 0:
+        if dyn.output_interval:
+            note = output_interval_warning(float(dyn.duration), float(dyn.output_interval))
+            if note:
+                out.append(f"dynamics: {note}")
+        out += [f"dynamics: {w}" for w in rao_range_warnings(sc)]
+    return out
+
+
 def prepare_job(data: Any, settings, scenarios_dir: Path | None):
     """(scenario dict to store, validated Scenario) for POST /jobs."""
     from rfesim import ScenarioError, load_scenario
@@ -227,8 +250,10 @@ def prepare_job(data: Any, settings, scenarios_dir: Path | None):
     return scenario, sc
 
 
-def prepare_sweep(data: Any, settings, scenarios_dir: Path | None) -> tuple[dict, list[tuple[dict, dict]], str]:
-    """(vary, [(case values, scenario dict)], name) for POST /sweeps."""
+def prepare_sweep(data: Any, settings, scenarios_dir: Path | None,
+                  warnings: list | None = None) -> tuple[dict, list[tuple[dict, dict]], str]:
+    """(vary, [(case values, scenario dict)], name) for POST /sweeps. With a list as
+    ``warnings``, each case's :func:`load_warnings` are appended to it, one list per case."""
     from rfesim import ScenarioError, load_scenario
     from rfesim.scenario import apply_overrides
     from rfesim.scenario.files import resolve_data_files
@@ -286,4 +311,28 @@ def prepare_sweep(data: Any, settings, scenarios_dir: Path | None) -> tuple[dict
         except Invalid as exc:
             raise Invalid([(loc, f"{msg} (load case {where})") for loc, msg in exc.errors]) from None
         cases.append((values, case))
+        if warnings is not None:
+            warnings.append(load_warnings(sc))
     return vary, cases, str(name)
+
+
+def sweep_warnings(cases: list[tuple[dict, list[str]]], limit: int = 50) -> list[str]:
+    """The load-time warnings of a sweep's cases ``[(case values, warnings)]``, for its submit
+    answer: a warning every case has once, with "(all n load cases)"; the others once per case
+    with the case's values, as its errors name them; at most ``limit`` (a last entry says how
+    many more the cases' own jobs carry)."""
+    n = len(cases)
+    seen: dict[str, list[dict]] = {}
+    for values, warnings in cases:
+        for w in dict.fromkeys(warnings):
+            seen.setdefault(w, []).append(values)
+    out = []
+    for w, where in seen.items():
+        if len(where) == n:
+            out.append(w if n == 1 else f"{w} (all {n} load cases)")
+        else:
+            out += [f"{w} (load case {', '.join(f'{k}={json.dumps(v)}' for k, v in values.items())})"
+                    for values in where]
+    if len(out) > limit:
+        out = out[:limit] + [f"... and {len(out) - limit} more warnings (each load case's job lists its own)"]
+    return out

@@ -9,7 +9,10 @@ Two ways in, one body (:func:`execute`):
   then runs one job at a time from its pipe. Progress goes back over the pipe; a
   "cancel" message read from the pipe inside the progress callback stops the run
   (the callback raises, rfesim stops with CancelledError). When the web process dies
-  the pipe closes and the worker exits.
+  the worker ends within a second, whatever it is doing (a forked watcher process SIGKILLs
+  it: :func:`watch_parent`), and the job it was running is re-queued at the service's next
+  start. While numba compiles kernels (the first run on a machine, a cache miss) the worker
+  says so over the pipe (:class:`CompileWatch`): the job's message and ``/health`` show it.
 * :func:`dask_task` runs one job as a Dask task (``service.executor.DaskExecutor``):
   progress through a ``distributed.Queue``, cancel through a ``distributed.Event``,
   the results file returned as bytes (a Dask worker need not share our disk).
@@ -22,7 +25,9 @@ from __future__ import annotations
 import logging
 import os
 import signal
+import sys
 import tempfile
+import threading
 import time
 import traceback
 from pathlib import Path
@@ -34,6 +39,9 @@ THREAD_ENV = {"NUMBA_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_TH
               "MKL_NUM_THREADS": "1"}
 
 PROGRESS_INTERVAL = 0.2   # s of wall time between progress messages of one job
+PARENT_CHECK_INTERVAL = 0.5   # s between two looks at whether the web process is still there
+MAX_JOB_WARNINGS = 50     # warnings kept in a job's record (the server log has them all)
+COMPILING_NOTE = "compiling numba kernels (first run on this machine, a few minutes)"
 
 # a tiny scene that touches the common kernels: water, seabed, a heaving vessel, a pinned
 # riser, a clamped cantilever with a point load, statics and generalised-alpha dynamics
@@ -74,6 +82,191 @@ def set_thread_environment() -> None:
     os.environ.update(THREAD_ENV)
 
 
+def watch_parent(parent_pid: int, interval: float = PARENT_CHECK_INTERVAL) -> int | None:
+    """Make this worker end within about ``interval`` s of the web process ``parent_pid``
+    going away, whatever it is doing. Statics and the time steps between two output times
+    call no progress callback, and a numba kernel holds the GIL, so neither a check in the
+    callback nor a thread of this process can act while a long run is inside a kernel: a
+    worker computed on for a minute after its service was SIGKILLed.
+
+    On POSIX a small watcher process is forked (returns its pid): every ``interval`` s it
+    looks whether the web process is gone (multiprocessing's parent sentinel, a pipe the
+    parent holds open, reads end-of-file; else ``os.kill(pid, 0)``) and then SIGKILLs this
+    worker; it exits by itself once this worker is gone (its ``os.getppid()`` changes).
+    ``prctl(PR_SET_PDEATHSIG)`` is not used: Linux sends it when the parent *thread* that
+    started the worker ends, and workers are started from the job manager's and the server's
+    pool threads (a pool thread ends when idle). Without ``fork`` a daemon thread does the
+    same check (it acts once the run is back in Python). The watcher closes every file it
+    inherited but the sentinel and the standard streams."""
+    import multiprocessing
+
+    parent = multiprocessing.parent_process()
+    sentinel = getattr(parent, "sentinel", None)
+    if not hasattr(os, "fork"):
+        thread = threading.Thread(target=_watch, args=(os.getpid(), parent_pid, sentinel, interval, False),
+                                  name="rfesim-parent-watch", daemon=True)
+        thread.start()
+        return None
+    worker = os.getpid()
+    pid = os.fork()                 # the worker has one thread yet: no lock can be held
+    if pid == 0:
+        try:
+            # keep only the standard streams and the sentinel: a copy of the pipe to the web
+            # process, or of the end whose closing tells the web process this worker died
+            # (its process sentinel), must not outlive the worker in here
+            keep = sentinel if isinstance(sentinel, int) else 2
+            os.closerange(3, keep)
+            os.closerange(max(3, keep + 1), _max_fd())
+            _watch(worker, parent_pid, sentinel, interval, True)
+        finally:
+            os._exit(0)
+    return pid
+
+
+def _max_fd() -> int:
+    try:
+        return max(256, min(os.sysconf("SC_OPEN_MAX"), 65536))
+    except (AttributeError, ValueError, OSError):
+        return 256
+
+
+def _parent_gone(parent_pid: int, sentinel, interval: float) -> bool:
+    if sentinel is not None:
+        from multiprocessing import connection as mp_connection
+
+        return bool(mp_connection.wait([sentinel], timeout=interval))
+    time.sleep(interval)
+    try:
+        os.kill(parent_pid, 0)
+    except ProcessLookupError:
+        return True
+    except OSError:
+        pass
+    return False
+
+
+def _watch(worker: int, parent_pid: int, sentinel, interval: float, forked: bool) -> None:
+    """The watch of :func:`watch_parent`: in the forked watcher (``forked``) or a thread."""
+    try:
+        while not _parent_gone(parent_pid, sentinel, interval):
+            if forked and os.getppid() != worker:
+                return                                 # the worker ended: so does its watcher
+    except Exception:  # noqa: BLE001 - cannot watch: the pipe and the progress checks remain
+        return
+    try:
+        sys.stderr.write(f"rfesim worker {worker}: the service (pid {parent_pid}) is gone; stopping it\n")
+        sys.stderr.flush()
+    except Exception:  # noqa: BLE001
+        pass
+    if forked:
+        try:
+            os.kill(worker, signal.SIGKILL)
+        except OSError:
+            pass
+    else:
+        os._exit(1)
+
+
+class CompileWatch:
+    """Notices numba compiling a kernel: numba's ``numba:compile`` event, which fires on a
+    cache miss only (a kernel loaded from the cache fires nothing). ``on_compile()`` is
+    called when an outermost compile starts; ``seconds`` adds up the outermost compiles'
+    wall time; ``active`` is True while one runs. One per process: :func:`compile_watch`."""
+
+    def __init__(self) -> None:
+        self.depth = 0
+        self.started = 0.0
+        self.seconds = 0.0
+        self.on_compile: Callable[[], None] | None = None
+
+    @property
+    def active(self) -> bool:
+        return self.depth > 0
+
+    def start(self) -> None:
+        self.depth += 1
+        if self.depth == 1:
+            self.started = time.perf_counter()
+            if self.on_compile is not None:
+                try:
+                    self.on_compile()
+                except Exception:  # noqa: BLE001 - a note that cannot be sent must not stop the compile
+                    pass
+
+    def end(self) -> None:
+        self.depth = max(0, self.depth - 1)
+        if self.depth == 0:
+            self.seconds += time.perf_counter() - self.started
+
+
+_COMPILE_WATCH: CompileWatch | None = None
+
+
+def compile_watch() -> CompileWatch:
+    """This process's :class:`CompileWatch`, registered with numba on first use."""
+    global _COMPILE_WATCH
+    if _COMPILE_WATCH is None:
+        from numba.core import event
+
+        watch = CompileWatch()
+
+        class Listener(event.Listener):
+            def on_start(self, ev) -> None:
+                watch.start()
+
+            def on_end(self, ev) -> None:
+                watch.end()
+
+        event.register("numba:compile", Listener())
+        _COMPILE_WATCH = watch
+    return _COMPILE_WATCH
+
+
+def _warning_key(text: str) -> str:
+    """A warning without the "statics: " / "dynamics: " the run's log puts before it."""
+    for prefix in ("statics: ", "dynamics: ", "scenario: ", "modal analysis: "):
+        if text.startswith(prefix):
+            return text[len(prefix):]
+    return text
+
+
+def merge_warnings(first: list[str], more: list[str], limit: int = MAX_JOB_WARNINGS) -> list[str]:
+    """``first`` then those of ``more`` that say something new (the same text under another
+    prefix is the same warning: the run logs again what the submit found), at most ``limit``
+    (then a last entry says how many more the server log has)."""
+    out = list(first)
+    seen = {_warning_key(w) for w in out}
+    extra = 0
+    for w in more:
+        key = _warning_key(w)
+        if key in seen:
+            continue
+        seen.add(key)
+        if len(out) >= limit:
+            extra += 1
+        else:
+            out.append(w)
+    if extra:
+        out.append(f"... and {extra} more warnings (see the service's log)")
+    return out
+
+
+class _WarningLog(logging.Handler):
+    """Keeps the messages of the warnings rfesim logs (not the service's own)."""
+
+    def __init__(self) -> None:
+        super().__init__(logging.WARNING)
+        self.messages: list[str] = []
+
+    def emit(self, record: logging.LogRecord) -> None:
+        if record.name.startswith("rfesim.service"):
+            return
+        try:
+            self.messages.append(record.getMessage())
+        except Exception:  # noqa: BLE001 - a bad record must not fail the job
+            pass
+
+
 def warm_up() -> float:
     """Run the warm-up scenario (loads numba's cache, imports the netCDF writer); returns its
     wall time in s."""
@@ -96,7 +289,24 @@ def execute(spec: dict, progress: Callable[[float, float], None], results_path: 
     """Run one job. ``spec``: ``{"id", "scenario"}`` (a scenario dict). ``progress(fraction,
     t)`` may raise :class:`Cancelled`. Writes ``results_path`` (atomically) when there are
     results. Returns the outcome: ``status`` (done / failed / cancelled), ``message``,
-    ``summary``, ``wall_time``, ``has_results``, ``progress``, ``sim_time``."""
+    ``summary``, ``wall_time``, ``has_results``, ``progress``, ``sim_time``, ``warnings``
+    (what rfesim logged as warnings during the run: statics, dynamics, template notes) and
+    ``compile_time`` (s the run spent compiling numba kernels)."""
+    watch = compile_watch()
+    compiled0 = watch.seconds
+    warnings = _WarningLog()
+    rfesim_log = logging.getLogger("rfesim")
+    rfesim_log.addHandler(warnings)
+    try:
+        out = _execute(spec, progress, results_path)
+    finally:
+        rfesim_log.removeHandler(warnings)
+    out["warnings"] = merge_warnings([], warnings.messages)
+    out["compile_time"] = watch.seconds - compiled0
+    return out
+
+
+def _execute(spec: dict, progress: Callable[[float, float], None], results_path: Path) -> dict[str, Any]:
     import rfesim
     from rfesim.sweep import summarize
 
@@ -156,8 +366,23 @@ def process_main(conn, warmup: bool = True) -> None:
     """
     set_thread_environment()
     signal.signal(signal.SIGINT, signal.SIG_IGN)     # Ctrl-C goes to the web process, which stops us
-    parent = os.getppid()
+    import multiprocessing
+
+    parent_process = multiprocessing.parent_process()
+    parent = parent_process.pid if parent_process is not None and parent_process.pid else os.getppid()
+    watch_parent(parent)
+    # numba compiling (a cold cache): say so once per stretch, the job's progress clears it
+    watch = compile_watch()
+    compiling = {"job": None, "said": False}
+
+    def say_compiling() -> None:
+        if not compiling["said"]:
+            compiling["said"] = True
+            conn.send(("compiling", compiling["job"], True))
+
+    watch.on_compile = say_compiling
     seconds = warm_up() if warmup else 0.0
+    compiling["said"] = False                          # "ready" ends the warm-up's compiling
     try:
         conn.send(("ready", os.getpid(), seconds))
     except (OSError, EOFError):
@@ -174,8 +399,15 @@ def process_main(conn, warmup: bool = True) -> None:
         spec = msg[1]
         job_id = spec["id"]
         state = {"last": 0.0}
+        compiling.update(job=job_id, said=False)
 
         def progress(fraction: float, t: float, job_id=job_id, state=state) -> None:
+            if compiling["said"] and not watch.active:
+                compiling["said"] = False
+                try:
+                    conn.send(("compiling", job_id, False))
+                except (OSError, EOFError):
+                    raise ParentGone("the service is gone") from None
             now = time.monotonic()
             if now - state["last"] >= PROGRESS_INTERVAL:
                 state["last"] = now
@@ -202,6 +434,7 @@ def process_main(conn, warmup: bool = True) -> None:
             return
         except (OSError, EOFError):
             return
+        compiling.update(job=None, said=False)
         try:
             conn.send(("outcome", job_id, result))
         except (OSError, EOFError):
