@@ -7,6 +7,7 @@
     rfesim bench [--quick]                             # work-precision report
     rfesim serve [--host 127.0.0.1 --port 8000]        # the HTTP service
     rfesim sweep SCENARIO --vary path=v1,v2,... [--scheduler ADDRESS]
+    rfesim schema [--json | --markdown] [-o FILE]      # the scenario's JSON Schema, or its field reference
 
 Exit codes: 0 success; 1 bad input (scenario error, missing file); 2 usage error or a
 missing optional component; 3 the solver failed (partial results are still written);
@@ -264,6 +265,33 @@ def cmd_check(args) -> int:
     if an.modal is not None:
         analyses.append(f"{an.modal.modes} modes")
     print(f"OK: {sc.name}: {', '.join(parts)}; " + (", ".join(analyses) or "no analysis enabled"))
+    return EXIT_OK
+
+
+def cmd_schema(args) -> int:
+    """The scenario's JSON Schema (``rfesim.Scenario.model_json_schema()``), or with
+    ``--markdown`` the field reference of docs/scenario.md (rfesim.scenario.reference)."""
+    if args.format == "markdown":
+        from .scenario.reference import scenario_reference_markdown
+
+        text = scenario_reference_markdown()
+    else:
+        import json
+
+        from .scenario import Scenario
+
+        text = json.dumps(Scenario.model_json_schema(), indent=2) + "\n"
+    if args.output is None:
+        sys.stdout.write(text)
+        return EXIT_OK
+    path = Path(args.output)
+    if path.is_dir():
+        raise CliError(f"error: the output path is a folder: {path}")
+    try:
+        path.write_text(text, encoding="utf-8")
+    except OSError as exc:
+        raise CliError(f"error: could not write {path}: {exc.strerror or exc}") from None
+    _err(f"{'scenario reference' if args.format == 'markdown' else 'JSON Schema'} written to {path}")
     return EXIT_OK
 
 
@@ -589,6 +617,16 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--workers", type=int, metavar="N", help="size of the local process pool (default: cores)")
     p.add_argument("-o", "--output", metavar="TABLE.csv", help="also write the table as CSV")
     p.set_defaults(func=cmd_sweep)
+
+    p = sub.add_parser("schema", parents=[common],
+                       help="print the scenario's JSON Schema, or its field reference (--markdown, docs/scenario.md)")
+    g = p.add_mutually_exclusive_group()
+    g.add_argument("--json", dest="format", action="store_const", const="json", default="json",
+                   help="the JSON Schema, with units and bounds (default)")
+    g.add_argument("--markdown", dest="format", action="store_const", const="markdown",
+                   help="every section and field as Markdown tables: type, unit, default, bounds, description")
+    p.add_argument("-o", "--output", metavar="FILE", help="write to this file (UTF-8) instead of stdout")
+    p.set_defaults(func=cmd_schema)
     return parser
 
 
