@@ -71,6 +71,9 @@ MASS_PER_LENGTH_LIMIT = ("a solid steel bar 10 m across has 6.2e5 kg/m, so this 
 MAX_INERTIA = 1.0e18                # kg*m^2
 INERTIA_LIMIT = ("the largest mass (1e12 kg) at a radius of gyration of 1 km, room enough for any body, drum or "
                  "stand-in (check the units, kg*m^2)")
+MAX_ROTARY_INERTIA = 1.0e10          # kg*m (kg*m^2 per metre of line)
+ROTARY_INERTIA_LIMIT = ("the largest mass per length (1e8 kg/m) at a radius of gyration of 10 m (check the "
+                        "units, kg*m: kg*m^2 per metre of line)")
 MAX_FORCE = 1.0e15                  # N, N*m
 FORCE_LIMIT = ("a million times the weight of the heaviest offshore lift (5e8 N), room enough for any load, holding "
                "capacity or brake, and the forces stay far from overflow (check the units)")
@@ -1169,7 +1172,8 @@ class LineType(_Strict):
                                            default=None, ge=MIN_MASS_PER_LENGTH, le=MAX_MASS_PER_LENGTH,
                                            limit=MASS_PER_LENGTH_LIMIT, floor=MASS_PER_LENGTH_FLOOR)
     rotary_inertia: float | None = _units("kg*m", "Mass moment of inertia of the section about a transverse "
-                                          "axis per unit length (polar: twice this)", default=None, ge=0.0)
+                                          "axis per unit length (polar: twice this)", default=None, ge=0.0,
+                                          le=MAX_ROTARY_INERTIA, limit=ROTARY_INERTIA_LIMIT)
 
     drag_normal: float = Field(0.0, ge=0.0, le=MAX_COEFFICIENT, description="Normal drag coefficient (on "
                                "outer_diameter) [-]", json_schema_extra=COEFFICIENT)
@@ -1741,7 +1745,10 @@ Support = Annotated[Union[RollerSupport, StingerSupport, TensionerSupport, ReelS
 # --------------------------------------------------------------------------- analysis
 
 class StaticsSettings(_Strict):
-    enabled: bool = True
+    """Static equilibrium (Newton with load steps), solved before dynamics and modal analysis."""
+
+    enabled: bool = Field(True, description="Solve statics; false starts dynamics from the lines' initial shape "
+                                            "at rest")
     tolerance: float = Field(1e-8, gt=0.0, lt=1.0, description="Convergence: largest residual force relative to "
                                                                 "the largest applied force [-]")
     max_iterations: int = Field(400, ge=1, le=100000, description="Newton iterations over all load steps")
@@ -1766,8 +1773,12 @@ class RK4Settings(_Strict):
 
 class AdaptiveSettings(_Strict):
     kind: Literal["adaptive"]
-    rtol: float = Field(1e-6, gt=0.0, lt=1.0)
-    atol: float = Field(1e-8, gt=0.0)
+    rtol: float = Field(1e-6, gt=0.0, lt=1.0, description="Relative error allowed per step of the embedded "
+                                                          "Dormand-Prince pair, of each coordinate (a position "
+                                                          "against its size plus the element length) [-]")
+    atol: float = Field(1e-8, gt=0.0, description="Absolute error allowed per step, added to rtol's share (m "
+                                                  "for positions, rad for rotations, m/s and rad/s for "
+                                                  "velocities)")
     max_step: float | None = _units("s", "Largest step", default=None, gt=0.0)
     first_step: float | None = _units("s", "First step (default: estimated)", default=None, gt=0.0)
 
@@ -1780,7 +1791,9 @@ class GeneralizedAlphaSettings(_Strict):
     tolerance: float = Field(1e-6, gt=0.0, lt=1.0, description="Newton tolerance: largest residual force "
                                                                "relative to the largest element weight or point "
                                                                "load [-]")
-    max_iterations: int = Field(12, ge=1, le=200)
+    max_iterations: int = Field(12, ge=1, le=200, description="Newton iterations of one try of a step (a step "
+                                                              "that fails is retried from another predictor, "
+                                                              "then halved)")
     jacobian_reuse: bool = Field(True, description="Modified Newton: keep the factorised Jacobian while "
                                                    "Newton converges fast")
     jacobian: Literal["analytic", "finite-difference"] = Field(
@@ -1792,7 +1805,9 @@ Integrator = Annotated[Union[RK4Settings, AdaptiveSettings, GeneralizedAlphaSett
 
 
 class DynamicsSettings(_Strict):
-    enabled: bool = True
+    """Time-domain simulation from the static equilibrium (or the initial shape)."""
+
+    enabled: bool = Field(True, description="Run dynamics (with a duration above 0)")
     duration: float = _units("s", "Simulated time", default=0.0, ge=0.0, le=1.0e7)
     integrator: Integrator = Field(default_factory=lambda: GeneralizedAlphaSettings(kind="generalized-alpha"))
     output_interval: float | None = _units("s", "Interval between stored results (default: every step for "
@@ -1808,6 +1823,8 @@ class ModalSettings(_Strict):
 
 
 class Analysis(_Strict):
+    """What to solve: statics, then dynamics and/or modal analysis about the static equilibrium."""
+
     statics: StaticsSettings = Field(default_factory=StaticsSettings)
     dynamics: DynamicsSettings = Field(default_factory=DynamicsSettings)
     modal: ModalSettings | None = None
@@ -1826,16 +1843,20 @@ from .cranes import CraneTemplate  # noqa: E402 - cranes.py builds on the models
 class Scenario(_Strict):
     """A complete scene: environment, vessels, line types, lines and analysis settings."""
 
-    schema_version: Literal[1] = 1
-    name: str = Field("unnamed", max_length=200)
-    description: str = Field("", max_length=10000)
-    environment: Environment = Field(default_factory=Environment)
-    vessels: dict[str, Vessel] = Field(default_factory=dict)
-    line_types: dict[str, LineType] = Field(default_factory=dict)
-    lines: dict[str, Line] = Field(default_factory=dict)
+    schema_version: Literal[1] = Field(1, description="Version of this scenario format")
+    name: str = Field("unnamed", max_length=200, description="Name of the scene (results files, job lists)")
+    description: str = Field("", max_length=10000, description="Free text: the scene, its data and sources")
+    environment: Environment = Field(default_factory=Environment, description="Gravity, sea water, current, "
+                                     "waves and seabed")
+    vessels: dict[str, Vessel] = Field(default_factory=dict, description="Vessels (or fixed frames) that lines, "
+                                       "supports and cranes are attached to, and their motion")
+    line_types: dict[str, LineType] = Field(default_factory=dict, description="Cross-section properties of "
+                                            "pipes, risers and ropes, used by lines")
+    lines: dict[str, Line] = Field(default_factory=dict, description="Flexible lines cut into rigid finite "
+                                   "elements: type, length, elements, ends")
     supports: dict[str, Support] = Field(default_factory=dict, description="Guiding structures "
                                          "(rollers, stinger) that lines rest on")
-    analysis: Analysis = Field(default_factory=Analysis)
+    analysis: Analysis = Field(default_factory=Analysis, description="Statics, dynamics and modal settings")
     chains: dict[str, ChainSpec] = Field(default_factory=dict, description="Kinematic chains of rigid and "
                                          "flexible links (rfesim.scenario.chains)")
     bodies: dict[str, Body] = Field(default_factory=dict, description="Rigid bodies (payloads, buoys) on the "
