@@ -53,7 +53,9 @@ class JobAccepted(BaseModel):
     warnings: list[str] = Field(default_factory=list,
                                 description="Warnings found without a solve while checking the scenario (a "
                                             "template's warning, an output interval that does not divide the "
-                                            "duration, an RAO table that leaves out part of the sea); the run's "
+                                            "duration, an RAO table that leaves out part of the sea, and from "
+                                            "its built model a line with no unique static shape; or that the "
+                                            "model was not built within the submit's time budget); the run's "
                                             "statics and dynamics warnings are added to GET /jobs/{id}")
 
 
@@ -127,7 +129,8 @@ class SweepAccepted(BaseModel):
     warnings: list[str] = Field(default_factory=list,
                                 description="The cases' warnings found at submit (as POST /jobs): one a warning "
                                             "every case has, with '(all n load cases)', else one per case naming "
-                                            "its values")
+                                            "its values; then whether some cases' models were not built within "
+                                            "the submit's time budget")
 
 
 class SweepStatus(BaseModel):
@@ -268,6 +271,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.state.settings = settings
     app.state.stopping = False
     app.state.scenarios_dir = scenarios_dir
+    # the submit's model builds (validate.ModelCheck): one thread of their own, a time budget per submit
+    model_check = validate.ModelCheck(settings.submit_model_check_seconds) if settings.submit_model_check else None
 
     def manager() -> JobManager:
         return app.state.manager
@@ -320,13 +325,15 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     async def submit_job(request: Request):
         """The body is a scenario (JSON, or YAML with a YAML content type), or
         ``{"scenario": <scenario or bundled name>, "overrides": {"dotted.path": value}}``.
-        It is validated at once (422 naming each field); the job then waits in the queue."""
+        It is validated at once and its model is built, as ``rfesim check`` does (422 naming each
+        field, what the model compiler refuses included); the job then waits in the queue."""
         body = await request.body()
 
         def work():
             data = validate.parse_body(body, request.headers.get("content-type"))
-            scenario, sc = validate.prepare_job(data, settings, scenarios_dir)
-            warnings = validate.load_warnings(sc)
+            warnings: list[str] = []
+            scenario, sc = validate.prepare_job(data, settings, scenarios_dir, model_check=model_check,
+                                                warnings=warnings)
             job_id = secrets.token_urlsafe(16)
             text = validate.to_json(scenario, ["body"])
             try:
@@ -465,13 +472,16 @@ def create_app(settings: Settings | None = None) -> FastAPI:
               responses=_responses(401, 413, 422, 429), summary="Run a grid of load cases")
     async def submit_sweep(request: Request):
         """``{"scenario": <scenario or bundled name>, "vary": {"dotted.path": [v1, v2]}, "overrides": {...}}``:
-        one job per combination of the varied values; every case is validated first."""
+        one job per combination of the varied values; every case is validated first, and the
+        cases' models are built once per distinct model (422 naming the field and the load case)."""
         body = await request.body()
 
         def work():
             data = validate.parse_body(body, request.headers.get("content-type"))
             case_warnings: list[list[str]] = []
-            vary, cases, name = validate.prepare_sweep(data, settings, scenarios_dir, warnings=case_warnings)
+            notes: list[str] = []
+            vary, cases, name = validate.prepare_sweep(data, settings, scenarios_dir, warnings=case_warnings,
+                                                       model_check=model_check, notes=notes)
             sweep_id = secrets.token_urlsafe(16)
             jobs = []
             for i, ((values, case), warnings) in enumerate(zip(cases, case_warnings)):
@@ -485,7 +495,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                 raise HTTPException(429, str(exc), headers={"Retry-After": "30"}) from None
             manager().notify()
             return sweep_id, [j["id"] for j in jobs], validate.sweep_warnings(
-                [(values, w) for (values, _), w in zip(cases, case_warnings)])
+                [(values, w) for (values, _), w in zip(cases, case_warnings)]) + notes
 
         sweep_id, job_ids, warnings = await run_in_threadpool(work)
         return JSONResponse(status_code=202, headers={"Location": f"/sweeps/{sweep_id}"}, content={

@@ -50,6 +50,13 @@ class Settings(BaseSettings):
     cancel_grace: float = Field(10.0, gt=0.0, description="Seconds a running job has to stop after a cancel "
                                                           "before its worker process is killed and replaced")
     warmup: bool = Field(True, description="Workers run a tiny scenario at start to load the numba cache")
+    submit_model_check: bool = Field(True, description="Build each submitted scenario's model (POST /jobs, and once "
+                                                       "per distinct model in POST /sweeps), as `rfesim check` does: "
+                                                       "what the model compiler refuses is a 422 at submit")
+    submit_model_check_seconds: float = Field(3.0, gt=0.0, le=600.0,
+                                              description="Wall-time budget of the model builds of one submit; "
+                                                          "models not built by then are not checked (a warning says "
+                                                          "so) and their errors fail the job when it runs")
 
     def resolved_data_dir(self) -> Path:
         return self.data_dir.expanduser().resolve()

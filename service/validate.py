@@ -1,14 +1,23 @@
 """Synchronous checks of what a client submits: the scenario (rfesim.load_scenario), its
-file references (inside the data directory only) and the service's limits.
+file references (inside the data directory only), the service's limits and, within a time
+budget, the model the run would build (:class:`ModelCheck`, as ``rfesim check``).
 
 Every problem is a :class:`Invalid` holding ``(loc, msg)`` pairs, answered as 422
 ``{"detail": [{"loc": [...], "msg": ...}]}``.
 """
 from __future__ import annotations
 
+import functools
 import json
+import logging
 import math
 import os
+import queue
+import re
+import threading
+import time
+from concurrent.futures import Future
+from concurrent.futures import TimeoutError as FutureTimeout
 from pathlib import Path
 from typing import Any
 
@@ -205,10 +214,11 @@ def load_warnings(sc) -> list[str]:
     submit (a few milliseconds): the templates' warnings (a stinger mesh too coarse for its
     rollers: what ``rfesim check`` shows), a duration the output interval does not divide,
     and the RAO vessels whose table leaves out a noticeable part of the sea
-    (rfesim.sea.rao.rao_range_warnings). The warnings that need the compiled model or the
-    solution (statics: no unique static shape, buckling, fem shear; dynamics: shear limit
-    passed, slack ropes...) are found by the worker when the job runs and added to the job's
-    record then (``service.worker.execute``)."""
+    (rfesim.sea.rao.rao_range_warnings). Those that need the built model (no unique static
+    shape) are :func:`model_warnings`, found by :class:`ModelCheck`; those that need the
+    solution (statics: buckling, fem shear; dynamics: shear limit passed, slack ropes...) are
+    found by the worker when the job runs and added to the job's record then
+    (``service.worker.execute``)."""
     from rfesim.sea.rao import rao_range_warnings
     from rfesim.solvers.dynamics import output_interval_warning
 
@@ -223,8 +233,12 @@ def load_warnings(sc) -> list[str]:
     return out
 
 
-def prepare_job(data: Any, settings, scenarios_dir: Path | None):
-    """(scenario dict to store, validated Scenario) for POST /jobs."""
+def prepare_job(data: Any, settings, scenarios_dir: Path | None, model_check: "ModelCheck | None" = None,
+                warnings: list | None = None):
+    """(scenario dict to store, validated Scenario) for POST /jobs. With a :class:`ModelCheck`,
+    the scenario's model is built too (Invalid with what the model compiler refuses); with a
+    list as ``warnings``, the scenario's :func:`load_warnings` and those of its built model are
+    appended to it."""
     from rfesim import ScenarioError, load_scenario
     from rfesim.scenario import apply_overrides
     from rfesim.scenario.files import resolve_data_files
@@ -247,13 +261,25 @@ def prepare_job(data: Any, settings, scenarios_dir: Path | None):
     except ScenarioError as exc:
         raise _scenario_errors(exc) from None
     check_limits(sc, settings)
+    if warnings is not None:
+        warnings += load_warnings(sc)
+    if model_check is not None:
+        built, notes = model_check.build_cases([sc])
+        if warnings is not None:
+            warnings += [w for found in built for w in found] + notes
     return scenario, sc
 
 
 def prepare_sweep(data: Any, settings, scenarios_dir: Path | None,
-                  warnings: list | None = None) -> tuple[dict, list[tuple[dict, dict]], str]:
+                  warnings: list | None = None, model_check: "ModelCheck | None" = None,
+                  notes: list | None = None) -> tuple[dict, list[tuple[dict, dict]], str]:
     """(vary, [(case values, scenario dict)], name) for POST /sweeps. With a list as
-    ``warnings``, each case's :func:`load_warnings` are appended to it, one list per case."""
+    ``warnings``, each case's :func:`load_warnings` (and with a :class:`ModelCheck` the warnings
+    of its built model) are appended to it, one list per case. With a :class:`ModelCheck`, the
+    cases' models are built once per distinct structure (:func:`structure_key`), first case
+    first, within the check's time budget; a build error is Invalid naming the load case, and
+    what the check has to say about the sweep as a whole (cases left unbuilt) is appended to
+    ``notes``."""
     from rfesim import ScenarioError, load_scenario
     from rfesim.scenario import apply_overrides
     from rfesim.scenario.files import resolve_data_files
@@ -295,7 +321,10 @@ def prepare_sweep(data: Any, settings, scenarios_dir: Path | None,
         raise Invalid([(["vary", f], r) for f, r in exc.errors]) from None
     name = scenario.get("name", "") if isinstance(scenario, dict) else ""
     cases = []
-    for values in points:
+    # structure -> (load case, its case indices): the Scenario objects are not kept (one can hold
+    # megabytes, its RAO tables), the build loads its first case again
+    builds: dict[Any, tuple[str, list[int]]] = {}
+    for i, values in enumerate(points):
         where = ", ".join(f"{k}={json.dumps(v)}" for k, v in values.items())
         try:
             case = apply_overrides(scenario, {**overrides, **values})
@@ -313,7 +342,155 @@ def prepare_sweep(data: Any, settings, scenarios_dir: Path | None,
         cases.append((values, case))
         if warnings is not None:
             warnings.append(load_warnings(sc))
+        if model_check is not None:
+            key = structure_key(values, sc, i)
+            if key in builds:
+                builds[key][1].append(i)
+            else:
+                builds[key] = (where, [i])
+    if model_check is not None and builds:
+        groups = list(builds.values())
+        base_dir = files_dir(settings.resolved_data_dir())
+        loaders = [functools.partial(load_scenario, cases[members[0]][1], base_dir=base_dir) for _, members in groups]
+        built, more = model_check.build_cases(loaders, [where for where, _ in groups])
+        for (_, members), found in zip(groups, built):
+            if warnings is not None:
+                for i in members:
+                    warnings[i] = warnings[i] + found
+        if more and notes is not None:
+            unbuilt = sum(len(members) for _, members in groups[len(built):])
+            notes += [f"{m} ({unbuilt} of {len(cases)} load cases, {len(groups) - len(built)} of {len(groups)} "
+                      f"distinct models, were not built)" for m in more]
     return vary, cases, str(name)
+
+
+# --------------------------------------------------------------------------- the model at submit
+
+log = logging.getLogger("rfesim.service")
+
+# Varied paths the model compiler does not read (rfesim.model.compile reads neither the dynamics
+# nor the modal settings, and the sea's waves and current only become load arrays), and the
+# vessels' motions, which it reads only through the vessels' poses at t = 0 (those go into the key
+# instead: a motion that moves the vessel's start, a harmonic one without a ramp, is built again).
+LOAD_ONLY = ("analysis.dynamics", "analysis.modal", "environment.water.waves", "environment.water.current")
+_MOTION = re.compile(r"^vessels\.[^.]+\.motion(\.|$)")
+
+
+def load_only(path: str) -> bool:
+    """True for a dotted scenario path whose values cannot change the built model but through
+    the vessels' start poses: under ``analysis.dynamics``, ``analysis.modal``,
+    ``environment.water.waves``, ``environment.water.current`` or ``vessels.<name>.motion``."""
+    return bool(_MOTION.match(path)) or any(path == p or path.startswith(p + ".") for p in LOAD_ONLY)
+
+
+def structure_key(values: dict, sc, index: int) -> Any:
+    """What a sweep's load case builds its model from, among what the sweep varies: the values
+    of its varied paths but the :func:`load_only` ones, and, when some of those are varied, the
+    poses of the vessels at t = 0 (what the compiler takes of a motion). Cases of one key build
+    the same model: it is built once, for the first of them."""
+    from rfesim.vessel import make_vessel_motion
+
+    key = [(p, json.dumps(v, sort_keys=True)) for p, v in values.items() if not load_only(p)]
+    if len(key) < len(values):
+        try:
+            for name, vessel in sc.vessels.items():
+                k = make_vessel_motion(vessel, sc.environment).kinematics(0.0)
+                pose = [round(float(x), 9) + 0.0 for x in [*k.p, *k.R.ravel()]]
+                key.append((f"vessels.{name}@t=0", tuple(pose)))
+        except Exception:       # noqa: BLE001 - the build says what is wrong: build this case itself
+            key.append(("case", index))
+    return tuple(key)
+
+
+def model_warnings(sc) -> list[str]:
+    """Build the model of a validated Scenario as a run does (``rfesim.api.check_model``:
+    ScenarioError naming the field when the compiler refuses it), and return the warnings that
+    need the built model but no solve: lines with no unique static shape (slack folding on the
+    seabed, a buoyant line floating free; what a run's statics logs, ``rfesim.api._static_state``)."""
+    from rfesim.api import _no_static_shape, _other_formulations, check_model
+    from rfesim.model.compile import compile_scenario
+
+    if _other_formulations(sc):
+        check_model(sc)                     # a scene of chains or other formulations: no such warnings
+        return []
+    model = compile_scenario(sc)
+    if not sc.analysis.statics.enabled:
+        return []
+    return [f"statics: {w}" for w in _no_static_shape(sc, model)]
+
+
+class ModelCheck:
+    """Builds scenarios' models at submit, in one thread of its own, within a time budget per
+    submit (``RFESIM_SUBMIT_MODEL_CHECK_SECONDS``).
+
+    The request thread waits for each build at most until the budget is spent. A build that
+    has not finished by then cannot be stopped (it is Python): it finishes in the check thread
+    and its outcome is dropped; the submit is accepted with a warning saying the model was not
+    built (a build error then fails the job when it runs, as before). One thread keeps the
+    web process's building to one core at a time, whatever the number of submits: a submit whose
+    budget runs out while others' builds hold the thread is answered the same way, and its
+    build, not started, is dropped."""
+
+    def __init__(self, seconds: float = 3.0, build=None):
+        self.seconds = float(seconds)
+        self._build = build or model_warnings
+        self._queue: queue.SimpleQueue = queue.SimpleQueue()
+        self._thread: threading.Thread | None = None
+        self._lock = threading.Lock()
+
+    def _run(self) -> None:
+        while True:
+            fut, fn, args = self._queue.get()
+            if not fut.set_running_or_notify_cancel():
+                continue
+            try:
+                fut.set_result(fn(*args))
+            except BaseException as exc:        # noqa: BLE001 - handed to the waiting request
+                fut.set_exception(exc)
+
+    def submit(self, fn, *args) -> Future:
+        """Run ``fn(*args)`` in the check thread (a daemon: a build left running does not hold
+        the service's exit)."""
+        with self._lock:
+            if self._thread is None or not self._thread.is_alive():
+                self._thread = threading.Thread(target=self._run, name="rfesim-model-check", daemon=True)
+                self._thread.start()
+        fut: Future = Future()
+        self._queue.put((fut, fn, args))
+        return fut
+
+    def _build_one(self, item) -> list[str]:
+        return self._build(item() if callable(item) else item)
+
+    def build_cases(self, scs: list, wheres: list[str] | None = None) -> tuple[list[list[str]], list[str]]:
+        """Build each validated Scenario's model in turn (an item may be a function returning
+        it, called in the check thread): ([warnings of each built one], notes).
+        Invalid (naming the field, and the load case ``wheres[i]`` when given) at the first one
+        the compiler refuses. Once the budget is spent the rest are not built: the lists of
+        warnings stop there and ``notes`` says so."""
+        from rfesim import ScenarioError
+
+        deadline = time.monotonic() + self.seconds
+        out: list[list[str]] = []
+        for i, sc in enumerate(scs):
+            suffix = f" (load case {wheres[i]})" if wheres else ""
+            fut = self.submit(self._build_one, sc)
+            try:
+                found = fut.result(timeout=max(0.0, deadline - time.monotonic()))
+            except FutureTimeout:
+                fut.cancel()            # not started yet (another submit's build holds the thread): dropped
+                return out, [f"model check: the model was not built at submit: the checks took more than "
+                             f"{self.seconds:g} s (RFESIM_SUBMIT_MODEL_CHECK_SECONDS); what the model compiler "
+                             f"refuses (ends that coincide, a support past the line's end, ...) fails the job "
+                             f"when it runs"]
+            except ScenarioError as exc:
+                raise _scenario_errors(exc, suffix) from None
+            except Exception as exc:    # noqa: BLE001 - no field to name: the run reports it
+                log.warning("building the model at submit failed%s", suffix, exc_info=True)
+                found = [f"model check: the model could not be built at submit ({type(exc).__name__}: {exc}); "
+                         f"the job's run reports what it finds"]
+            out.append(found)
+        return out, []
 
 
 def sweep_warnings(cases: list[tuple[dict, list[str]]], limit: int = 50) -> list[str]:
