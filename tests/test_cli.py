@@ -77,14 +77,24 @@ def test_check_several_errors_one_per_line(tmp_path, capsys):
 
 
 def test_check_refuses_what_compiling_the_model_refuses(tmp_path, capsys):
-    # both ends at one point passes validation but the model compiler refuses it; `check`
-    # used to say OK and only `run` failed
+    # both ends at one point: validation refuses it now (it once passed validation and only
+    # the model compiler refused it)
     data = copy.deepcopy(CANTILEVER)
     data["lines"]["pipe"]["end_b"] = {"attach": "fixed", "position": [0.0, 0.0, 0.0]}
     path = write_scenario(tmp_path, data, "coincide.json")
     assert main(["check", str(path)]) == 1
     err = capsys.readouterr().err
     assert "lines.pipe.end_b.position: end B coincides with end A" in err
+    assert "Traceback" not in err
+    # a pipe shorter than its stinger passes validation; only building the model finds it:
+    # `check` used to say OK and only `run` failed
+    root = Path(__file__).resolve().parents[1]
+    data = json.loads((root / "scenarios" / "s_lay.json").read_text())
+    data["lines"]["pipe"].update(length=40.0, elements=20, end_b={"attach": "free"})
+    path = write_scenario(tmp_path, data, "short.json")
+    assert main(["check", str(path)]) == 1
+    err = capsys.readouterr().err
+    assert "supports: the line is 40.0 m long but reaches the last roller only after 65.2052 m" in err
     assert "Traceback" not in err
 
 
