@@ -161,9 +161,12 @@ class _Template(_Strict):
     laid_length: float = _units("m", "Pipe on the seabed beyond the touchdown point, to the pinned end B",
                                 default=50.0, gt=0.0, le=1.0e5)
     element_length: float | None = _units("m", "Target element length (default: set by the method: s-lay a third "
-                                          "of the stinger's station spacing, at most 4 m; j-lay 10 m; reel-lay 2 "
-                                          "m; or give elements). An s-lay element longer than half the station "
-                                          "spacing gets a warning: the roller reactions scatter", default=None,
+                                          "of the stinger's station spacing, at most 4 m; j-lay a sixth of the "
+                                          "bending boundary layer below the collar, sqrt(EI/T_top), at most 10 m; "
+                                          "reel-lay 2 m; or give elements). An s-lay element longer than half the "
+                                          "station spacing, or a j-lay one longer than half that boundary layer, "
+                                          "gets a warning: the roller reactions scatter, the hang-off moment "
+                                          "comes out low", default=None,
                                           ge=MIN_ELEMENT_LENGTH,
                                           floor=ELEMENT_LENGTH_FLOOR)
     elements: int | None = Field(None, ge=4, le=100000, description="Number of elements of the line (instead "
@@ -275,6 +278,9 @@ _TEMPLATES = TypeAdapter(dict[str, PipelayTemplate])
 DEFAULT_ELEMENT_LENGTH = {"s-lay": 4.0, "j-lay": 10.0, "reel-lay": 2.0}
 # S-lay: the default element is at most this fraction of the stinger's station spacing (_s_lay)
 STINGER_ELEMENTS_PER_SPACING = 3.0
+# J-lay: the default element is at most this fraction of the bending boundary layer below the
+# collar, sqrt(EI/T_top) (_j_lay): 1.5 m in scenarios/j_lay.json
+HANG_OFF_ELEMENT_FRACTION = 1.0 / 6.0
 MAX_STINGER_STATIONS = 10000        # as the stinger support (rfesim.scenario.schema.StingerSupport)
 
 
@@ -557,7 +563,7 @@ def _element_count(tpl, length: float, default: float | None = None) -> int:
     target = tpl.element_length or default or DEFAULT_ELEMENT_LENGTH[tpl.method]
     n = max(4, int(math.ceil(length / target - 1e-9)))
     if n > MAX_LINE_ELEMENTS:
-        if tpl.element_length is None and default is not None:
+        if tpl.element_length is None and default is not None and tpl.method == "s-lay":
             raise FieldError("stinger.spacing", f"the default elements, a third of the station spacing ({target:.3g} "
                                                 f"m), make {n} elements on the {length:.6g} m line, more than the "
                                                 f"{MAX_LINE_ELEMENTS} a line may have: give a spacing of at least "
@@ -652,6 +658,15 @@ def _expand_one(out: dict, name: str, tpl, raw_tpl: dict, env) -> None:
                          f"middle, so the stations alternate between element ends and middles and the roller "
                          f"reactions scatter (every other station unloaded, its neighbours doubled); give "
                          f"elements of at most a third of the spacing ({spacing / 3.0:.4g} m, the default)")
+    hang_off = geo.get("hang_off_layer")
+    if hang_off is not None and length / n > 0.5 * hang_off:
+        # only a given element_length or elements gets here: the default is a sixth of it
+        template_warning("element_length" if tpl.elements is None else "elements",
+                         f"elements of {length / n:.4g} m are longer than half the bending boundary layer below "
+                         f"the collar, sqrt(EI/T_top) = {hang_off:.4g} m with the catenary's top tension: under "
+                         f"vessel pitch the hang-off moment and the departure angle's range come out low (10 m "
+                         f"elements: half the moment of a converged mesh); give elements of at most "
+                         f"{HANG_OFF_ELEMENT_FRACTION * hang_off:.4g} m (the default)")
     type_name = f"{line}_pipe"
     _add(out, "line_types", type_name, pipe.line_type(), "line", origin="pipe")
     _add(out, "lines", line, {
@@ -813,7 +828,11 @@ def _j_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
                 "end_a_direction": [c * axis[0] - s * axis[1], s * axis[0] + c * axis[1], axis[2]],
                 "end_b": [exit_g[0] + along * u[0], exit_g[1] + along * u[1], z_bed], "entry": entry}
 
-    track = _track_length(tpl, geometry(10.0)["length"])
+    # the hang-off: under vessel pitch the pipe bends within sqrt(EI/T_top) below the collar
+    # (9 m in scenarios/j_lay.json); elements of a sixth of it carry the moment there
+    hang_off = math.sqrt(pipe.EI / (H + w * h))
+    default_element = min(DEFAULT_ELEMENT_LENGTH["j-lay"], HANG_OFF_ELEMENT_FRACTION * hang_off)
+    track = _track_length(tpl, geometry(10.0)["length"], default_element)
     geo = geometry(track)
     layer = math.sqrt(pipe.EI / H)
     # the collar holds the catenary's top tension and the pipe in the tower (in air)
@@ -825,7 +844,7 @@ def _j_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
     geo.update(max_element=min(layer, 0.5 * track),
                max_element_reason=f"bending boundary layer sqrt(EI/H) = {layer:.3g} m and half the collar "
                                   f"({0.5 * track:.3g} m) must each span at least one element",
-               supports={"collar": collar})
+               supports={"collar": collar}, default_element=default_element, hang_off_layer=hang_off)
     return geo
 
 

@@ -61,6 +61,32 @@ MU_MIN = 1e-16
 
 ROTATION_FLOOR = 1e-9  # constant damping of torsion, relative to the largest rotational diagonal
 
+# Residual accepted once Newton stagnates, in multiples of position_resolution_force: the
+# J-lay template (1370 m of pipe, 1200 m deep) stalls at 1.3 (1 m elements) and 1.45
+# (0.5 m) of it; a one-ulp move of one RFE changes its residual by 1.8 of it
+# (docs/theory.md, 'Resolution of absolute positions in statics').
+POSITION_FLOOR = 4.0
+
+
+def position_resolution_force(system: System, state: State) -> float:
+    """The force resolution of the positions (N): the largest, over the SDEs, of the SDE's
+    stiffness times the spacing of doubles (one ulp) at the farther of its two RFEs from the
+    origin (``_solve`` takes it at the start state; a solve hardly changes those sizes).
+
+    Statics re-bases every RFE after every update (``rebase``: ref.X += q, q = 0), so a
+    position is a double of magnitude |r| and moves in steps of ulp(|r|) (2.3e-13 m at
+    1024-2048 m from the origin); moving an RFE by one step changes the force of an SDE of
+    stiffness k by about k ulp(|r|), and no state on that lattice brings the residual below
+    it (3.2e9 N/m x 2.3e-13 m = 7.2e-4 N for 1 m elements of a 12-inch steel pipe at 1200 m
+    depth). ``System.roundoff_force`` counts the round-off of the gap's difference, which
+    grows with the element length, not this, which does not."""
+    km = system.km
+    if not system.model.nsde:
+        return 0.0
+    pos = np.abs(state.ref.X + state.q[:, :3]).max(axis=1)
+    size = np.maximum(pos[km.sde_left], pos[km.sde_right])
+    return float((km.sde_stiffness[:, :3].max(axis=1) * np.spacing(size)).max())
+
 
 def _regularise(J: np.ndarray, mu: float, mask: np.ndarray) -> np.ndarray:
     """J + mu * diag(max(|J_ii|, 1e-6 * max |J_ii| of the same coordinate kind)): a
@@ -357,8 +383,9 @@ def _solve(system: System, state: State | None, tolerance: float, max_iterations
     n = system.n
     system.set_time(st.t)
     force_ref = system.force_scale(st)
-    # below the round-off of the stiffest SDE the residual only stagnates: accept it there
-    floor = 10.0 * system.roundoff_force(st) / force_ref
+    # below the round-off of the stiffest SDE, or the resolution of the positions statics
+    # holds in absolute coordinates, the residual only stagnates: accept it there
+    floor = max(10.0 * system.roundoff_force(st), POSITION_FLOOR * position_resolution_force(system, st)) / force_ref
     r = np.zeros((n, 6))
     dq = np.zeros((n, 6))
     trial = np.zeros((n, 6))

@@ -161,14 +161,14 @@ def test_track_capacity_is_the_whole_tracks_holding_force():
 
 
 def test_j_lay_collar_holds_up_to_its_capacity_and_a_short_one_is_refused():
-    """The J-lay collar carries the catenary's top tension (468.3 kN by hand) and 30 m of pipe
-    in the tower (35.4 kN): 503.6 kN. Rated 600 kN it holds (before: statics failed at an
+    """The J-lay collar carries the catenary's top tension (468.3 kN by hand) and 10 m of pipe
+    in the tower (11.8 kN; 30 m before the J-lay default elements became 1.5 m): 480.1 kN. Rated 600 kN it holds (before: statics failed at an
     RFE 900 m away below about 671 kN); rated 400 kN the template refuses it, naming the field."""
     over = {"analysis.dynamics.duration": 0.5, "analysis.dynamics.output_interval": 0.5,
             "pipelay.lay.vessel.motion": {"kind": "fixed"}, "pipelay.lay.tensioner.capacity": 6.0e5}
     res = rfesim.simulate(rfesim.load_scenario(SCENARIOS / "j_lay.json", overrides=over))
     collar = res.tensioners["lay_collar"]
-    assert np.asarray(collar.grip_force) == pytest.approx(503.6e3, rel=0.01)
+    assert np.asarray(collar.grip_force) == pytest.approx(480.1e3, rel=0.01)
     assert np.abs(np.asarray(collar.payout)).max() == 0.0
     over["pipelay.lay.tensioner.capacity"] = 4.0e5
     with pytest.raises(ScenarioError) as err:
@@ -237,14 +237,15 @@ def test_reel_lay_template_stores_enough_pipe():
 # --------------------------------------------------------------------------- 7. payout beyond the pipe held
 
 def test_payout_beyond_the_pipe_held_is_refused():
-    """J-lay: 40 m through a 30 m collar (end A at its entry) dropped the pipe silently;
+    """J-lay: 40 m through a 10 m collar (end A at its entry; 30 m before the default elements
+    became 1.5 m: three elements long) dropped the pipe silently;
     reel-lay: the bundled table once reached 88.5 m at 600 s against 12.8 m stored. Both are
     refused at check time, naming the field and the numbers."""
     with pytest.raises(ScenarioError) as err:
         rfesim.load_scenario(SCENARIOS / "j_lay.json", overrides={
             "pipelay.lay.tensioner.payout": {"kind": "table", "rows": [[0.0, 0.0], [10.0, 40.0]]}})
     text = str(err.value)
-    assert "pipelay.lay.tensioner.payout" in text and "40 m" in text and "29.9867 m" in text
+    assert "pipelay.lay.tensioner.payout" in text and "40 m" in text and "holds only 10 m" in text
     with pytest.raises(ScenarioError) as err:
         rfesim.load_scenario(SCENARIOS / "reel_lay.json", overrides={
             "pipelay.lay.tensioner.payout": {"kind": "table", "rows": [[0.0, 0.0], [600.0, 88.5]]}})
