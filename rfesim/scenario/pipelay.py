@@ -649,24 +649,29 @@ def _expand_one(out: dict, name: str, tpl, raw_tpl: dict, env) -> None:
         raise FieldError("element_length" if tpl.elements is None else "elements",
                          f"elements of {length / n:.3g} m are longer than {geo['max_element']:.3g} m: the "
                          f"{geo['max_element_reason']}")
+    # a given element_length or elements coarser than the mesh an output needs (the defaults
+    # are finer): (limit, why) for each such output of the method
+    coarse = []
     spacing = geo.get("station_spacing")
-    if spacing is not None and length / n > 0.5 * spacing:
-        # only a given element_length or elements gets here: the default is a third of the spacing
-        template_warning("element_length" if tpl.elements is None else "elements",
-                         f"elements of {length / n:.4g} m are longer than half the stinger's roller-station "
-                         f"spacing ({spacing:.4g} m): a rigid element lies l^2/(8R) inside the arc at its "
-                         f"middle, so the stations alternate between element ends and middles and the roller "
-                         f"reactions scatter (every other station unloaded, its neighbours doubled); give "
-                         f"elements of at most a third of the spacing ({spacing / 3.0:.4g} m, the default)")
+    if spacing is not None:
+        coarse.append((0.5 * spacing,
+                       f"longer than half the stinger's roller-station spacing ({spacing:.4g} m): a rigid element "
+                       f"lies l^2/(8R) inside the arc at its middle, so the stations alternate between element "
+                       f"ends and middles and the roller reactions scatter (every other station unloaded, its "
+                       f"neighbours doubled); give elements of at most a third of the spacing "
+                       f"({spacing / 3.0:.4g} m, the default)"))
     hang_off = geo.get("hang_off_layer")
-    if hang_off is not None and length / n > 0.5 * hang_off:
-        # only a given element_length or elements gets here: the default is a sixth of it
-        template_warning("element_length" if tpl.elements is None else "elements",
-                         f"elements of {length / n:.4g} m are longer than half the bending boundary layer below "
-                         f"the collar, sqrt(EI/T_top) = {hang_off:.4g} m with the catenary's top tension: under "
-                         f"vessel pitch the hang-off moment and the departure angle's range come out low (10 m "
-                         f"elements: half the moment of a converged mesh); give elements of at most "
-                         f"{HANG_OFF_ELEMENT_FRACTION * hang_off:.4g} m (the default)")
+    if hang_off is not None:
+        coarse.append((0.5 * hang_off,
+                       f"longer than half the bending boundary layer below the collar, sqrt(EI/T_top) = "
+                       f"{hang_off:.4g} m with the catenary's top tension: under vessel pitch the hang-off moment "
+                       f"and the departure angle's range come out low (10 m elements: half the moment of a "
+                       f"converged mesh); give elements of at most {HANG_OFF_ELEMENT_FRACTION * hang_off:.4g} m "
+                       f"(the default)"))
+    for limit, why in coarse:
+        if length / n > limit:
+            template_warning("element_length" if tpl.elements is None else "elements",
+                             f"elements of {length / n:.4g} m are {why}")
     type_name = f"{line}_pipe"
     _add(out, "line_types", type_name, pipe.line_type(), "line", origin="pipe")
     _add(out, "lines", line, {

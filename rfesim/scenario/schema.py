@@ -1855,7 +1855,8 @@ class Scenario(_Strict):
     lines: dict[str, Line] = Field(default_factory=dict, description="Flexible lines cut into rigid finite "
                                    "elements: type, length, elements, ends")
     supports: dict[str, Support] = Field(default_factory=dict, description="Guiding structures "
-                                         "(rollers, stinger) that lines rest on")
+                                         "that lines rest on or pass through (rollers, stinger, tensioner, reel, "
+                                         "straightener)")
     analysis: Analysis = Field(default_factory=Analysis, description="Statics, dynamics and modal settings")
     chains: dict[str, ChainSpec] = Field(default_factory=dict, description="Kinematic chains of rigid and "
                                          "flexible links (rfesim.scenario.chains)")

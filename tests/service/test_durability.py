@@ -4,23 +4,10 @@ re-queued and finished."""
 from __future__ import annotations
 
 import hashlib
-import os
 import sqlite3
 import time
 
-from service_helpers import Api, long_job, riser
-
-
-def _alive(pid: int) -> bool:
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    try:                                   # a zombie is not alive
-        with open(f"/proc/{pid}/stat") as f:
-            return f.read().split(")")[-1].split()[0] != "Z"
-    except OSError:
-        return False
+from service_helpers import Api, alive, long_job, riser
 
 
 def test_kill_the_server_mid_run_then_restart(make_server):
@@ -42,9 +29,9 @@ def test_kill_the_server_mid_run_then_restart(make_server):
     server.kill()                                # SIGKILL: no shutdown code runs
 
     deadline = time.monotonic() + 15
-    while _alive(pid) and time.monotonic() < deadline:   # its workers notice and exit by themselves
+    while alive(pid) and time.monotonic() < deadline:   # its workers notice and exit by themselves
         time.sleep(0.1)
-    assert not _alive(pid), "a worker outlived its killed server"
+    assert not alive(pid), "a worker outlived its killed server"
     con = sqlite3.connect(data_dir / "jobs.sqlite")
     left = dict(con.execute("SELECT id, status FROM jobs").fetchall())
     con.close()

@@ -16,7 +16,7 @@ import rfesim
 from service import validate
 from service.settings import Settings
 from service.worker import COMPILING_NOTE, merge_warnings
-from service_helpers import SCENARIOS, Api, riser
+from service_helpers import SCENARIOS, Api, alive, riser
 
 # 1.0 s is not a whole number of output intervals of 0.3 s: the run goes on to 1.2 s
 OUTPUT_NOTE = ("dynamics: analysis.dynamics.duration (1 s) is not a whole number of output intervals (0.3 s): the "
@@ -209,18 +209,6 @@ def test_workers_compiling_in_their_warm_up_show_in_health_and_queued_jobs(make_
 
 # --------------------------------------------------------------------------- 3. orphan workers
 
-def _alive(pid: int) -> bool:
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    try:                                   # a zombie is not alive
-        with open(f"/proc/{pid}/stat") as f:
-            return f.read().split(")")[-1].split()[0] != "Z"
-    except OSError:
-        return False
-
-
 def test_a_worker_exits_within_a_second_or_two_of_its_server_being_killed(make_server):
     server = make_server(env={"RFESIM_WORKERS": "1"})
     api = Api(server)
@@ -231,14 +219,14 @@ def test_a_worker_exits_within_a_second_or_two_of_its_server_being_killed(make_s
                                        "analysis.dynamics.integrator.time_step": 0.0005}})
     pid = api.wait(job_id, until=("running",), predicate=lambda j: j["worker_pid"])["worker_pid"]
     time.sleep(1.0)                        # inside the time steps
-    assert _alive(pid)
+    assert alive(pid)
     api.close()
     server.kill()
     killed = time.monotonic()
-    while _alive(pid) and time.monotonic() - killed < 10.0:
+    while alive(pid) and time.monotonic() - killed < 10.0:
         time.sleep(0.05)
     lived = time.monotonic() - killed
-    assert not _alive(pid) and lived < 3.0, f"the worker lived {lived:.3g} s after its server was killed"
+    assert not alive(pid) and lived < 3.0, f"the worker lived {lived:.3g} s after its server was killed"
 
     # the job it was running is re-queued at the next start, as after any SIGKILL
     restarted = make_server(data_dir=server.data_dir, env={"RFESIM_WORKERS": "1"}, wait_workers=False)
