@@ -650,28 +650,10 @@ def _expand_one(out: dict, name: str, tpl, raw_tpl: dict, env) -> None:
                          f"elements of {length / n:.3g} m are longer than {geo['max_element']:.3g} m: the "
                          f"{geo['max_element_reason']}")
     # a given element_length or elements coarser than the mesh an output needs (the defaults
-    # are finer): (limit, why) for each such output of the method
-    coarse = []
-    spacing = geo.get("station_spacing")
-    if spacing is not None:
-        coarse.append((0.5 * spacing,
-                       f"longer than half the stinger's roller-station spacing ({spacing:.4g} m): a rigid element "
-                       f"lies l^2/(8R) inside the arc at its middle, so the stations alternate between element "
-                       f"ends and middles and the roller reactions scatter (every other station unloaded, its "
-                       f"neighbours doubled); give elements of at most a third of the spacing "
-                       f"({spacing / 3.0:.4g} m, the default)"))
-    hang_off = geo.get("hang_off_layer")
-    if hang_off is not None:
-        coarse.append((0.5 * hang_off,
-                       f"longer than half the bending boundary layer below the collar, sqrt(EI/T_top) = "
-                       f"{hang_off:.4g} m with the catenary's top tension: under vessel pitch the hang-off moment "
-                       f"and the departure angle's range come out low (10 m elements: half the moment of a "
-                       f"converged mesh); give elements of at most {HANG_OFF_ELEMENT_FRACTION * hang_off:.4g} m "
-                       f"(the default)"))
-    for limit, why in coarse:
-        if length / n > limit:
-            template_warning("element_length" if tpl.elements is None else "elements",
-                             f"elements of {length / n:.4g} m are {why}")
+    # are finer): the builder's (limit, why)
+    if geo.get("coarse_mesh") is not None and length / n > geo["coarse_mesh"][0]:
+        template_warning("element_length" if tpl.elements is None else "elements",
+                         f"elements of {length / n:.4g} m are {geo['coarse_mesh'][1]}")
     type_name = f"{line}_pipe"
     _add(out, "line_types", type_name, pipe.line_type(), "line", origin="pipe")
     _add(out, "lines", line, {
@@ -788,7 +770,13 @@ def _s_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
     half_element = 0.5 * geo["length"] / _element_count(tpl, geo["length"], default_element)
     layer = math.sqrt(pipe.EI / H)
     geo.update(
-        default_element=default_element, station_spacing=spacing,
+        default_element=default_element,
+        coarse_mesh=(0.5 * spacing,
+                     f"longer than half the stinger's roller-station spacing ({spacing:.4g} m): a rigid element "
+                     f"lies l^2/(8R) inside the arc at its middle, so the stations alternate between element ends "
+                     f"and middles and the roller reactions scatter (every other station unloaded, its neighbours "
+                     f"doubled); give elements of at most a third of the spacing ({spacing / 3.0:.4g} m, the "
+                     f"default)"),
         max_element=min(layer, 0.5 * track),
         max_element_reason=f"bending boundary layer sqrt(EI/H) = {layer:.3g} m and half the tensioner "
                            f"({0.5 * track:.3g} m) must each span at least one element",
@@ -849,7 +837,13 @@ def _j_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
     geo.update(max_element=min(layer, 0.5 * track),
                max_element_reason=f"bending boundary layer sqrt(EI/H) = {layer:.3g} m and half the collar "
                                   f"({0.5 * track:.3g} m) must each span at least one element",
-               supports={"collar": collar}, default_element=default_element, hang_off_layer=hang_off)
+               supports={"collar": collar}, default_element=default_element,
+               coarse_mesh=(0.5 * hang_off,
+                            f"longer than half the bending boundary layer below the collar, sqrt(EI/T_top) = "
+                            f"{hang_off:.4g} m with the catenary's top tension: under vessel pitch the hang-off "
+                            f"moment and the departure angle's range come out low (10 m elements: half the moment "
+                            f"of a converged mesh); give elements of at most "
+                            f"{HANG_OFF_ELEMENT_FRACTION * hang_off:.4g} m (the default)"))
     return geo
 
 
