@@ -390,11 +390,17 @@ def frame_from_tangent(t: np.ndarray, up_hint: np.ndarray | None = None) -> np.n
     return np.column_stack([t, y, z])
 
 
+def _cross3(a, b) -> np.ndarray:
+    """np.cross of two 3-vectors: the same products and differences, without its axis
+    handling (1 us against 15 us; the model build runs it for every RFE)."""
+    return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
+
+
 def minimal_rotation(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """The smallest rotation taking unit vector a to unit vector b (parallel transport)."""
     a = a / np.linalg.norm(a)
     b = b / np.linalg.norm(b)
-    v = np.cross(a, b)
+    v = _cross3(a, b)
     c = float(np.dot(a, b))
     s = float(np.linalg.norm(v))
     if s < 1e-14:

@@ -26,6 +26,7 @@ from .reels import compile_reels, reel_tail, reel_wrap_start, reeled_history, tr
 from .bodies import append_body, body_arrays, body_pose, deck_arrays
 from .joins import JoinInfo, drive_rows, hinge_frame, joint_rows
 from .arrays import append_sde, joint_arrays
+from .march import march_joints
 from ..scenario.joins import join_parent, join_strings
 from ..scenario.load import NOTHING_TO_SIMULATE
 
@@ -321,37 +322,16 @@ class _Curve:
     def __call__(self, s):
         return np.column_stack([np.interp(s, self.s, self.X[:, k]) for k in range(3)])
 
-    def _march(self, start: np.ndarray, lengths: np.ndarray) -> np.ndarray:
+    def _march(self, start: np.ndarray, lengths: np.ndarray, direction: np.ndarray | None = None) -> np.ndarray:
         """Joint points from ``start`` along the polyline, each at the given straight
-        distance from the previous one (sphere-polyline intersections, moving forward)."""
-        X = self.X
-        pts = np.empty((lengths.size + 1, 3))
-        pts[0] = start
-        seg = 0
-        for i, ell in enumerate(lengths):
-            c = pts[i]
-            found = None
-            while seg < X.shape[0] - 1:
-                p0, p1 = X[seg], X[seg + 1]
-                d = p1 - p0
-                if not d @ d > 0.0:
-                    seg += 1              # a repeated point (a curve with its slack bunched up)
-                    continue
-                if np.linalg.norm(p1 - c) >= ell:
-                    # solve |p0 + u d - c| = ell for the largest u in [0, 1]
-                    f = p0 - c
-                    a = d @ d
-                    b = 2.0 * f @ d
-                    cc = f @ f - ell * ell
-                    disc = max(b * b - 4 * a * cc, 0.0)
-                    u = (-b + np.sqrt(disc)) / (2 * a)
-                    found = p0 + min(max(u, 0.0), 1.0) * d
-                    break
-                seg += 1
-            if found is None:          # past the end of the curve: continue straight
-                found = c + ell * self._last_direction()
-            pts[i + 1] = found
-        return pts
+        distance from the previous one (sphere-polyline intersections, moving forward),
+        straight on along ``direction`` (default: the last direction) past its end; the
+        compiled loop rfesim.model.march.march_joints."""
+        if direction is None:
+            direction = self._last_direction()
+        f64 = np.float64
+        return march_joints(np.ascontiguousarray(self.X, dtype=f64), np.ascontiguousarray(start, dtype=f64),
+                            np.ascontiguousarray(lengths, dtype=f64), np.ascontiguousarray(direction, dtype=f64))
 
     def _last_direction(self) -> np.ndarray:
         """Unit direction of the curve's last segment of nonzero length."""
@@ -369,10 +349,11 @@ class _Curve:
         if self.strain is not None:
             mid = np.concatenate([[0.0], np.cumsum(lengths)])
             lengths = lengths * (1.0 + self.strain(0.5 * (mid[:-1] + mid[1:])))
+        direction = self._last_direction()
         if end_b is None:
-            return self._march(start, lengths)
+            return self._march(start, lengths, direction)
         def miss(e):
-            pts = self._march(start, lengths * (1.0 + e))
+            pts = self._march(start, lengths * (1.0 + e), direction)
             return float(np.linalg.norm(pts[-1] - end_b)) * (1.0 if self._short(pts, end_b) else -1.0), pts
         m0, pts = miss(0.0)
         if abs(m0) < 1e-12 * lengths.sum():
