@@ -143,14 +143,24 @@ def numba_cache_without(folder: Path, evicted: str) -> Path:
     using it loads every kernel and compiles that one, as on a machine where the cache is cold."""
     from numba.core.caching import UserProvidedCacheLocator
 
-    root = Path(rfesim.__file__).parent
+    from service.worker import warm_up
+
+    # the kernels a worker's warm-up and the riser job load, compiled into this process's
+    # cache first: on a fresh checkout (CI) the cache is cold when this test runs
+    warm_up()
+    rfesim.simulate(riser())
     removed = 0
-    for src in root.rglob("__pycache__/*.nb[ic]"):
+    given = os.environ.get("NUMBA_CACHE_DIR")
+    if given:                                   # this process's cache is a NUMBA_CACHE_DIR: mirror it
+        pairs = [(src, folder / src.relative_to(given)) for src in Path(given).rglob("*.nb[ic]")]
+    else:                                       # next to the sources, in __pycache__
+        root = Path(rfesim.__file__).parent
+        pairs = [(src, folder / UserProvidedCacheLocator.get_suitable_cache_subpath(str(src.parent.parent / "x.py"))
+                  / src.name) for src in root.rglob("__pycache__/*.nb[ic]")]
+    for src, dst in pairs:
         if src.name.startswith(evicted):
             removed += 1
             continue
-        sub = UserProvidedCacheLocator.get_suitable_cache_subpath(str(src.parent.parent / "x.py"))
-        dst = folder / sub / src.name
         dst.parent.mkdir(parents=True, exist_ok=True)
         try:
             os.link(src, dst)
