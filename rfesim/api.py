@@ -270,11 +270,14 @@ def _with_warnings(message: str, info) -> str:
     return "".join([message] + [f"{STATICS_WARNING}{w}" for w in warnings])
 
 
-def check_model(scenario) -> None:
+def check_model(scenario) -> list[str]:
     """Build the model of a scenario without solving anything: what ``rfesim check`` runs
     after validation. It raises the ScenarioError a run would raise while compiling (a line
     whose ends coincide, a reeving to an unknown line, a support past the line's end, ...),
-    naming the field; statics and dynamics are not started (their failures need a solve)."""
+    naming the field; statics and dynamics are not started (their failures need a solve).
+    Returns the warnings that need the built model but no solve, as a run's statics logs
+    them: lines with no unique static shape (slack folding on the seabed, a buoyant line
+    floating free; ``_no_static_shape``), for absolute-coordinate scenes with statics."""
     sc = _scenario(scenario)
     if _other_formulations(sc):
         from .formulations import mixed, scene
@@ -282,8 +285,9 @@ def check_model(scenario) -> None:
             mixed.MixedScene(sc)
         else:
             scene.compile_scene(sc)
-        return
-    compile_scenario(sc)
+        return []
+    model = compile_scenario(sc)
+    return _no_static_shape(sc, model) if sc.analysis.statics.enabled else []
 
 
 def statics(scenario, *, progress=None):

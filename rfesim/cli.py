@@ -247,10 +247,12 @@ def cmd_check(args) -> int:
     if check_runnable(sc):          # what `run` refuses too (rfesim.model.compile)
         raise ScenarioError(check_runnable(sc))
     from .api import check_model
-    check_model(sc)                 # and what compiling the model refuses (no solve)
+    found = check_model(sc)         # and what compiling the model refuses (no solve)
     for w in getattr(sc, "_template_warnings", []):
         # a template's warnings (a mesh too coarse for the rollers), as a run logs them
         logging.getLogger("rfesim").warning("scenario: %s", w)
+    for w in found:                 # the built model's (no unique static shape), as statics logs them
+        logging.getLogger("rfesim").warning("statics: %s", w)
     an = sc.analysis
     parts = [f"{len(sc.lines)} lines", f"{len(sc.vessels)} vessels", f"{len(sc.line_types)} line types",
              f"{sum(li.elements for li in sc.lines.values())} elements"]

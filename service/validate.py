@@ -407,16 +407,9 @@ def model_warnings(sc) -> list[str]:
     ScenarioError naming the field when the compiler refuses it), and return the warnings that
     need the built model but no solve: lines with no unique static shape (slack folding on the
     seabed, a buoyant line floating free; what a run's statics logs, ``rfesim.api._static_state``)."""
-    from rfesim.api import _no_static_shape, _other_formulations, check_model
-    from rfesim.model.compile import compile_scenario
+    from rfesim.api import check_model
 
-    if _other_formulations(sc):
-        check_model(sc)                     # a scene of chains or other formulations: no such warnings
-        return []
-    model = compile_scenario(sc)
-    if not sc.analysis.statics.enabled:
-        return []
-    return [f"statics: {w}" for w in _no_static_shape(sc, model)]
+    return [f"statics: {w}" for w in check_model(sc)]
 
 
 class ModelCheck:

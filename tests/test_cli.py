@@ -123,6 +123,21 @@ def test_check_shows_a_template_warning(tmp_path, capsys):
     assert "scenario: pipelay.lay.element_length: elements of 3.99" in captured.err
 
 
+def test_check_shows_the_built_models_warning(tmp_path, capsys):
+    # the service's tiny riser made 130 m long: 15.1 m more than can hang vertically and lie
+    # straight on the seabed, so it folds there (no unique static shape); only the built model
+    # tells, and `check` says so as a run's statics would (it printed nothing before)
+    sys.path.insert(0, str(Path(__file__).resolve().parent / "service"))
+    from service_helpers import riser
+
+    path = write_scenario(tmp_path, riser(**{"lines.riser.length": 130.0}), "fold.json")
+    assert main(["check", str(path)]) == 0
+    captured = capsys.readouterr()
+    assert captured.out.startswith("OK: ")
+    assert ("statics: line 'riser' runs from the seabed to a point 44.9 m up and 70 m away, and is 15.1 m "
+            "longer (130 m)") in captured.err
+
+
 def test_verbose_logs_library_messages(tmp_path, capsys):
     data = copy.deepcopy(CANTILEVER)
     data["line_types"]["beam"]["EIy"] = 0.0      # a flexible line: the model compiler says so at INFO
