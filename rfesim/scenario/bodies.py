@@ -64,9 +64,10 @@ class BodyDrag(_Strict):
     """Quadratic drag per body axis: F_k = 1/2 rho cd_k area_k |u_k| u_k (u: water velocity
     relative to the body at its centre of buoyancy, in body axes), times the submerged fraction."""
 
-    cd: NumberOr3 = Field(1.0, description="Drag coefficient, one value or one per body axis [x, y, z] [-]",
-                          json_schema_extra={"units": "1"})
-    area: NumberOr3 = _units("m^2", "Projected area normal to each body axis [x, y, z] (one value: all)")
+    cd: NumberOr3 = _units("1", "Drag coefficient, one value or one per body axis [x, y, z], each from 0 to 10",
+                           default=1.0)
+    area: NumberOr3 = _units("m^2", "Projected area normal to each body axis [x, y, z] (one value: all), not "
+                                    "negative")
 
     @model_validator(mode="after")
     def _signs(self):
@@ -80,11 +81,11 @@ class BodyAddedMass(_Strict):
     """Added mass of the fully submerged body per body axis: ``ca`` times the displaced
     mass rho*volume, or ``mass`` directly; it scales with the submerged fraction."""
 
-    ca: NumberOr3 | None = Field(None, description="Added-mass coefficient on rho*volume, one value or "
-                                 "[x, y, z] [-]", json_schema_extra={"units": "1"})
-    mass: NumberOr3 | None = _units("kg", "Added mass, one value or [x, y, z] (instead of ca)", default=None,
-                                    limit=MASS_LIMIT)
-    inertia: Vector3 = _units("kg*m^2", "Added rotational inertia about the body axes [x, y, z]",
+    ca: NumberOr3 | None = _units("1", "Added-mass coefficient on rho*volume, one value or [x, y, z], each from "
+                                       "0 to 1e4 (needs the body's volume)", default=None)
+    mass: NumberOr3 | None = _units("kg", "Added mass, one value or [x, y, z] (instead of ca), not negative",
+                                    default=None, limit=MASS_LIMIT)
+    inertia: Vector3 = _units("kg*m^2", "Added rotational inertia about the body axes [x, y, z], not negative",
                               default=[0.0, 0.0, 0.0], limit=INERTIA_LIMIT)
 
     @model_validator(mode="after")
@@ -114,14 +115,14 @@ class BodyDeck(_Strict):
     height: float = _units("m", "Deck level: z of the deck plane in the vessel frame")
     stiffness: float | None = _units("N/m", "Contact stiffness (default: the body's weight over 5 mm)",
                                      default=None, gt=0.0, le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
-    damping_ratio: float = Field(0.5, ge=0.0, le=5.0, description="Contact damping as a fraction of critical "
-                                 "on the body's mass [-]")
-    friction: float = Field(0.3, ge=0.0, le=2.0, description="Coulomb friction coefficient between body and "
-                            "deck [-]")
+    damping_ratio: float = _units("1", "Contact damping as a fraction of critical on the body's mass",
+                                  default=0.5, ge=0.0, le=5.0)
+    friction: float = _units("1", "Coulomb friction coefficient between body and deck", default=0.3, ge=0.0,
+                             le=2.0)
     footprint: Annotated[list[float], Field(min_length=2, max_length=2)] | None = _units(
-        "m", "Size [a, b] of the rectangle the body stands on, along its x and y axes (contact at its four "
-        "corners); default: the body's box dimensions [a, b], else a square of side sqrt(volume / height), or the "
-        "height without a volume", default=None)
+        "m", "Size [a, b] of the rectangle the body stands on, along its x and y axes, each greater than 0 "
+        "(contact at its four corners); default: the body's box dimensions [a, b], else a square of side "
+        "sqrt(volume / height), or the height without a volume", default=None)
 
     @model_validator(mode="after")
     def _footprint(self):
@@ -133,32 +134,39 @@ class BodyDeck(_Strict):
 
 
 class Body(_Strict):
-    """A rigid body on the end B of a line (see the module text)."""
+    """A rigid body (payload, buoy, clump weight) hanging on the end B of a line: its mass and
+    inertia, buoyancy, drag, added mass and slamming, and optionally the vessel deck it rests
+    on before lift-off."""
 
     mass: float = _units("kg", "Mass", ge=MIN_MASS, le=MAX_MASS, limit=MASS_LIMIT, floor=MASS_FLOOR)
     inertia: Vector3 | None = _units("kg*m^2", "Principal moments of inertia about the centre of mass, body "
-                                     "axes [Ixx, Iyy, Izz]", default=None, limit=INERTIA_LIMIT)
+                                     "axes [Ixx, Iyy, Izz], each at least 1e-9 and none more than the sum of the "
+                                     "other two", default=None, limit=INERTIA_LIMIT)
     radius_of_gyration: NumberOr3 | None = _units("m", "Radius of gyration, one value or [x, y, z] (instead of "
-                                                  "inertia: I = mass * r^2)", default=None, limit=LENGTH_LIMIT)
-    volume: float = _units("m^3", "Displaced volume when fully submerged", default=0.0, ge=0.0)
+                                                  "inertia: I = mass * r^2), each at least 0.001", default=None,
+                                                  limit=LENGTH_LIMIT)
+    volume: float = _units("m^3", "Displaced volume when fully submerged (a box: at most a * b * c)", default=0.0,
+                           ge=0.0)
     height: float | None = _units("m", "Vertical extent over which the body goes under water (buoyancy, drag, "
                                   "added mass and slamming scale with the submerged part of it); default: "
-                                  "the cube root of the volume", default=None, gt=0.0)
+                                  "the cube root of the volume; for a box: its c (or left out)", default=None,
+                                  gt=0.0)
     centre_of_buoyancy: Vector3 = _units("m", "Centre of buoyancy from the centre of mass, body axes (also the "
                                          "middle of the vertical extent, or the box's centre, and where drag "
                                          "acts when fully submerged)", default=[0.0, 0.0, 0.0])
-    dimensions: Vector3 | None = _units("m", "The body as a box [a, b, c] along its axes x, y, z, centred on the "
-                                        "centre of buoyancy: the submerged fraction is the part of the box under "
-                                        "water at the body's attitude, and buoyancy, drag and water inertia act "
-                                        "at that part's centroid (a tilted box in the splash zone gets its "
+    dimensions: Vector3 | None = _units("m", "The body as a box [a, b, c] along its axes x, y, z, each greater "
+                                        "than 0, centred on the centre of buoyancy: the submerged fraction is the "
+                                        "part of the box under water at the body's attitude, and buoyancy, drag "
+                                        "and water inertia act at that part's centroid (a tilted box in the "
+                                        "splash zone gets its "
                                         "restoring moment); c is the height (give one). The volume is spread "
                                         "uniformly over the box. Without it: the vertical extent `height`, "
                                         "whatever the attitude", default=None, limit=LENGTH_LIMIT)
     drag: BodyDrag | None = None
     added_mass: BodyAddedMass | None = None
-    slam_coefficient: float = Field(math.pi, ge=0.0, le=100.0, description="Slamming coefficient C_s: while the "
-                                    "body crosses the surface moving down into the water, an upward force "
-                                    "1/2 rho C_s A_s v^2 [-]", json_schema_extra={"units": "1"})
+    slam_coefficient: float = _units("1", "Slamming coefficient C_s: while the body crosses the surface moving "
+                                          "down into the water, an upward force 1/2 rho C_s A_s v^2",
+                                     default=math.pi, ge=0.0, le=100.0)
     slam_area: float | None = _units("m^2", "Slamming area A_s (horizontal projection; default: the drag area "
                                      "along the body z axis, else volume/height)", default=None, ge=0.0)
     position: Vector3 | None = _units("m", "Centre of mass at t = 0 (global); default: the line hangs straight "

@@ -62,7 +62,7 @@ TableRow2 = Annotated[list[float], Field(min_length=2, max_length=2)]
 class TableProfile(_Strict):
     """Rows [t, q], cubic spline (natural): continuous rate and acceleration. Held outside."""
     kind: Literal["table"]
-    rows: list[TableRow2] = _units("s, rad or m", "Rows [time, value]", min_length=4)
+    rows: list[TableRow2] = _units("s, rad or m", "Rows [time, value], times strictly increasing", min_length=4)
 
     @model_validator(mode="after")
     def _increasing(self):
@@ -77,6 +77,7 @@ Profile = Annotated[Union[HarmonicProfile, SpinUpProfile, TableProfile], Field(d
 
 
 class FreeDrive(_Strict):
+    """No drive: the joint coordinate moves freely under the loads, its spring and damper."""
     kind: Literal["free"]
 
 
@@ -110,7 +111,7 @@ class ChainLink(_Strict):
     length: float = _units("m", "Length of the link axis (joint to tip)", gt=0.0, le=1.0e5)
     rigid: bool = Field(False, description="A rigid link (m_p = 0, section 8.1.4)")
     type: str | None = Field(None, description="Line type of a flexible link (or of a rigid one, for its mass)")
-    elements: int | None = Field(None, ge=1, le=10000, description="Number of SDEs of a flexible link")
+    elements: int | None = _units("1", "Number of SDEs of a flexible link", default=None, ge=1, le=10000)
     formulation: Literal["classical", "classical-linear", "modified"] = Field(
         "modified", description="RFE formulation of a flexible link (sections 8.1, 8.2)")
     dofs: list[str] | None = Field(None, description="Free RFE coordinates of a flexible link (classical: x, y, "
@@ -120,7 +121,8 @@ class ChainLink(_Strict):
     centre: Vector3 | None = _units("m", "Centre of mass of a rigid link in its axes (default: mid-length)",
                                     default=None)
     inertia: Vector3 | None = _units("kg*m^2", "Principal moments of inertia of a rigid link about its centre "
-                                     "along its axes (default: a slender rod)", default=None, limit=INERTIA_LIMIT)
+                                     "along its axes (default: a slender rod), not negative", default=None,
+                                     limit=INERTIA_LIMIT)
     loads: list[PointLoad] = Field(default_factory=list, description="Dead point loads (global frame); "
                                    "'at': arc length, 'end_a' (joint) or 'end_b' (tip)")
 
@@ -165,22 +167,24 @@ class ChainJoint(_Strict):
     kind: Literal["revolute", "prismatic", "spherical", "fixed"]
     parent: str = Field("base", description='"base" or the name of a link')
     child: str = Field(..., description="Name of the link this joint carries")
-    at: float | None = _units("m", "Arc length on the parent link (default: its tip); not for the base",
-                              default=None, ge=0.0)
+    at: float | None = _units("m", "Arc length on the parent link, at most its length (default: its tip); not "
+                                   "for the base", default=None, ge=0.0)
     position: Vector3 = _units("m", "Offset of the joint in the parent's axes (base: global or vessel frame)",
                                default=[0.0, 0.0, 0.0])
-    direction: Vector3 = Field([1.0, 0.0, 0.0], description="Child link axis at zero joint coordinate, in the "
-                               "parent's axes")
-    axis: Vector3 | None = Field(None, description="Joint axis of a revolute or prismatic joint, parent's axes")
+    direction: Vector3 = _units("1", "Child link axis at zero joint coordinate, in the parent's axes (any length, "
+                                     "not zero)", default=[1.0, 0.0, 0.0])
+    axis: Vector3 | None = _units("1", "Joint axis of a revolute or prismatic joint (required there, not for the "
+                                       "others), parent's axes (any length, not zero)", default=None)
     drive: Drive = Field(default_factory=lambda: FreeDrive(kind="free"))
     stiffness: float = _units("N/m or N*m/rad", "Spring on the joint coordinates", default=0.0, ge=0.0,
                               le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
     damping: float = _units("N*s/m or N*m*s/rad", "Damper on the joint coordinates", default=0.0, ge=0.0,
                             le=MAX_DAMPING, limit=DAMPING_LIMIT)
     rest: float = _units("m or rad", "Unloaded value of the joint spring", default=0.0)
-    initial: float | list[float] = _units("m or rad", "Initial joint coordinate(s) (spherical: 3 ZYX angles)",
-                                          default=0.0)
-    initial_rate: float | list[float] = _units("m/s or rad/s", "Initial rate(s)", default=0.0)
+    initial: float | list[float] = _units("m or rad", "Initial joint coordinate(s): one per coordinate of the "
+                                                      "joint (spherical: a list of 3 ZYX angles)", default=0.0)
+    initial_rate: float | list[float] = _units("m/s or rad/s", "Initial rate(s), one per coordinate of the joint",
+                                               default=0.0)
 
     @model_validator(mode="after")
     def _joint(self):

@@ -50,7 +50,7 @@ from pydantic import Field, TypeAdapter, ValidationError, model_validator
 from .bodies import Body
 from .pipelay import MIN_WALL_THICKNESS, STEEL_DENSITY, STEEL_E, WALL_THICKNESS_FLOOR, _add, _vessel_pose, \
     expand_templates
-from .schema import (COEFFICIENT, DAMPING_LIMIT, DENSITY_LIMIT, FORCE_LIMIT, MASS_LIMIT, MASS_PER_LENGTH_FLOOR,
+from .schema import (COEFFICIENT_LIMIT, DAMPING_LIMIT, DENSITY_LIMIT, FORCE_LIMIT, MASS_LIMIT, MASS_PER_LENGTH_FLOOR,
                      MASS_PER_LENGTH_LIMIT, MAX_COEFFICIENT, MAX_DAMPING, MAX_DENSITY, MAX_FORCE, MAX_MASS,
                      MAX_MASS_PER_LENGTH, MAX_MODULUS, MAX_SECTION_STIFFNESS, MAX_STIFFNESS, MIN_MASS_PER_LENGTH,
                      MODULUS_LIMIT, SECTION_STIFFNESS_LIMIT, STIFFNESS_LIMIT, FieldError, Vector3, Vessel, _Strict,
@@ -128,13 +128,14 @@ class MemberSpec(_Strict):
     section properties (EA, EI, mass_per_length; GJ defaults to EI / 1.3)."""
 
     length: float = _units("m", "Length of the member", ge=MIN_MEMBER_LENGTH, le=500.0, floor=MEMBER_LENGTH_FLOOR)
-    elements: int | None = Field(None, ge=1, le=1000, description="Number of SDEs (default: one per 2 m, at "
-                                 "least 4)")
+    elements: int | None = _units("1", "Number of SDEs (default: one per 2 m, at least 4)", default=None, ge=1,
+                                  le=1000)
     outer_diameter: float | None = _units("m", "Tube outer diameter (also the wind/drag diameter)", default=None,
                                           gt=0.0, le=50.0,
                                           limit="a crane member is a slender tube, at most a few metres across "
                                                 "(check the units, metres)")
-    wall_thickness: float | None = _units("m", "Tube wall thickness", default=None, ge=MIN_WALL_THICKNESS,
+    wall_thickness: float | None = _units("m", "Tube wall thickness, less than outer_diameter/2", default=None,
+                                          ge=MIN_WALL_THICKNESS,
                                           floor=WALL_THICKNESS_FLOOR)
     youngs_modulus: float = _units("Pa", "Young's modulus", default=STEEL_E, gt=0.0,
                                    le=MAX_MODULUS, limit=MODULUS_LIMIT)
@@ -149,8 +150,8 @@ class MemberSpec(_Strict):
     mass_per_length: float | None = _units("kg/m", "Mass per length (instead of a tube)", default=None,
                                            ge=MIN_MASS_PER_LENGTH, le=MAX_MASS_PER_LENGTH,
                                            limit=MASS_PER_LENGTH_LIMIT, floor=MASS_PER_LENGTH_FLOOR)
-    damping_ratio: float = Field(0.02, ge=0.0, le=2.0, description="Structural damping ratio of the element "
-                                 "modes [-]")
+    damping_ratio: float = _units("1", "Structural damping ratio of the element modes", default=0.02, ge=0.0,
+                                  le=2.0)
 
     @model_validator(mode="after")
     def _section(self):
@@ -194,8 +195,8 @@ class RopeSpec(_Strict):
 
     length: float = _units("m", "Rope between the sheave and the payload at the start", ge=MIN_ROPE_LENGTH,
                            le=1.0e4, floor=ROPE_LENGTH_FLOOR)
-    elements: int | None = Field(None, ge=1, le=10000, description="Number of SDEs (default: one per 1 m, at "
-                                 "least 10, at most 100)")
+    elements: int | None = _units("1", "Number of SDEs (default: one per 1 m, at least 10, at most 100)",
+                                  default=None, ge=1, le=10000)
     diameter: float = _units("m", "Nominal rope diameter (drag, buoyancy)", default=0.04, ge=MIN_ROPE_DIAMETER,
                              le=0.5, floor=ROPE_DIAMETER_FLOOR)
     EA: float | None = _units("N", "Axial stiffness (default: a steel wire rope, 0.58 of the nominal area at "
@@ -206,12 +207,12 @@ class RopeSpec(_Strict):
     bending_stiffness: float | None = _units("N*m^2", "Bending stiffness (default: 6 % of a solid steel bar of "
                                              "the rope's diameter, a stranded rope)", default=None, ge=0.0,
                                              le=MAX_SECTION_STIFFNESS, limit=SECTION_STIFFNESS_LIMIT)
-    damping_ratio: float = Field(0.2, ge=0.0, le=2.0, description="Damping ratio of the rope's axial element "
-                                 "modes [-]")
-    drag_normal: float = Field(1.2, ge=0.0, le=MAX_COEFFICIENT, description="Normal drag coefficient [-]",
-                               json_schema_extra=COEFFICIENT)
-    added_mass_normal: float = Field(1.0, ge=0.0, le=MAX_COEFFICIENT, description="Normal added-mass coefficient "
-                                     "[-]", json_schema_extra=COEFFICIENT)
+    damping_ratio: float = _units("1", "Damping ratio of the rope's axial element modes", default=0.2, ge=0.0,
+                                  le=2.0)
+    drag_normal: float = _units("1", "Normal drag coefficient", default=1.2, ge=0.0, le=MAX_COEFFICIENT,
+                                limit=COEFFICIENT_LIMIT)
+    added_mass_normal: float = _units("1", "Normal added-mass coefficient", default=1.0, ge=0.0, le=MAX_COEFFICIENT,
+                                      limit=COEFFICIENT_LIMIT)
 
     def count(self) -> int:
         return self.elements if self.elements is not None else min(100, max(10, int(math.ceil(self.length))))
@@ -233,19 +234,22 @@ class CylinderSpec(_Strict):
 
     base: Annotated[list[float], Field(min_length=2, max_length=2)] = _units(
         "m", "Cylinder base [x, z] from the hinge in the luffing plane")
-    eye: float = _units("m", "Distance of the cylinder eye from the hinge along the boom / leg", gt=0.0)
-    count: int = Field(1, ge=1, le=8, description="Number of cylinders sharing the load")
+    eye: float = _units("m", "Distance of the cylinder eye from the hinge along the boom / leg (with force: at "
+                             "most the legs' length)", gt=0.0)
+    count: int = _units("1", "Number of cylinders sharing the load", default=1, ge=1, le=8)
     stroke: list[Annotated[list[float], Field(min_length=2, max_length=2)]] | None = _units(
-        "s, m", "Cylinder length table [[t s, length m], ...]: drives the luffing instead of an angle table",
-        default=None)
+        "s, m", "Cylinder length table [[t, length], ...], times strictly increasing, lengths 0.001 to 1000 that "
+                "the cylinder can reach within the boom's (legs') range: drives the luffing instead of an angle "
+                "table", default=None)
     force: AngleProfile | None = _units(
-        "N (s, N)", "A-frame: force per cylinder (positive pushing), or a table [[t s, N], ...]: the legs turn "
-        "freely on their hinge under it and their weights (tilt_deg is then the starting tilt, a constant; "
-        "statics finds the tilt the force at t = 0 holds)", default=None)
+        "N (s, N)", "A-frame: force per cylinder (positive pushing), or a table [[t, force], ...] with times "
+        "strictly increasing; within +-1e9: the legs turn freely on their hinge under it and their weights "
+        "(tilt_deg is then the starting tilt, a constant; statics finds the tilt the force at t = 0 holds)",
+        default=None)
     length_min: float | None = _units("m", "With force: the cylinder's shortest length, an end stop (default: none)",
                                       default=None, gt=0.0)
-    length_max: float | None = _units("m", "With force: the cylinder's longest length, an end stop (default: none)",
-                                      default=None, gt=0.0)
+    length_max: float | None = _units("m", "With force: the cylinder's longest length, an end stop, longer than "
+                                           "length_min (default: none)", default=None, gt=0.0)
     stop_stiffness: float = _units("N/m", "With force: stiffness of each cylinder's end stops", default=1.0e9,
                                    gt=0.0, le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
 
@@ -268,13 +272,13 @@ class LuffingRopeSpec(_Strict):
 
     gantry: Annotated[list[float], Field(min_length=2, max_length=2)] = _units(
         "m", "Gantry point [x, z] from the boom hinge in the luffing plane (behind and above it)")
-    eye: float | None = _units("m", "Distance of the rope's eye from the hinge along the boom (default: the "
-                               "boom's length, the tip)", default=None, gt=0.0)
-    falls: int = Field(1, ge=1, le=24, description="Parts of line between the gantry and the eye (the pull on "
-                       "the boom is falls times the rope tension)")
+    eye: float | None = _units("m", "Distance of the rope's eye from the hinge along the boom, at most the boom's "
+                                    "length (default: the tip)", default=None, gt=0.0)
+    falls: int = _units("1", "Parts of line between the gantry and the eye (the pull on the boom is falls times "
+                             "the rope tension)", default=1, ge=1, le=24)
     length: list[Annotated[list[float], Field(min_length=2, max_length=2)]] = _units(
-        "s, m", "Distance gantry - eye against time [[t s, length m], ...] (the winch pays out falls times its "
-        "change)")
+        "s, m", "Distance gantry - eye against time [[t, length], ...], times strictly increasing, lengths 0.001 "
+                "to 1000 that put the boom within -10 to 85 deg (the winch pays out falls times its change)")
 
 
 class _Crane(_Strict):
@@ -291,11 +295,11 @@ class _Crane(_Strict):
     tuggers: dict[str, CraneTugger] = Field(default_factory=dict, description="Tugger lines steadying the "
                                             "payload, made as top-level `tuggers` <crane>_<name> "
                                             "(rfesim.scenario.tuggers)")
-    reeving: Union[Literal["boom"], Vector3, None] = Field(
-        None, description='The hoist rope\'s run from the sheave to its winch: "boom" (along the boom, or the '
-        'legs, to its foot: the winch on the crane), or the deck point [x, y, z] of the winch or its guide '
-        'sheave (vessel frame); the sheave is pulled toward it by the rope tension (rfesim.loads.reeving). '
-        'Default: left out (the winch pays out at the sheave)', json_schema_extra={"units": "m"})
+    reeving: Union[Literal["boom"], Vector3, None] = _units(
+        "m", 'The hoist rope\'s run from the sheave to its winch: "boom" (along the boom, or the legs, to its '
+             'foot: the winch on the crane), or the deck point [x, y, z] of the winch or its guide sheave (vessel '
+             'frame); the sheave is pulled toward it by the rope tension (rfesim.loads.reeving). Default: left '
+             'out (the winch pays out at the sheave)', default=None)
 
 
 class SlewingMotor(_Strict):
@@ -322,12 +326,13 @@ class ColumnCrane(_Crane):
     type: Literal["column"]
     pedestal: MemberSpec
     boom: MemberSpec
-    slewing_deg: AngleProfile = Field(0.0, description="Slewing angle about the pedestal axis from the vessel's "
-                                      "x axis (deg), or a table [[t s, deg], ...]",
-                                      json_schema_extra={"units": "deg (s, deg)"})
-    luffing_deg: AngleProfile | None = Field(None, description="Boom angle above the horizontal (deg), or a table "
-                                             "(or give cylinder.stroke, or luffing_rope.length)",
-                                             json_schema_extra={"units": "deg (s, deg)"})
+    slewing_deg: AngleProfile = _units("deg (s, deg)", "Slewing angle about the pedestal axis from the vessel's "
+                                                       "x axis, within +-3600, or a table [[t, angle], ...] with "
+                                                       "times strictly increasing", default=0.0)
+    luffing_deg: AngleProfile | None = _units("deg (s, deg)", "Boom angle above the horizontal, -10 to 85, or a "
+                                                              "table [[t, angle], ...] with times strictly "
+                                                              "increasing (or give cylinder.stroke, or "
+                                                              "luffing_rope.length)", default=None)
     cylinder: CylinderSpec | None = None
     luffing_rope: LuffingRopeSpec | None = Field(None, description="Luffing by a rope from a gantry: its length "
                                                  "table drives the boom angle (instead of luffing_deg)")
@@ -355,9 +360,10 @@ class AFrame(_Crane):
                                    le=MAX_MASS, limit=MASS_LIMIT)
     outboard_deg: float = _units("deg", "Direction of the outboard side in the vessel frame (180: over the "
                                  "stern, -x)", default=180.0, ge=-360.0, le=360.0)
-    tilt_deg: AngleProfile | None = Field(None, description="Leg angle from the vertical, positive outboard "
-                                          "(deg), or a table (or give cylinder.stroke)",
-                                          json_schema_extra={"units": "deg (s, deg)"})
+    tilt_deg: AngleProfile | None = _units("deg (s, deg)", "Leg angle from the vertical, positive outboard, -80 to "
+                                                           "80, or a table [[t, angle], ...] with times strictly "
+                                                           "increasing (or give cylinder.stroke); a constant with "
+                                                           "cylinder.force", default=None)
     cylinder: CylinderSpec | None = None
     crossbeam: MemberSpec | None = Field(None, description="The crossbeam as a member (its length is "
                                          "leg_spacing): the frame is then the closed portal -- two legs, each on "

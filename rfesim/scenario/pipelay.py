@@ -39,7 +39,7 @@ from typing import Annotated, Iterator, Literal, Union
 
 from pydantic import Field, TypeAdapter, ValidationError, model_validator
 
-from .schema import (COEFFICIENT, DAMPING_LIMIT, DENSITY_LIMIT, FORCE_LIMIT, MAX_COEFFICIENT, MAX_DAMPING,
+from .schema import (COEFFICIENT_LIMIT, DAMPING_LIMIT, DENSITY_LIMIT, FORCE_LIMIT, MAX_COEFFICIENT, MAX_DAMPING,
                      MAX_DENSITY, MAX_FORCE, MAX_MODULUS, MAX_STIFFNESS, MIN_SEABED_STIFFNESS, MODULUS_LIMIT,
                      SEABED_STIFFNESS_FLOOR, STIFFNESS_LIMIT, FieldError, PayoutConstantTension, PayoutTable, Vector3,
                      Vessel, _Strict, _units)
@@ -67,14 +67,15 @@ class PipeSpec(_Strict):
     outer_diameter: float = _units("m", "Steel outer diameter", gt=0.0, le=10.0,
                                    limit="pipelines are at most about 1.5 m (60 in) across (check the units, "
                                          "metres)")
-    wall_thickness: float = _units("m", "Steel wall thickness", ge=MIN_WALL_THICKNESS, floor=WALL_THICKNESS_FLOOR)
+    wall_thickness: float = _units("m", "Steel wall thickness, less than outer_diameter/2", ge=MIN_WALL_THICKNESS,
+                                   floor=WALL_THICKNESS_FLOOR)
     grade: Literal["X52", "X56", "X60", "X65", "X70", "X80"] = Field(
         "X65", description="API 5L steel grade: the yield stress of an elastoplastic pipe (SMYS)")
     material: Literal["elastic", "elastoplastic"] | None = Field(
         None, description="Steel law: elastic, or elastoplastic (bilinear from the grade's yield stress). "
                           "Default: elastoplastic for reel-lay, elastic otherwise")
-    hardening_ratio: float = Field(0.01, ge=0.0, lt=1.0, description="Bilinear hardening E_t/E of an "
-                                   "elastoplastic pipe [-]", json_schema_extra={"units": "1"})
+    hardening_ratio: float = _units("1", "Bilinear hardening E_t/E of an elastoplastic pipe", default=0.01,
+                                    ge=0.0, lt=1.0)
     youngs_modulus: float = _units("Pa", "Young's modulus of the steel", default=STEEL_E, gt=0.0,
                                    le=MAX_MODULUS, limit=MODULUS_LIMIT)
     density: float = _units("kg/m^3", "Steel density", default=STEEL_DENSITY, gt=0.0,
@@ -86,14 +87,14 @@ class PipeSpec(_Strict):
                                            gt=0.0, le=MAX_DENSITY, limit=DENSITY_LIMIT)
     contents_density: float = _units("kg/m^3", "Density of the pipe contents", default=0.0, ge=0.0,
                                      le=MAX_DENSITY, limit=DENSITY_LIMIT)
-    drag_normal: float = Field(1.0, ge=0.0, le=MAX_COEFFICIENT, description="Normal drag coefficient [-]",
-                               json_schema_extra=COEFFICIENT)
-    drag_axial: float = Field(0.008, ge=0.0, le=MAX_COEFFICIENT, description="Axial drag coefficient [-]",
-                              json_schema_extra=COEFFICIENT)
-    added_mass_normal: float = Field(1.0, ge=0.0, le=MAX_COEFFICIENT, description="Normal added-mass coefficient "
-                                     "[-]", json_schema_extra=COEFFICIENT)
-    damping_ratio: float = Field(0.05, ge=0.0, le=2.0, description="Structural damping ratio of the axial and "
-                                 "bending element modes [-]")
+    drag_normal: float = _units("1", "Normal drag coefficient", default=1.0, ge=0.0, le=MAX_COEFFICIENT,
+                                limit=COEFFICIENT_LIMIT)
+    drag_axial: float = _units("1", "Axial drag coefficient", default=0.008, ge=0.0, le=MAX_COEFFICIENT,
+                               limit=COEFFICIENT_LIMIT)
+    added_mass_normal: float = _units("1", "Normal added-mass coefficient", default=1.0, ge=0.0, le=MAX_COEFFICIENT,
+                                      limit=COEFFICIENT_LIMIT)
+    damping_ratio: float = _units("1", "Structural damping ratio of the axial and bending element modes",
+                                  default=0.05, ge=0.0, le=2.0)
 
     @model_validator(mode="after")
     def _geometry(self):
@@ -141,10 +142,13 @@ class StingerSpec(_Strict):
                               le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
     damping: float = _units("N*s/m", "Contact damping of each roller", default=1.0e4, ge=0.0,
                             le=MAX_DAMPING, limit=DAMPING_LIMIT)
-    friction: float = Field(0.1, ge=0.0, le=10.0, description="Roller friction across the pipe [-]")
+    friction: float = _units("1", "Roller friction across the pipe", default=0.1, ge=0.0, le=10.0)
 
 
 class _Template(_Strict):
+    """What the pipelay templates share: the pipe, its vessel, the lay tension, the laid
+    length on the seabed and the element size."""
+
     line: str | None = Field(None, description="Name of the pipe line (default: the template's name)",
                              min_length=1, max_length=200)
     vessel: Union[str, Vessel] = Field(default_factory=Vessel, description="A vessel name of `vessels`, or a "
@@ -154,7 +158,7 @@ class _Template(_Strict):
                                    "start shape's catenary has it, and for s-lay and j-lay statics pays the pipe "
                                    "out or hauls it in through the tensioner (collar) until the pipe carries it "
                                    "to its pinned end B (the track's horizontal_tension; reel-lay turns the "
-                                   "reel with it)",
+                                   "reel with it); greater than 0",
                                    default=None, le=1.0e9,
                                    limit="beyond any lay vessel: the largest tensioners hold about 20 MN "
                                          "(check the units, newtons)")
@@ -169,8 +173,8 @@ class _Template(_Strict):
                                           "comes out low", default=None,
                                           ge=MIN_ELEMENT_LENGTH,
                                           floor=ELEMENT_LENGTH_FLOOR)
-    elements: int | None = Field(None, ge=4, le=100000, description="Number of elements of the line (instead "
-                                 "of element_length)")
+    elements: int | None = _units("1", "Number of elements of the line (instead of element_length)", default=None,
+                                  ge=4, le=100000)
     seabed_stiffness: float = _units("N/m/m", "Seabed normal stiffness, used when the scene has no seabed",
                                      default=1.0e6, ge=MIN_SEABED_STIFFNESS, le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT,
                                      floor=SEABED_STIFFNESS_FLOOR)
@@ -202,10 +206,11 @@ class JLayTemplate(_Template):
     """J-lay: the pipe hangs from a collar on a steep tower and leaves it at the tower angle."""
 
     method: Literal["j-lay"]
-    tower_angle_deg: float | None = _units("deg", "Tower angle from the horizontal (90: vertical), 70 to 90; "
-                                           "default: the catenary's departure angle for the given tension. Given "
-                                           "the angle, the collar holds the pipe where the catenary of that angle "
-                                           "puts it and statics settles H where that length puts it (a little "
+    tower_angle_deg: float | None = _units("deg", "Tower angle from the horizontal, at least 70 and below 90 (a "
+                                           "vertical departure needs zero horizontal tension); default: the "
+                                           "catenary's departure angle for the given tension. Given the angle, "
+                                           "the collar holds the pipe where the catenary of that angle puts it "
+                                           "and statics settles H where that length puts it (a little "
                                            "below w h cos/(1 - cos): the bending stiffness)",
                                            default=None)
     exit: Vector3 = _units("m", "Tower exit (the foot of the collar, where the pipe leaves), vessel frame",
@@ -251,8 +256,9 @@ class ReelLayTemplate(_Template):
     on the ramp, leaving at the ramp angle."""
 
     method: Literal["reel-lay"]
-    ramp_angle_deg: float | None = _units("deg", "Ramp angle from the horizontal, 20 to 90; default: the "
-                                          "catenary's departure angle for the given tension", default=None)
+    ramp_angle_deg: float | None = _units("deg", "Ramp angle from the horizontal, at least 20 and below 90; "
+                                                 "default: the catenary's departure angle for the given tension",
+                                          default=None)
     exit: Vector3 = _units("m", "Ramp exit (the foot of the tensioner), vessel frame", default=[0.0, 0.0, 0.0])
     reel: ReelSpec = Field(default_factory=ReelSpec)
     aligner_radius: float = _units("m", "Radius of the aligner wheel arc at the top of the ramp", default=9.0,

@@ -12,6 +12,22 @@ another path (a vessel inside a crane template, ``end_b`` after ``end_a``) is no
 its row links to the table where it was first listed. The output depends only on the
 schema, so the page is regenerated, never edited (tests/unit/test_scenario_reference.py
 fails when it is stale).
+
+What the schema gives the page (rfesim.scenario.schema._units; the test checks it):
+
+* every number (a number, a list or a table of numbers, a number-or-table) has a ``units``:
+  an SI unit as the field is used (``m``, ``N*m``, ``deg`` for the ``_deg`` fields, ``rad``
+  for joint coordinates ...), the column units of a table (``s, m``: rows [t, x]), ``N (s,
+  N)`` for a number or a table, or ``1`` for a dimensionless number: a ratio, a
+  coefficient, a direction of any length, and a count (elements, iterations, components,
+  rollers) or a seed, which are integers of unit one. A fixed value (``schema_version``)
+  has none;
+* its description ends with that unit in brackets, ``1`` written ``[-]``, and names no unit
+  in its text;
+* every object (model) has a description, the introduction of its section;
+* a bound that a validator checks and the JSON Schema cannot hold (times strictly
+  increasing, a length less than another field's, a direction not zero) is written in the
+  description.
 """
 from __future__ import annotations
 
@@ -346,7 +362,8 @@ class _Writer:
             "`[[0.0, 1.0], [10.0, 2.0]]`. An object links to its table; `object by kind` lists the variants "
             "of a choice (the value of `kind`, `method`, `type` ... selects which fields apply), each with its "
             "own table. An object that appears in several places is listed once, where it first appears.",
-            "* **unit**: the SI unit (`1`: dimensionless). A table lists the units of its columns (`s, m`: rows "
+            "* **unit**: the SI unit; `1`: dimensionless (a ratio, a coefficient, a direction of any length, a "
+            "count or a seed). A table lists the units of its columns (`s, m`: rows "
             "[t, eta]); a field that takes a number or a table has both: `deg (s, deg)` is an angle in deg or "
             "rows [t in s, angle in deg].",
             "* **default**: the value taken when the field is left out; `{}` for an object: the defaults of "
@@ -355,7 +372,9 @@ class _Writer:
             "or table; a number without bounds of its own is bounded by its unit (`UNIT_BOUNDS` in "
             "`rfesim/scenario/schema.py`, also each column of a table), and the error for a value outside says "
             "why.",
-            "* **description**: as written in the schema, with the unit in brackets.",
+            "* **description**: as written in the schema, ending with the unit in brackets (`[-]`: "
+            "dimensionless), with the conditions the bounds column cannot show (times strictly increasing, a "
+            "length less than another field's, a direction not zero).",
             "",
             "## Top level",
             "",

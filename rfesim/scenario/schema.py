@@ -3,7 +3,9 @@
 Every model forbids unknown keys and NaN/inf. SI units throughout (m, s, kg, N, Pa),
 angles in degrees where the field name says ``_deg``, z up, still water at
 ``environment.water.surface_level`` (0 by default). Units are written into the JSON
-Schema (``units`` key of each property) so the HTTP service and the docs show them.
+Schema (``units`` key of each property, ``1`` for a dimensionless number or a count) and
+at the end of each description in brackets (``[-]`` for ``1``), by :func:`_units`, so the
+HTTP service and the docs show them; every number has one.
 
 Cross-references (a line's ``type``, an end's ``attach``) are checked after the
 field-level validation by :func:`rfesim.scenario.check_references`.
@@ -31,15 +33,25 @@ class FieldError(ValueError):
         super().__init__(f"{field}: {reason}")
 
 
+def unit_label(u: str) -> str:
+    """A field's unit as its description shows it in brackets: the ``units`` of its JSON
+    Schema, with ``1`` (dimensionless) written ``-``, also as a table's column ("s, 1" ->
+    "s, -")."""
+    return ", ".join("-" if c.strip() == "1" else c for c in u.split(", "))
+
+
 def _units(u: str, description: str, limit: str | None = None, floor: str | None = None, **kw):
-    """A pydantic Field with its SI unit in the JSON Schema; ``limit`` is the reason for its
-    upper bound (``le``/``lt``), added to the message when a value exceeds it, ``floor`` the
-    reason for its lower bound (``ge``/``gt``), added when a value is below it
-    (rfesim.scenario.load._reason)."""
+    """A pydantic Field with its SI unit in the JSON Schema (``units``) and at the end of its
+    description in brackets (:func:`unit_label`): the description's text itself names no unit.
+    ``u`` is ``1`` for a dimensionless number (a ratio, a coefficient, a direction of any
+    length, a count, a seed), a table's column units "s, m" (rows [t, x]), or "N (s, N)" for
+    a number or a table. ``limit`` is the reason for its upper bound (``le``/``lt``), added to
+    the message when a value exceeds it, ``floor`` the reason for its lower bound
+    (``ge``/``gt``), added when a value is below it (rfesim.scenario.load._reason)."""
     extra = {"units": u} if limit is None else {"units": u, "limit": limit}
     if floor is not None:
         extra["floor"] = floor
-    return Field(description=f"{description} [{u}]", json_schema_extra=extra, **kw)
+    return Field(description=f"{description} [{unit_label(u)}]", json_schema_extra=extra, **kw)
 
 
 # Upper bounds of physical magnitudes, with the reasons given when a value exceeds them (the
@@ -104,7 +116,6 @@ LENGTH_LIMIT = "10,000 km, longer than any line, rope or structure (check the un
 MAX_COEFFICIENT = 10.0              # drag and added-mass coefficients of a line [-]
 COEFFICIENT_LIMIT = ("the coefficients of slender and bluff shapes lie between 0 and about 2 (a coefficient, "
                      "not a force or a mass)")
-COEFFICIENT = {"units": "1", "limit": COEFFICIENT_LIMIT}      # the json_schema_extra of a coefficient
 MAX_ANGLE_DEG = 1.0e6               # deg
 ANGLE_LIMIT = ("2,800 turns: no heading, phase or angle of a scene is larger, and the sine of a larger angle "
                "loses its digits (check the units, degrees)")
@@ -429,16 +440,15 @@ class Current(_Strict):
     """Current: a horizontal speed profile over z flowing toward ``direction_deg``
     (rfesim.sea.current)."""
 
-    profile: list[CurrentRow] = Field(
-        ..., min_length=1,
-        description="Rows [z (m, absolute, at or below the still water surface), speed (m/s)], in any order; "
-                    "linear in z between rows, constant above the highest and below the lowest row",
-        json_schema_extra={"units": "m, m/s"})
+    profile: list[CurrentRow] = _units(
+        "m, m/s", "Rows [z, speed]: z absolute, at or below the still water surface, each z once, rows in any "
+                  "order; linear in z between rows, constant above the highest and below the lowest row",
+        min_length=1)
     direction_deg: float = _units("deg", f"Direction the current flows TOWARD, {_TOWARD}", default=0.0)
-    time_factor: list[FactorRow] | None = Field(
-        None, min_length=1,
-        description="Optional rows [t (s), factor (-)] multiplying the profile, linear in t, constant beyond "
-                    "the ends", json_schema_extra={"units": "s, 1"})
+    time_factor: list[FactorRow] | None = _units(
+        "s, 1", "Optional rows [t, factor] multiplying the profile, times strictly increasing, linear in t, "
+                "constant beyond the ends; a factor times the fastest speed of the profile at most 1e4 m/s",
+        default=None, min_length=1)
 
     @model_validator(mode="after")
     def _tables(self):
@@ -472,19 +482,18 @@ class _Waves(_Strict):
                                   "(an RAO vessel motion follows the same ramp)", default=0.0, ge=0.0)
     deep_water: bool = Field(False, description="Deep-water dispersion and kinematics (k = omega^2/g, exp(k z)) "
                                                 "even with a finite depth; needed when no depth is given")
-    kinematics_cutoff: float = Field(
-        0.0, ge=0.0, le=1e-3,
-        description="Deep points skip the waves: where the bound of every component's velocity and acceleration "
-                    "together, whatever the surface elevation, is below this fraction of the sea's bound sum "
-                    "|u_j| (1 + omega_j), the wave kinematics are zero and the elevation is not summed "
-                    "(docs/theory.md, 'Wave kinematics cut-off at depth'); 0: every point is summed [-]",
-        json_schema_extra={"units": "1"})
+    kinematics_cutoff: float = _units(
+        "1", "Deep points skip the waves: where the bound of every component's velocity and acceleration "
+             "together, whatever the surface elevation, is below this fraction of the sea's bound sum "
+             "|u_j| (1 + omega_j), the wave kinematics are zero and the elevation is not summed "
+             "(docs/theory.md, 'Wave kinematics cut-off at depth'); 0: every point is summed",
+        default=0.0, ge=0.0, le=1e-3)
 
 
 class _RegularWaves(_Waves):
     """What the regular waves (airy, stokes5) share: a period within ocean gravity waves."""
 
-    period: float = _units("s", "Wave period", gt=0.0)
+    period: float = _units("s", "Wave period, 0.1 to 3600 (ocean gravity waves)", gt=0.0)
 
     @field_validator("period")
     @classmethod
@@ -496,7 +505,8 @@ class AiryWaves(_RegularWaves):
     """A regular linear wave: eta = H/2 cos(omega t - k (x cos b + y sin b) + phase)."""
 
     kind: Literal["airy"]
-    height: float = _units("m", "Wave height H, crest to trough (amplitude H/2)", gt=0.0)
+    height: float = _units("m", "Wave height H, crest to trough (amplitude H/2); at most the breaking limit "
+                                "H/L = tanh(kh)/7 of its wave length L", gt=0.0)
     phase_deg: float = _units("deg", "Phase: eta = H/2*cos(2*pi*t/period - k*(x*cos(b) + y*sin(b)) + phase)",
                               default=0.0)
 
@@ -507,7 +517,8 @@ class Stokes5Waves(_RegularWaves):
     limit and in shallow water (Ursell number > 40)."""
 
     kind: Literal["stokes5"]
-    height: float = _units("m", "Wave height H, crest to trough", gt=0.0)
+    height: float = _units("m", "Wave height H, crest to trough; below the breaking limit of the wave, and "
+                                "refused in shallow water (Ursell number above 40)", gt=0.0)
     phase_deg: float = _units("deg", "Phase of the fundamental (harmonic j has j times it)", default=0.0)
     stretching: Literal["wheeler", "none", "vertical", "linear"] = Field(
         "none", description="Stokes kinematics hold up to the actual surface: none (default) evaluates them "
@@ -515,17 +526,22 @@ class Stokes5Waves(_RegularWaves):
 
 
 class _SpectrumWaves(_Waves):
-    hs: float = _units("m", "Significant wave height (4 sqrt(m0))", gt=0.0)
-    tp: float = _units("s", "Spectral peak period", gt=0.0)
-    seed: int = Field(0, ge=0, le=2 ** 63 - 1, description="Seed of the random frequencies and phases "
-                                                          "(numpy default_rng): the same seed, the same sea")
-    components: int = Field(200, ge=1, le=20000, description="Number of wave components")
+    hs: float = _units("m", "Significant wave height (4 sqrt(m0)); the sea's steepness 2*pi*hs/(g*tp^2) at "
+                            "most the DNV-RP-C205 limit for its tp", gt=0.0)
+    tp: float = _units("s", "Spectral peak period, 0.1 to 3600 (ocean gravity waves)", gt=0.0)
+    seed: int = _units("1", "Seed of the random frequencies and phases (numpy default_rng): the same seed, the "
+                            "same sea", default=0, ge=0, le=2 ** 63 - 1)
+    components: int = _units("1", "Number of wave components", default=200, ge=1, le=20000)
     discretisation: Literal["geometric", "equal-spacing", "equal-energy"] = Field(
         "geometric", description="Frequency bins: geometric (constant d_omega/omega), equal-spacing or "
                                  "equal-energy; each component has the energy of its bin and a random "
                                  "frequency inside it")
-    omega_min: float | None = _units("rad/s", "Lowest frequency (default 0.5*2*pi/tp)", default=None, gt=0.0)
-    omega_max: float | None = _units("rad/s", "Highest frequency (default 10*2*pi/tp)", default=None, gt=0.0)
+    omega_min: float | None = _units("rad/s", "Lowest frequency (default 0.5*2*pi/tp), 0.000873 to 628.3 (ocean "
+                                              "gravity waves), below the peak 2*pi/tp and omega_max",
+                                     default=None, gt=0.0)
+    omega_max: float | None = _units("rad/s", "Highest frequency (default 10*2*pi/tp), 0.000873 to 628.3 (ocean "
+                                              "gravity waves), above the peak 2*pi/tp and omega_min",
+                                     default=None, gt=0.0)
 
     @field_validator("tp")
     @classmethod
@@ -561,10 +577,10 @@ class JonswapWaves(_SpectrumWaves):
     exactly where DNV's A_gamma misses it by more than 1 % (gamma above 6.3, other sigmas)."""
 
     kind: Literal["jonswap"]
-    gamma: float | None = Field(None, ge=1.0, le=10.0, description="Peak enhancement factor [-] (default: the "
-                                                                   "DNV-RP-C205 rule from tp/sqrt(hs))")
-    sigma_a: float = Field(0.07, gt=0.0, le=1.0, description="Spectral width below the peak [-]")
-    sigma_b: float = Field(0.09, gt=0.0, le=1.0, description="Spectral width above the peak [-]")
+    gamma: float | None = _units("1", "Peak enhancement factor (default: the DNV-RP-C205 rule from "
+                                      "tp/sqrt(hs))", default=None, ge=1.0, le=10.0)
+    sigma_a: float = _units("1", "Spectral width below the peak", default=0.07, gt=0.0, le=1.0)
+    sigma_b: float = _units("1", "Spectral width above the peak", default=0.09, gt=0.0, le=1.0)
 
 
 class PiersonMoskowitzWaves(_SpectrumWaves):
@@ -578,9 +594,9 @@ class TimeSeriesWaves(_Waves):
     components, which then travel as long-crested linear waves."""
 
     kind: Literal["time-series"]
-    rows: list[ElevationRow] = Field(..., min_length=4, description="Rows [t (s), eta (m)] at equal time steps: "
-                                     "the elevation above still water at origin (repeats with the record length)",
-                                     json_schema_extra={"units": "s, m"})
+    rows: list[ElevationRow] = _units("s, m", "Rows [t, eta], times strictly increasing at equal steps: the "
+                                              "elevation above still water at origin (repeats with the record "
+                                              "length)", min_length=4)
     origin: Vector2 = _units("m", "Point [x, y] where the record was taken", default=[0.0, 0.0])
     omega_max: float | None = _units("rad/s", "Drop the components above this frequency", default=None, gt=0.0)
 
@@ -605,7 +621,9 @@ class Water(_Strict):
 
     density: float = _units("kg/m^3", "Mass density of sea water", default=1025.0, gt=0.0,
                             le=MAX_DENSITY, limit=DENSITY_LIMIT)
-    depth: float | None = _units("m", "Water depth below the still surface (seabed at surface_level - depth)",
+    depth: float | None = _units("m", "Water depth below the still surface (seabed at surface_level - depth); "
+                                      "with a seabed, it must match the seabed's z (a profile's at the global "
+                                      "origin)",
                                  default=None, gt=0.0, le=1.0e5,
                                  limit="no sea is deeper than about 11 km (check the units, metres)")
     surface_level: float = _units("m", "z of the still water surface", default=0.0)
@@ -634,35 +652,29 @@ class Seabed(_Strict):
     """Seabed: a flat plane, a sloped plane or a 2-D profile, with a normal spring-damper and
     Coulomb friction (spring-slider stick/slip) per unit length of line in contact."""
 
-    z: float | None = _units("m", "z of the seabed at the global origin (default: surface_level - water.depth)",
-                             default=None)
+    z: float | None = _units("m", "z of the seabed at the global origin (default: surface_level - water.depth), "
+                                  "below the still water surface; not with a profile, and with water.depth "
+                                  "given it must match it", default=None)
     slope_deg: float = _units("deg", "Inclination of a plane seabed (0: horizontal)", default=0.0, gt=-60.0, lt=60.0)
     slope_direction_deg: float = _units("deg", "Direction (from global x, about z) in which a sloped seabed rises",
                                         default=0.0)
-    profile: list[ProfilePoint] | None = Field(
-        None, min_length=2,
-        description="2-D seabed profile: rows [horizontal distance (m) along profile_direction_deg from the "
-                    "global origin, seabed z (m)], distances increasing; linear between rows, flat beyond the "
-                    "table at the depth of its first and last rows (every row must lie below the water surface, "
-                    "so the seabed does everywhere)", json_schema_extra={"units": "m"})
-    profile_direction_deg: float = _units("deg", "Direction of the profile's distance axis (from global x)",
-                                          default=0.0)
+    profile: list[ProfilePoint] | None = _units(
+        "m", "2-D seabed profile: rows [horizontal distance along profile_direction_deg from the global origin, "
+             "seabed z], distances strictly increasing, no segment steeper than 60 degrees; linear between rows, "
+             "flat beyond the table at the depth of its first and last rows (every row must lie below the water "
+             "surface, so the seabed does everywhere); not with slope_deg or z", default=None, min_length=2)
+    profile_direction_deg: float = _units("deg", "Direction of the profile's distance axis (from global x); "
+                                                 "only with a profile", default=0.0)
     normal_stiffness: float = _units("N/m/m", "Normal contact stiffness per unit length of line",
                                      default=1.0e5, ge=MIN_SEABED_STIFFNESS, le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT,
                                      floor=SEABED_STIFFNESS_FLOOR)
-    damping_ratio: float = Field(0.2, ge=0.0, le=10.0,
-                                 description="Normal contact damping as a fraction of critical for the line's "
-                                             "mass per length on the seabed spring [-]",
-                                 json_schema_extra={"units": "1"})
-    friction: float = Field(0.0, ge=0.0, le=5.0,
-                            description="Coulomb friction coefficient, axial and lateral [-]",
-                            json_schema_extra={"units": "1"})
-    friction_axial: float | None = Field(None, ge=0.0, le=5.0,
-                                         description="Axial friction coefficient (default: friction) [-]",
-                                         json_schema_extra={"units": "1"})
-    friction_lateral: float | None = Field(None, ge=0.0, le=5.0,
-                                           description="Lateral friction coefficient (default: friction) [-]",
-                                           json_schema_extra={"units": "1"})
+    damping_ratio: float = _units("1", "Normal contact damping as a fraction of critical for the line's mass per "
+                                       "length on the seabed spring", default=0.2, ge=0.0, le=10.0)
+    friction: float = _units("1", "Coulomb friction coefficient, axial and lateral", default=0.0, ge=0.0, le=5.0)
+    friction_axial: float | None = _units("1", "Axial friction coefficient (default: friction)", default=None,
+                                          ge=0.0, le=5.0)
+    friction_lateral: float | None = _units("1", "Lateral friction coefficient (default: friction)", default=None,
+                                            ge=0.0, le=5.0)
     friction_stiffness: float | None = _units(
         "N/m/m", "Tangential stiffness of the stick spring per unit length in contact: a sticking line moves "
                  "friction_force / (stiffness * length) before it slides, its mobilisation displacement "
@@ -717,8 +729,12 @@ class Seabed(_Strict):
 
 
 class Environment(_Strict):
+    """The surroundings of the scene: gravity, the sea water (depth, current, waves) and the
+    seabed the lines can rest on."""
+
     gravity: float = _units("m/s^2", f"Acceleration of gravity (acts along -z); 0 for none, else at least "
-                            f"{MIN_GRAVITY:g}", default=9.81, ge=0.0, le=100.0, floor=GRAVITY_FLOOR)
+                            f"{MIN_GRAVITY:g} (waves need at least 0.1)", default=9.81, ge=0.0, le=100.0,
+                            floor=GRAVITY_FLOOR)
     water: Water | None = Field(None, description="Sea water; omit for a scene in air")
     seabed: Seabed | None = Field(None, description="Seabed contact; omit for no seabed")
 
@@ -833,7 +849,11 @@ DOF_NAMES = ("surge", "sway", "heave", "roll", "pitch", "yaw")
 
 
 class HarmonicDof(_Strict):
-    amplitude: float = _units("m or deg", "Amplitude (m for surge, sway and heave; deg for roll, pitch and yaw)",
+    """One degree of freedom of a harmonic vessel motion: a sine of the given amplitude,
+    period and phase about the rest position."""
+
+    amplitude: float = _units("m or deg", "Amplitude: a length for surge, sway and heave, an angle for roll, "
+                                          "pitch and yaw",
                               ge=0.0, le=1000.0, limit=("a vessel's largest motions in a storm are about 15 m of "
                                                         "heave and 30 deg of roll (check the units)"))
     period: float = _units("s", "Period", gt=0.0)
@@ -841,6 +861,9 @@ class HarmonicDof(_Strict):
 
 
 class FixedMotion(_Strict):
+    """No motion: the vessel stays at its rest position and heading (a fixed frame, a quay
+    or a platform)."""
+
     kind: Literal["fixed"] = "fixed"
 
 
@@ -862,10 +885,9 @@ class TableMotion(_Strict):
     """A table of time vs the six displacements [t, surge, sway, heave, roll, pitch, yaw]."""
 
     kind: Literal["table"]
-    rows: list[TableRow] = Field(
-        ..., min_length=2,
-        description="Rows [t (s), surge (m), sway (m), heave (m), roll (deg), pitch (deg), yaw (deg)]",
-        json_schema_extra={"units": "s, m, m, m, deg, deg, deg"})
+    rows: list[TableRow] = _units(
+        "s, m, m, m, deg, deg, deg", "Rows [t, surge, sway, heave, roll, pitch, yaw], times strictly increasing "
+                                     "(at least 4 rows for cubic interpolation)", min_length=2)
     interpolation: Literal["cubic", "linear"] = "cubic"
     ramp_duration: float = _units("s", "Ramp-in time of the motion", default=0.0, ge=0.0)
 
@@ -884,12 +906,12 @@ class RaoDof(_Strict):
     """Displacement RAO of one degree of freedom: one row per frequency (or period), one
     value per heading."""
 
-    amplitude: list[list[float]] = Field(..., min_length=1, description="RAO amplitude [m/m for surge, sway, "
-                                         "heave; deg/m for roll, pitch, yaw], rows per frequency, columns per "
-                                         "heading", json_schema_extra={"units": "m/m or deg/m"})
-    phase_deg: list[list[float]] = Field(..., min_length=1, description="Phase LAG of the motion behind the wave "
-                                         "elevation at the vessel origin [deg], same layout as amplitude",
-                                         json_schema_extra={"units": "deg"})
+    amplitude: list[list[float]] = _units("m/m or deg/m", "RAO amplitude, not negative: m/m for surge, sway and "
+                                                          "heave, deg/m for roll, pitch and yaw; a row per "
+                                                          "frequency (or period) of the table, a value per heading",
+                                          min_length=1)
+    phase_deg: list[list[float]] = _units("deg", "Phase LAG of the motion behind the wave elevation at the vessel "
+                                                 "origin, same layout as amplitude", min_length=1)
 
 
 class RaoTable(_Strict):
@@ -897,13 +919,16 @@ class RaoTable(_Strict):
     phase_k), relative to the wave elevation a_j cos(omega_j t - k_j.x_v + phi_j) at the vessel origin x_v."""
 
     description: str = Field("", max_length=10000, description="Free text: the vessel, loading condition, source")
-    periods: list[float] | None = _units("s", "Wave periods of the table rows (or give frequencies)", default=None)
-    frequencies: list[float] | None = _units("rad/s", "Wave frequencies of the table rows (or give periods)",
+    periods: list[float] | None = _units("s", "Wave periods of the table rows, greater than 0, strictly "
+                                              "increasing or strictly decreasing (or give frequencies)", default=None)
+    frequencies: list[float] | None = _units("rad/s", "Wave frequencies of the table rows, greater than 0, "
+                                                      "strictly increasing or strictly decreasing (or give periods)",
                                              default=None)
-    headings_deg: list[float] = Field(..., min_length=1, description="Relative wave headings of the columns "
-                                      "[deg]: wave direction (toward) minus vessel heading; 0 = waves travel "
-                                      "along the vessel x axis (following seas), 90 = toward port (from "
-                                      "starboard), 180 = head seas", json_schema_extra={"units": "deg"})
+    headings_deg: list[float] = _units("deg", "Relative wave headings of the columns, strictly increasing, over at "
+                                              "most 360 (a symmetric table: within [0, 180]): wave direction "
+                                              "(toward) minus vessel heading; 0 = waves travel along the vessel x "
+                                              "axis (following seas), 90 = toward port (from starboard), 180 = "
+                                              "head seas", min_length=1)
     symmetric: bool = Field(False, description="Port-starboard symmetric vessel: headings only in [0, 180]; "
                                                "heading b > 180 uses 360 - b with sway, roll and yaw reversed")
     surge: RaoDof | None = None
@@ -1026,6 +1051,9 @@ class Vessel(_Strict):
 # --------------------------------------------------------------------------- line types
 
 class ElasticMaterial(_Strict):
+    """Linear elastic section: the SDE forces and moments are the section stiffnesses (EA,
+    EI, GJ, GA) times the strains and curvatures, whatever their size."""
+
     kind: Literal["elastic"] = "elastic"
 
 
@@ -1044,16 +1072,18 @@ class ElastoplasticMaterial(_Strict):
     kind: Literal["elastoplastic"]
     law: Literal["bilinear", "ramberg-osgood", "table"] = Field("bilinear", description="Stress-strain law")
     yield_stress: float | None = _units("Pa", "Yield stress (ramberg-osgood: stress at the plastic strain "
-                                        "ro_offset; table: the first row's stress)", default=None)
-    hardening_ratio: float | None = Field(None, description="Tangent modulus after yield over Young's modulus "
-                                          "E_t/E of the bilinear law, in [0, 1); default 0 [-]",
-                                          json_schema_extra={"units": "1"})
-    ro_n: float | None = Field(None, description="Ramberg-Osgood exponent n > 1 [-]",
-                               json_schema_extra={"units": "1"})
-    ro_offset: float | None = Field(None, description="Ramberg-Osgood plastic strain at the yield stress, "
-                                    "default 0.002 [-]", json_schema_extra={"units": "1"})
-    table: list[StrainStressRow] | None = Field(None, description="Rows [strain (-), stress (Pa)] of the "
-                                                "monotonic curve", json_schema_extra={"units": "[1, Pa]"})
+                                        "ro_offset; table: the first row's stress), greater than 0; bilinear and "
+                                        "ramberg-osgood: below a tenth of the line type's youngs_modulus",
+                                        default=None)
+    hardening_ratio: float | None = _units("1", "Tangent modulus after yield over Young's modulus E_t/E of the "
+                                                "bilinear law, in [0, 1); default 0", default=None)
+    ro_n: float | None = _units("1", "Ramberg-Osgood exponent n, greater than 1", default=None)
+    ro_offset: float | None = _units("1", "Ramberg-Osgood plastic strain at the yield stress, in (0, 0.1); "
+                                          "default 0.002", default=None)
+    table: list[StrainStressRow] | None = _units(
+        "1, Pa", "Rows [strain, stress] of the monotonic curve: the first row the yield point (strain and stress "
+                 "greater than 0, stress/strain within 1 % of youngs_modulus), strains strictly increasing, "
+                 "stresses not decreasing, slopes not increasing (concave)", default=None)
 
     @model_validator(mode="after")
     def _law(self):
@@ -1119,10 +1149,10 @@ class StructuralDamping(_Strict):
     """Kelvin-Voigt damping of the SDEs: either damping ratios of the element-level
     axial/bending modes, or explicit coefficients (per unit length, like EA and EI)."""
 
-    axial_ratio: float | None = Field(None, ge=0.0, le=2.0, description="Damping ratio of the axial and shear "
-                                      "element modes [-]")
-    bending_ratio: float | None = Field(None, ge=0.0, le=2.0, description="Damping ratio of the bending and "
-                                        "torsion element modes [-]")
+    axial_ratio: float | None = _units("1", "Damping ratio of the axial and shear element modes", default=None,
+                                       ge=0.0, le=2.0)
+    bending_ratio: float | None = _units("1", "Damping ratio of the bending and torsion element modes",
+                                         default=None, ge=0.0, le=2.0)
     axial: float | None = _units("N*s", "Axial damping coefficient (stress-rate analogue of EA)", default=None, ge=0.0,
                                  le=MAX_DAMPING, limit=DAMPING_LIMIT)
     shear: float | None = _units("N*s", "Shear damping coefficient", default=None, ge=0.0,
@@ -1149,10 +1179,11 @@ class LineType(_Strict):
                                           default=None, gt=0.0, le=100.0,
                                           limit="a line is a slender rod, pipe or cable: 100 m across is not "
                                                 "slender (check the units, metres)")
-    wall_thickness: float | None = _units("m", "Wall thickness of a pipe", default=None, gt=0.0)
+    wall_thickness: float | None = _units("m", "Wall thickness of a pipe, less than outer_diameter/2",
+                                          default=None, gt=0.0)
     youngs_modulus: float | None = _units("Pa", "Young's modulus", default=None, gt=0.0,
                                           le=MAX_MODULUS, limit=MODULUS_LIMIT)
-    poisson_ratio: float = Field(0.3, gt=-1.0, lt=0.5, description="Poisson's ratio [-]")
+    poisson_ratio: float = _units("1", "Poisson's ratio", default=0.3, gt=-1.0, lt=0.5)
     density: float | None = _units("kg/m^3", "Material density of the pipe wall", default=None, ge=MIN_DENSITY,
                                    le=MAX_DENSITY, limit=DENSITY_LIMIT, floor=DENSITY_FLOOR)
     contents_density: float = _units("kg/m^3", "Density of the pipe contents (internal fluid)", default=0.0, ge=0.0,
@@ -1175,14 +1206,14 @@ class LineType(_Strict):
                                           "axis per unit length (polar: twice this)", default=None, ge=0.0,
                                           le=MAX_ROTARY_INERTIA, limit=ROTARY_INERTIA_LIMIT)
 
-    drag_normal: float = Field(0.0, ge=0.0, le=MAX_COEFFICIENT, description="Normal drag coefficient (on "
-                               "outer_diameter) [-]", json_schema_extra=COEFFICIENT)
-    drag_axial: float = Field(0.0, ge=0.0, le=MAX_COEFFICIENT, description="Axial drag coefficient (on "
-                              "pi*outer_diameter) [-]", json_schema_extra=COEFFICIENT)
-    added_mass_normal: float = Field(0.0, ge=0.0, le=MAX_COEFFICIENT, description="Normal added-mass coefficient "
-                                     "[-]", json_schema_extra=COEFFICIENT)
-    added_mass_axial: float = Field(0.0, ge=0.0, le=MAX_COEFFICIENT, description="Axial added-mass coefficient [-]",
-                                    json_schema_extra=COEFFICIENT)
+    drag_normal: float = _units("1", "Normal drag coefficient (on outer_diameter)", default=0.0, ge=0.0,
+                                le=MAX_COEFFICIENT, limit=COEFFICIENT_LIMIT)
+    drag_axial: float = _units("1", "Axial drag coefficient (on pi*outer_diameter)", default=0.0, ge=0.0,
+                               le=MAX_COEFFICIENT, limit=COEFFICIENT_LIMIT)
+    added_mass_normal: float = _units("1", "Normal added-mass coefficient", default=0.0, ge=0.0,
+                                      le=MAX_COEFFICIENT, limit=COEFFICIENT_LIMIT)
+    added_mass_axial: float = _units("1", "Axial added-mass coefficient", default=0.0, ge=0.0,
+                                     le=MAX_COEFFICIENT, limit=COEFFICIENT_LIMIT)
     material: Material = Field(default_factory=ElasticMaterial)
     tension_only: bool = Field(False, description="A rope: the axial SDE force is max(0, EA eps + damping), "
                                                   "never compressive (slack); keep the bending stiffness small")
@@ -1264,11 +1295,10 @@ class Drive(_Strict):
     rest rotation turns by angle(t) - angle(0) about ``axis`` (rfesim.model.joins)."""
 
     name: str = Field(..., min_length=1, max_length=100, description="Name of the drive (output column)")
-    axis: Vector3 = Field(..., description="Rotation axis, global at t = 0 (any length, not zero); it turns "
-                          "with the parent line's end [-]", json_schema_extra={"units": "1"})
-    angle: list[DriveAngleRow] = Field(..., min_length=1, description="Rows [t (s), angle (deg)]: monotone "
-                                       "cubic (PCHIP) between rows, held beyond the ends",
-                                       json_schema_extra={"units": "s, deg"})
+    axis: Vector3 = _units("1", "Rotation axis, global at t = 0 (any length, not zero); it turns with the parent "
+                                "line's end")
+    angle: list[DriveAngleRow] = _units("s, deg", "Rows [t, angle], times strictly increasing: monotone cubic "
+                                                  "(PCHIP) between rows, held beyond the ends", min_length=1)
 
     @model_validator(mode="after")
     def _check(self):
@@ -1286,9 +1316,10 @@ class Motor(_Strict):
     exceeds ``max_torque`` (rfesim.loads.drives.motor_forces)."""
 
     name: str = Field("slewing", min_length=1, max_length=100, description="Name of the drive (output column)")
-    angle: list[DriveAngleRow] = Field(..., min_length=1, description="Set angle rows [t (s), angle (deg)]: "
-                                       "monotone cubic (PCHIP) between rows, held beyond the ends; the join "
-                                       "turns by angle(t) - angle(0)", json_schema_extra={"units": "s, deg"})
+    angle: list[DriveAngleRow] = _units("s, deg", "Set angle rows [t, angle], times strictly increasing, angles "
+                                                  "within +-36000 (100 turns): monotone cubic (PCHIP) between "
+                                                  "rows, held beyond the ends; the join turns by angle(t) - "
+                                                  "angle(0)", min_length=1)
     max_torque: float = _units("N*m", "Largest torque the motor gives (both directions)", gt=0.0,
                                le=MAX_FORCE, limit=FORCE_LIMIT)
     stiffness: float = _units("N*m/rad", "Servo gain on the angle error (the joint's torsional stiffness)", gt=0.0,
@@ -1333,6 +1364,10 @@ class Reeving(_Strict):
 
 
 class LineEnd(_Strict):
+    """One end of a line (end A at arc length 0, end B at its length): what it is attached
+    to (the global frame, a vessel, a body, a chain link or another line's end), where, and
+    whether its rotation follows the attachment (clamped) or is free (pinned)."""
+
     attach: str = Field("free", description='"fixed" (global frame), "free", a vessel name, (end B) a body '
                                             'name (position: the attachment point in the body frame), or (end '
                                             'A) "<line>:end_b": joined to end B of another absolute line '
@@ -1340,9 +1375,11 @@ class LineEnd(_Strict):
                                             '"<line>:end_b": a closing join onto end B of another line (a '
                                             'portal\'s crossbeam, rfesim.scenario.joins)')
     position: Vector3 | None = _units("m", "Position of the end: global for fixed and free ends, in the vessel "
-                                      "frame for a vessel", default=None)
-    direction: Vector3 | None = Field(None, description="Unit tangent of the line at this end, pointing from "
-                                      "end A toward end B (global, or vessel frame for a vessel)")
+                                      "frame for a vessel (required for a fixed end and an end on a vessel or a "
+                                      "body)", default=None)
+    direction: Vector3 | None = _units("1", "Tangent of the line at this end (any length, not zero), pointing "
+                                            "from end A toward end B (global, or vessel frame for a vessel)",
+                                       default=None)
     connection: Literal["clamped", "pinned"] = Field("pinned", description="clamped: position and orientation "
                                                      "follow the attachment; pinned: position only")
     at: float | None = _units("m", 'Attached to a chain link ("attach": "<chain>.<link>"): arc length of the '
@@ -1356,10 +1393,11 @@ class LineEnd(_Strict):
     reeving: Reeving | None = Field(None, description='The rope of a pinned join ("<line>:end_b", the sheave) '
                                     'runs on to a lead (its winch): the parent is pulled toward the lead by '
                                     'the tension at the sheave (rfesim.loads.reeving)')
-    hinge_axis: Vector3 | None = Field(None, description='A clamped join ("<line>:end_b") that turns freely '
-                                       'about this axis (global at t = 0), normal to end A\'s direction (a '
-                                       'luffing pin) or along it (a free slewing bearing): the joint\'s stiffness '
-                                       'and damping about it are 0 (rfesim.model.joins)')
+    hinge_axis: Vector3 | None = _units("1", 'A clamped join ("<line>:end_b") that turns freely about this axis '
+                                             '(global at t = 0; any length, not zero), normal to end A\'s direction '
+                                             '(a luffing pin) or along it (a free slewing bearing): the joint\'s '
+                                             'stiffness and damping about it are 0 (rfesim.model.joins); no drives '
+                                             'or motor with it', default=None)
 
     @model_validator(mode="after")
     def _direction(self):
@@ -1397,8 +1435,11 @@ class LineEnd(_Strict):
 
 
 class PointLoad(_Strict):
-    at: Union[Literal["end_a", "end_b"], float] = Field(..., description='"end_a", "end_b", or the arc length '
-                                                        'from end A [m]')
+    """A concentrated force and moment on a line (or a chain link) at an arc length from its
+    end A: a dead load in the global frame, or a follower load turning with the element."""
+
+    at: Union[Literal["end_a", "end_b"], float] = _units("m", '"end_a", "end_b", or the arc length from end A, '
+                                                              'from 0 to the length of the line (or link)')
     force: Vector3 = _units("N", "Force", default=[0.0, 0.0, 0.0])         # bounded by its unit (UNIT_BOUNDS)
     moment: Vector3 = _units("N*m", "Moment", default=[0.0, 0.0, 0.0])
     frame: Literal["global", "local"] = Field("global", description="global: dead load; local: follows the "
@@ -1423,9 +1464,13 @@ MIN_SEGMENT = 1.0e-6      # m, shortest SDE spacing length/elements (the SDE sti
 
 
 class Line(_Strict):
+    """A flexible line (pipe, riser, rope, boom) of one line type, cut into rigid finite
+    elements joined by spring-damper elements (SDEs), with its two ends and point loads."""
+
     type: str = Field(..., description="Name of a line type")
     length: float = _units("m", "Unstretched length", gt=0.0, le=MAX_LENGTH, limit=LENGTH_LIMIT)
-    elements: int = Field(..., ge=1, le=100000, description="Number of SDEs (primary division into equal segments)")
+    elements: int = _units("1", "Number of SDEs (primary division into equal segments), each segment "
+                                "length/elements at least 1e-6 m", ge=1, le=100000)
     formulation: Literal["absolute", "classical", "classical-linear", "modified", "planar"] = Field(
         "absolute", description="RFE formulation: absolute coordinates (section 8.4, sea loads, seabed), "
                                 "classical (8.1, eq. 8.7), classical-linear (eq. 8.8), modified (8.2, joint "
@@ -1489,8 +1534,8 @@ class Roller(_Strict):
 
     position: Vector3 = _units("m", "Centre of the roller's contact line (a point on the roller axis), in the "
                                "frame of the support's attachment")
-    axis: Vector3 = Field(..., description="Direction of the roller axis (any length, not zero), in the frame of "
-                          "the support's attachment [-]", json_schema_extra={"units": "1"})
+    axis: Vector3 = _units("1", "Direction of the roller axis (any length, not zero), in the frame of the "
+                                "support's attachment")
     width: float = _units("m", "Length of the contact line along the axis (the pipe touches within +-width/2 of "
                           "position)", ge=0.0)
     radius: float = _units("m", "Roller radius (0: the contact line itself)", default=0.0, ge=0.0)
@@ -1508,8 +1553,8 @@ class _Support(_Strict):
                               le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
     damping: float = _units("N*s/m", "Contact damping of each roller (acts only while pressed)", default=0.0,
                             ge=0.0, le=MAX_DAMPING, limit=DAMPING_LIMIT)
-    friction: float = Field(0.0, ge=0.0, le=10.0, description="Coulomb friction coefficient along the roller "
-                            "axes (the rollers turn freely along the pipe); dynamics only [-]")
+    friction: float = _units("1", "Coulomb friction coefficient along the roller axes (the rollers turn freely "
+                                  "along the pipe); dynamics only", default=0.0, ge=0.0, le=10.0)
     friction_stiffness: float | None = _units("N/m", "Stick-spring stiffness of the friction (default: the "
                                               "contact stiffness)", default=None, gt=0.0,
                                               le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
@@ -1536,11 +1581,13 @@ class StingerSupport(_Support):
 
     kind: Literal["stinger"]
     start: Vector3 = _units("m", "First roller station (attachment frame)")
-    direction: Vector3 = Field(..., description="Tangent of the arc at start, pointing along the lay direction "
-                               "(attachment frame; not vertical) [-]", json_schema_extra={"units": "1"})
+    direction: Vector3 = _units("1", "Tangent of the arc at start, pointing along the lay direction (attachment "
+                                     "frame; any length, not zero, not vertical)")
     radius: float = _units("m", "Radius of the arc of roller axes", gt=0.0)
-    length: float = _units("m", "Arc length of the stinger from start", gt=0.0, le=1.0e4)
-    spacing: float = _units("m", "Distance between roller stations along the arc", gt=0.0)
+    length: float = _units("m", "Arc length of the stinger from start, at most half the circle (pi * radius)",
+                           gt=0.0, le=1.0e4)
+    spacing: float = _units("m", "Distance between roller stations along the arc, at most the length, and at "
+                                 "most 10000 stations (length / spacing)", gt=0.0)
     roller_width: float = _units("m", "Contact length of each roller", gt=0.0)
     roller_radius: float = _units("m", "Roller radius", default=0.0, ge=0.0)
     v_angle_deg: float = _units("deg", "Rise of each half of a V-roller from horizontal (0: one flat roller per "
@@ -1576,7 +1623,8 @@ class PayoutTable(_Strict):
     speed that is constant in between (rfesim.loads.tensioner)."""
 
     kind: Literal["table"]
-    rows: list[PayoutRow] = Field(..., min_length=1, json_schema_extra={"units": "s, m"})
+    rows: list[PayoutRow] = _units("s, m", "Rows [t, paid-out length], times strictly increasing; negative "
+                                           "lengths reel the line in", min_length=1)
 
     @model_validator(mode="after")
     def _times(self):
@@ -1609,8 +1657,7 @@ class TensionerSupport(_Strict):
     attach: str = Field("fixed", description='"fixed" (global frame) or a vessel name: the track moves with it')
     line: str = Field(..., description="Name of the line the tensioner holds")
     entry: Vector3 = _units("m", "Entry point of the track (attachment frame)")
-    axis: Vector3 = Field(..., description="Direction of payout along the track (attachment frame) [-]",
-                          json_schema_extra={"units": "1"})
+    axis: Vector3 = _units("1", "Direction of payout along the track (attachment frame; any length, not zero)")
     length: float = _units("m", "Track length", gt=0.0, le=MAX_LENGTH, limit=LENGTH_LIMIT)
     lateral_stiffness: float = _units("N/m/m", "Pad stiffness holding the line on the axis, per unit length",
                                       default=1.0e7, gt=0.0, le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
@@ -1646,15 +1693,16 @@ class ReelSupport(_Strict):
     attach: str = Field("fixed", description='"fixed" (global frame) or a vessel name: the reel moves with it')
     line: str = Field(..., description="Name of the line stored on the reel (from its end A)")
     centre: Vector3 = _units("m", "Centre of the drum (attachment frame)")
-    axis: Vector3 = Field(..., description="Drum axis (attachment frame); the take-off point is at "
-                          "centre + radius * (axis x direction) [-]", json_schema_extra={"units": "1"})
-    direction: Vector3 = Field(..., description="Direction in which the pipe leaves the drum at the take-off "
-                               "point, normal to the axis (attachment frame) [-]", json_schema_extra={"units": "1"})
+    axis: Vector3 = _units("1", "Drum axis (attachment frame; any length, not zero); the take-off point is at "
+                                "centre + radius * (axis x direction)")
+    direction: Vector3 = _units("1", "Direction in which the pipe leaves the drum at the take-off point, normal "
+                                     "to the axis (attachment frame; any length, not zero)")
     radius: float = _units("m", "Radius of the pipe axis on the drum (drum radius + pipe outer radius)", gt=0.0,
                            le=MAX_LENGTH, limit=LENGTH_LIMIT)
     wrap_deg: float = _units("deg", "Wrap window: the angle back from the take-off point over which the drum "
                              "holds the pipe", default=180.0, gt=0.0, le=270.0)
-    stored_length: float = _units("m", "Length of the line from end A wrapped on the drum at the start", ge=0.0)
+    stored_length: float = _units("m", "Length of the line from end A wrapped on the drum at the start, at most "
+                                       "the wrap window radius * wrap_deg (in radians)", ge=0.0)
     contact_stiffness: float = _units("N/m/m", "Radial contact stiffness of the drum per unit length",
                                       default=1.0e7, gt=0.0, le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
     lateral_stiffness: float = _units("N/m/m", "Stiffness holding the pipe in the drum plane, per unit length",
@@ -1668,8 +1716,8 @@ class ReelSupport(_Strict):
                                         "the drum (shifts its payout) until the tension of the line just off the "
                                         "drum (the first element past the take-off point) equals it; the drum's "
                                         "tangential force also carries the moment of the pipe leaving the drum "
-                                        "(default: the drum grips the line where it starts)", default=None, gt=0.0,
-                                        le=MAX_FORCE, limit=FORCE_LIMIT)
+                                        "(default: the drum grips the line where it starts); below capacity",
+                                        default=None, gt=0.0, le=MAX_FORCE, limit=FORCE_LIMIT)
     payout: Annotated[Union[PayoutTable, PayoutConstantTension], Field(discriminator="kind")] = Field(
         default_factory=lambda: PayoutTable(kind="table", rows=[[0.0, 0.0]]),
         description="Paid-out length (radius times the drum rotation) prescribed, or driven by the tension "
@@ -1710,14 +1758,14 @@ class StraightenerSupport(_Support):
 
     kind: Literal["straightener"]
     entry: Vector3 = _units("m", "Pipe axis at the first roller (attachment frame)")
-    axis: Vector3 = Field(..., description="Direction of the pipe's travel through the straightener (attachment "
-                          "frame) [-]", json_schema_extra={"units": "1"})
-    side: Vector3 = Field(..., description="Bending side: the direction, normal to axis, in which the middle "
-                          "roller(s) push the pipe (attachment frame) [-]", json_schema_extra={"units": "1"})
+    axis: Vector3 = _units("1", "Direction of the pipe's travel through the straightener (attachment frame; any "
+                                "length, not zero)")
+    side: Vector3 = _units("1", "Bending side: the direction, normal to axis, in which the middle roller(s) push "
+                                "the pipe (attachment frame; any length, not zero)")
     span: float = _units("m", "Distance between the first and the last roller", gt=0.0)
-    offset: float = _units("m", "How far the middle roller(s) push the pipe axis out of the straight line",
-                           ge=0.0)
-    rollers: int = Field(3, ge=3, le=99, description="Number of rollers (odd)")
+    offset: float = _units("m", "How far the middle roller(s) push the pipe axis out of the straight line, at "
+                                "most half the roller pitch, span / (rollers - 1)", ge=0.0)
+    rollers: int = _units("1", "Number of rollers, odd", default=3, ge=3, le=99)
     roller_radius: float = _units("m", "Roller radius", default=0.2, ge=0.0)
     roller_width: float = _units("m", "Length of each roller's contact line", default=1.0, gt=0.0)
 
@@ -1749,11 +1797,11 @@ class StaticsSettings(_Strict):
 
     enabled: bool = Field(True, description="Solve statics; false starts dynamics from the lines' initial shape "
                                             "at rest")
-    tolerance: float = Field(1e-8, gt=0.0, lt=1.0, description="Convergence: largest residual force relative to "
-                                                                "the largest applied force [-]")
-    max_iterations: int = Field(400, ge=1, le=100000, description="Newton iterations over all load steps")
-    load_steps: int = Field(1, ge=1, le=1000, description="Initial number of load steps (halved adaptively "
-                                                          "when Newton fails)")
+    tolerance: float = _units("1", "Convergence: largest residual force relative to the largest applied force",
+                              default=1e-8, gt=0.0, lt=1.0)
+    max_iterations: int = _units("1", "Newton iterations over all load steps", default=400, ge=1, le=100000)
+    load_steps: int = _units("1", "Initial number of load steps (halved adaptively when Newton fails)", default=1,
+                             ge=1, le=1000)
     seabed_friction: Literal["none", "mobilised"] = Field(
         "none", description="Seabed friction in statics: none, or fully mobilised axial friction on the grounded "
                             "length pointing towards end A (the line was pulled towards end B as it was laid)")
@@ -1764,36 +1812,44 @@ class StaticsSettings(_Strict):
 
 
 class RK4Settings(_Strict):
+    """Explicit fourth-order Runge-Kutta at a fixed step, by default a safe fraction of the
+    stability limit of the stiffest SDE."""
+
     kind: Literal["rk4"]
     time_step: float | None = _units("s", "Fixed step (default: estimated from the stiffest SDE)",
                                      default=None, gt=0.0)
-    safety: float = Field(0.8, gt=0.0, le=1.0, description="Fraction of the estimated stability limit used for "
-                                                           "the default step [-]")
+    safety: float = _units("1", "Fraction of the estimated stability limit used for the default step",
+                           default=0.8, gt=0.0, le=1.0)
 
 
 class AdaptiveSettings(_Strict):
+    """Explicit Dormand-Prince 5(4) with an adaptive step that keeps the estimated error of
+    each step within rtol and atol."""
+
     kind: Literal["adaptive"]
-    rtol: float = Field(1e-6, gt=0.0, lt=1.0, description="Relative error allowed per step of the embedded "
-                                                          "Dormand-Prince pair, of each coordinate (a position "
-                                                          "against its size plus the element length) [-]")
-    atol: float = Field(1e-8, gt=0.0, description="Absolute error allowed per step, added to rtol's share (m "
-                                                  "for positions, rad for rotations, m/s and rad/s for "
-                                                  "velocities)")
+    rtol: float = _units("1", "Relative error allowed per step of the embedded Dormand-Prince pair, of each "
+                              "coordinate (a position against its size plus the element length)", default=1e-6,
+                         gt=0.0, lt=1.0)
+    atol: float = _units("m or rad; m/s or rad/s", "Absolute error allowed per step, added to rtol's share, in the "
+                                                   "unit of each coordinate: m for positions, rad for rotations, "
+                                                   "m/s and rad/s for velocities", default=1e-8, gt=0.0)
     max_step: float | None = _units("s", "Largest step", default=None, gt=0.0)
     first_step: float | None = _units("s", "First step (default: estimated)", default=None, gt=0.0)
 
 
 class GeneralizedAlphaSettings(_Strict):
+    """Implicit generalized-alpha (Chung-Hulbert) at a fixed step with Newton iterations: the
+    default integrator, second-order accurate with numerical damping of the highest
+    frequencies set by rho_inf."""
+
     kind: Literal["generalized-alpha"]
     time_step: float = _units("s", "Time step", default=0.01, gt=0.0)
-    rho_inf: float = Field(0.8, ge=0.0, le=1.0, description="Spectral radius at infinite frequency "
-                                                            "(1: no numerical damping) [-]")
-    tolerance: float = Field(1e-6, gt=0.0, lt=1.0, description="Newton tolerance: largest residual force "
-                                                               "relative to the largest element weight or point "
-                                                               "load [-]")
-    max_iterations: int = Field(12, ge=1, le=200, description="Newton iterations of one try of a step (a step "
-                                                              "that fails is retried from another predictor, "
-                                                              "then halved)")
+    rho_inf: float = _units("1", "Spectral radius at infinite frequency (1: no numerical damping)", default=0.8,
+                            ge=0.0, le=1.0)
+    tolerance: float = _units("1", "Newton tolerance: largest residual force relative to the largest element "
+                                   "weight or point load", default=1e-6, gt=0.0, lt=1.0)
+    max_iterations: int = _units("1", "Newton iterations of one try of a step (a step that fails is retried from "
+                                      "another predictor, then halved)", default=12, ge=1, le=200)
     jacobian_reuse: bool = Field(True, description="Modified Newton: keep the factorised Jacobian while "
                                                    "Newton converges fast")
     jacobian: Literal["analytic", "finite-difference"] = Field(
@@ -1819,7 +1875,10 @@ class DynamicsSettings(_Strict):
 
 
 class ModalSettings(_Strict):
-    modes: int = Field(10, ge=1, le=10000, description="Number of modes (lowest frequencies)")
+    """Natural frequencies and mode shapes of the structure linearised about its static
+    equilibrium."""
+
+    modes: int = _units("1", "Number of modes (lowest frequencies)", default=10, ge=1, le=10000)
 
 
 class Analysis(_Strict):

@@ -67,9 +67,9 @@ class TuggerTension(_Strict):
     """A constant-tension tugger winch: tension T(t) at any line length."""
 
     kind: Literal["tension"]
-    tension: Union[float, list[TensionRow]] = Field(..., description="Set tension (N), or rows [t (s), T (N)], "
-                                                    "linear between rows, held beyond them",
-                                                    json_schema_extra={"units": "N (s, N)"})
+    tension: Union[float, list[TensionRow]] = _units("N (s, N)", "Set tension, not negative, or rows [t, T] with "
+                                                                 "times strictly increasing and tensions not "
+                                                                 "negative, linear between rows, held beyond them")
 
     @model_validator(mode="after")
     def _table(self):
@@ -85,13 +85,14 @@ class TuggerForce(_Strict):
     pushes the point away from the deck point when positive, pulls it when negative."""
 
     kind: Literal["force"]
-    force: Union[float, list[TensionRow]] = Field(..., description="Set force (N, positive pushing), or rows "
-                                                  "[t (s), P (N)], linear between rows, held beyond them",
-                                                  json_schema_extra={"units": "N (s, N)"})
+    force: Union[float, list[TensionRow]] = _units("N (s, N)", "Set force (positive pushing), or rows [t, P] with "
+                                                               "times strictly increasing, linear between rows, "
+                                                               "held beyond them")
 
     length_min: float | None = _units("m", "End stop: the shortest length (default: none)", default=None, gt=0.0,
                                       le=MAX_LENGTH, limit=LENGTH_LIMIT)
-    length_max: float | None = _units("m", "End stop: the longest length (default: none)", default=None, gt=0.0,
+    length_max: float | None = _units("m", "End stop: the longest length, longer than length_min (default: none)",
+                                      default=None, gt=0.0,
                                       le=MAX_LENGTH, limit=LENGTH_LIMIT)
     stop_stiffness: float = _units("N/m", "Stiffness of the end stops", default=1.0e9, gt=0.0,
                                    le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
@@ -127,14 +128,15 @@ class TuggerElastic(_Strict):
 
 
 class Tugger(_Strict):
-    """A tugger line from a vessel's deck to a body, or to a point of a line (see the module
-    text)."""
+    """A tugger line from a winch or fairlead on a vessel's deck to a body (or a point of a
+    line), steadying a payload against swinging and turning: constant tension, an elastic
+    braked line, or a set push-pull force."""
 
     body: str | None = Field(None, min_length=1, description="The body (a name of `bodies`) the line pulls on")
     line: str | None = Field(None, min_length=1, description="Or the line (a name of `lines`) it acts on, at "
                              "arc length `at` on the line's axis")
-    at: float | None = _units("m", "Arc length from the line's end A of the point the tugger acts on (with "
-                              "`line`)", default=None, ge=0.0)
+    at: float | None = _units("m", "Arc length from the line's end A of the point the tugger acts on, at most "
+                                   "the line's length (with `line`)", default=None, ge=0.0)
     vessel: str = Field(..., min_length=1, description="The vessel (a name of `vessels`) whose deck carries the "
                         "tugger winch or fairlead")
     deck_point: Vector3 = _units("m", "The line's deck end (winch or fairlead) in the vessel frame")

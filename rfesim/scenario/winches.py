@@ -57,7 +57,9 @@ class WinchSpeed(_Strict):
     """Prescribed payout speed: rows [t (s), v (m/s)], v > 0 pays out, linear between rows."""
 
     kind: Literal["speed"]
-    rows: list[SpeedRow] = Field(..., min_length=1, json_schema_extra={"units": "s, m/s"})
+    rows: list[SpeedRow] = _units("s, m/s", "Payout speed rows [t, v], times strictly increasing, v > 0 pays out, "
+                                            "linear between rows; the payout over the run at most `stored`, and at "
+                                            "least 5 % of the line left out", min_length=1)
 
     @model_validator(mode="after")
     def _times(self):
@@ -70,7 +72,8 @@ class DrumLayers(_Strict):
     with the rope on it (``drum_radius``)."""
 
     width: float = _units("m", "Drum width between the flanges", gt=0.0)
-    rope_diameter: float = _units("m", "Rope diameter (the pitch of the turns and of the layers)", gt=0.0)
+    rope_diameter: float = _units("m", "Rope diameter (the pitch of the turns and of the layers), at most the "
+                                       "width and less than twice the drum's radius", gt=0.0)
 
     @property
     def growth(self) -> float:
@@ -113,9 +116,9 @@ class WinchDrum(_Strict):
                                       "the drum, r = sqrt(radius^2 + L d^2 / (pi width)) (default: one radius)")
     inertia: float = _units("kg*m^2", "Rotational inertia of the drum and the drive about the drum axis", gt=0.0,
                             le=MAX_INERTIA, limit=INERTIA_LIMIT)
-    torque: list[TorqueRow] = Field([[0.0, 0.0]], min_length=1, description="Motor torque rows [t (s), "
-                                    "torque (N*m)], positive hauls in, linear between rows [s, N*m]",
-                                    json_schema_extra={"units": "s, N*m"})
+    torque: list[TorqueRow] = _units("s, N*m", "Motor torque rows [t, torque], times strictly increasing, "
+                                               "positive hauls in, linear between rows", default=[[0.0, 0.0]],
+                                     min_length=1)
     brake_torque: float = _units("N*m", "Brake: holds the drum while the net torque stays below it (0: none)",
                                  default=0.0, ge=0.0, le=MAX_FORCE, limit=FORCE_LIMIT)
     rope_inertia: bool = Field(True, description="Add the inertia of the rope on the drum, mass_per_length times "
@@ -151,7 +154,7 @@ class HeaveCompensation(_Strict):
 
     kp: float = _units("1/s", "Proportional gain", default=1.0, ge=0.0)
     ki: float = _units("1/s^2", "Integral gain", default=0.0, ge=0.0)
-    kd: float = Field(0.0, ge=0.0, description="Derivative gain [-]", json_schema_extra={"units": "1"})
+    kd: float = _units("1", "Derivative gain", default=0.0, ge=0.0)
     max_speed: float = _units("m/s", "Largest compensation speed", default=10.0, gt=0.0)
     feedforward: bool = Field(False, description="Add the sheave's vertical velocity to the speed")
 
@@ -178,7 +181,9 @@ class ShockAbsorber(_Strict):
 
 
 class Winch(_Strict):
-    """A winch on one rope line (see the module text)."""
+    """A winch paying out or hauling in one rope line from its end A: a prescribed speed,
+    drum dynamics under the rope tension and a motor torque, or constant tension; with
+    optional heave compensation and a shock absorber."""
 
     line: str = Field(..., description="Name of the (absolute-coordinate) line the winch pays out")
     stored: float = _units("m", "Rope on the drum at the start (payout beyond it is refused)",

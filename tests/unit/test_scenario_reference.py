@@ -1,6 +1,8 @@
 """The scenario reference page docs/scenario.md (rfesim.scenario.reference, `rfesim schema`):
 up to date with the schema, every field of every object and variant listed once, with its
-unit, default, bounds and the schema's own description."""
+unit, default, bounds and the schema's own description; every number of the schema with a
+unit, written once in its metadata and at the end of its description, every object with a
+description, and the times of every time table said to increase."""
 from __future__ import annotations
 
 import difflib
@@ -64,6 +66,35 @@ def table(page: str, path: str, variant: str | None = None) -> dict[str, dict]:
              if p == path and (variant is None or f"(`{variant}`)" in heading)]
     assert len(found) == 1, f"{len(found)} tables of {path} {variant or ''}"
     return {r["field"].strip("`"): r for r in found[0]}
+
+
+def unit_label(units: str) -> str:
+    """A unit as a description ends with it in brackets: ``1`` (dimensionless) as ``-``."""
+    return ", ".join("-" if c.strip() == "1" else c for c in units.split(", "))
+
+
+def holds_numbers(node) -> bool:
+    """True when a property's schema takes a number somewhere (a number, a list or table of
+    numbers, a number-or-table, a map of numbers); a fixed value (``const``) is no quantity."""
+    if not isinstance(node, dict) or "const" in node:
+        return False
+    if node.get("type") in ("number", "integer"):
+        return True
+    alternatives = [a for key in ("anyOf", "oneOf", "prefixItems") for a in node.get(key, [])]
+    inner = [node[key] for key in ("items", "additionalProperties") if isinstance(node.get(key), dict)]
+    return any(holds_numbers(a) for a in alternatives + inner)
+
+
+def properties(schema: dict):
+    """(model name, field name, property schema) of the top level and of every definition."""
+    for model, definition in [("Scenario", schema)] + list(schema["$defs"].items()):
+        for name, prop in definition.get("properties", {}).items():
+            yield model, name, prop
+
+
+# a unit written in a description's text: "(m)", "(deg)", "(-)", "[t s, ...", "t s" ("(s)" after a
+# word is a plural)
+UNIT_IN_TEXT = re.compile(r"(?<![A-Za-z])\((?:s|m|N|deg|rad|Pa|kg|m/s|rad/s|N\*m|-)\)|\[\[t s|\bt s\b|\[-\]")
 
 
 def reachable_definitions(schema: dict) -> list[str]:
@@ -255,3 +286,83 @@ def test_cli_help_lists_schema(capsys):
         main(["--help"])
     assert exc.value.code == 0
     assert re.search(r"^\s+schema\s+print the scenario's JSON Schema", capsys.readouterr().out, re.M)
+
+
+# --------------------------------------------------------------------------- units, descriptions, bounds
+
+def test_every_number_has_its_unit_once(schema):
+    # every number an engineer types has a unit in the schema's ``units``, and its description
+    # ends with that unit in brackets ("1", dimensionless, as "[-]") and names no unit in its text
+    missing, suffix, inner, numbers = [], [], [], 0
+    for model, name, prop in properties(schema):
+        if not holds_numbers(prop):
+            continue
+        numbers += 1
+        units = prop.get("units")
+        if not units:
+            missing.append(f"{model}.{name}")
+            continue
+        text = prop.get("description", "")
+        end = f" [{unit_label(units)}]"
+        if not text.endswith(end):
+            suffix.append(f"{model}.{name}: {text[-40:]!r} does not end with {end!r}")
+        elif UNIT_IN_TEXT.search(text[:-len(end)]):
+            inner.append(f"{model}.{name}: {text!r}")
+    assert not missing, f"{len(missing)} numeric fields without a unit: {missing}"
+    assert not suffix, f"{len(suffix)} descriptions without their unit at the end: {suffix}"
+    assert not inner, f"{len(inner)} descriptions with a unit in their text: {inner}"
+    assert numbers > 350          # the walk reached the schema's numbers
+    # dimensionless numbers and counts are "1", angles of the _deg fields deg
+    defs = schema["$defs"]
+    assert defs["LineType"]["properties"]["poisson_ratio"]["units"] == "1"
+    assert defs["Line"]["properties"]["elements"]["units"] == "1"
+    assert defs["JonswapWaves"]["properties"]["seed"]["units"] == "1"
+    assert defs["Current"]["properties"]["time_factor"]["description"].endswith("[s, -]")
+    assert all(prop["units"].startswith("deg") for _, name, prop in properties(schema) if name.endswith("_deg"))
+
+
+def test_every_number_has_a_unit_on_the_page(generated):
+    rows = [row for _, _, rows in tables(generated) for row in rows
+            if "number" in row["type"] or "integer" in row["type"]]
+    assert len(rows) > 350
+    assert [row["field"] for row in rows if not row["unit"]] == []
+    poisson = table(generated, "line_types.<name>")["line_types.<name>.poisson_ratio"]
+    assert poisson["unit"] == "`1`" and poisson["description"] == "Poisson's ratio [-]"
+
+
+def test_every_object_has_a_description(schema, generated):
+    defs = schema["$defs"]
+    undescribed = [d for d in reachable_definitions(schema) if not defs[d].get("description", "").strip()]
+    assert not undescribed, f"models without a docstring: {undescribed}"
+    # so every section of the page opens with its introduction, not with its table
+    lines = generated.splitlines()
+    headings = [i for i, line in enumerate(lines) if line.startswith("### ")]
+    assert len(headings) > 70
+    bare = [lines[i] for i in headings if lines[i + 2].startswith("| field |")]
+    assert not bare, f"sections without an introduction: {bare}"
+
+
+def test_time_tables_say_that_their_times_increase(schema):
+    # every table with a time column has its times strictly increasing (its model's validator);
+    # the JSON Schema cannot hold it, so the description says it
+    time_tables = [f"{model}.{name}" for model, name, prop in properties(schema)
+                   if re.match(r"^(?:[^(]*\()?s,", prop.get("units", ""))]
+    assert len(time_tables) >= 15
+    silent = [f for f in time_tables if "strictly increasing" not in
+              schema["$defs"][f.split(".")[0]]["properties"][f.split(".")[1]]["description"]]
+    assert not silent, f"time tables that do not say their times increase: {silent}"
+
+
+@pytest.mark.parametrize("section, rows, where", [
+    ({"environment": {"water": {"depth": 50.0, "current": {"profile": [[0.0, 1.0]],
+                                                           "time_factor": [[0.0, 1.0], [0.0, 2.0]]}}}},
+     None, "environment.water.current.time_factor.1"),
+    ({"vessels": {"v": {"motion": {"kind": "table", "rows": [[0, 0, 0, 0, 0, 0, 0], [5, 0, 0, 0, 0, 0, 0],
+                                                              [4, 0, 0, 0, 0, 0, 0]],
+                                   "interpolation": "linear"}}}}, None, "vessels.v.motion.rows.2"),
+])
+def test_a_time_table_that_does_not_increase_is_refused(section, rows, where):
+    # what the descriptions say is what the validators check
+    with pytest.raises(rfesim.ScenarioError) as err:
+        rfesim.load_scenario(section)
+    assert where in str(err.value) and "does not increase" in str(err.value)
