@@ -60,16 +60,20 @@ def plot_line_shapes(res, line: str, ax=None, count: int = 8):
 
 
 def plot_top_tension(res, line: str | None = None, ax=None):
-    """Top tension (force magnitude at end B, N) vs time, of one line or of every line."""
+    """Top tension (N) vs time, of one line or of every line: the force at the end held on
+    board, as the run summary and ``rfesim run`` report it (rfesim.sweep.line_top_tension: the
+    tensioner's hold for a pipelay line, the end attached to a vessel, else end B)."""
+    from .sweep import line_top_tension
+
     ax = _new_axes(ax)
     names = [line] if line is not None else list(res.lines)
     for name in names:
-        tt = res.line(name).top_tension
+        tt, where = line_top_tension(res, name)
         style = "o-" if len(res.time) == 1 else "-"
-        ax.plot(res.time, tt / 1e3, style, label=name)
+        ax.plot(res.time, tt / 1e3, style, label=f"{name} ({where})")
     ax.set_xlabel("time [s]")
     ax.set_ylabel("top tension [kN]")
-    ax.set_title("top tension (end B)")
+    ax.set_title("top tension")
     ax.grid(True, alpha=0.3)
     if names:
         ax.legend(fontsize="small", loc="best")

@@ -375,7 +375,7 @@ def main(argv=None) -> int:
     p.add_argument("--quick", action="store_true", help="a small grid (a few minutes)")
     p.add_argument("--no-moordyn", action="store_true", help="skip the MoorDyn comparison")
     p.add_argument("--only", choices=["h1", "h2", "scaling", "startup", "validation", "formulations", "slay",
-                                        "crane"],
+                                        "crane", "build"],
                    action="append",
                    help="run only these parts (repeatable)")
     p.add_argument("--output", default=str(DOCS / "benchmarks.md"), help="report file (its core section is replaced)")
@@ -419,6 +419,12 @@ def main(argv=None) -> int:
         print(run_crane_and_write(args.quick, out_path))
         if not parts & {"h1", "scaling", "startup", "formulations"}:
             return 0
+    if "build" in parts:
+        # validation and model build of every bundled scenario: its own section and "build" entry
+        from .build import run_build_and_write
+        print(run_build_and_write(args.quick, out_path))
+        if not parts & {"h1", "scaling", "startup", "formulations"}:
+            return 0
     if "formulations" in parts:
         # issue 4: cost per step of each RFE formulation; its own section and benchmarks_formulations.json
         from .formulations import run as run_formulations
@@ -455,7 +461,7 @@ def main(argv=None) -> int:
     h2_previous = _previous(out_path.parent / "benchmarks.json").get("h2")
     if h2_previous is not None:
         raw["h2"] = h2_previous
-    for key in ("slay", "crane"):
+    for key in ("slay", "crane", "build"):
         kept = _previous(out_path.parent / "benchmarks.json").get(key)
         if kept is not None:
             raw[key] = kept

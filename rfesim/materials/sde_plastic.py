@@ -32,7 +32,8 @@ Stress outputs (eqs. 8.97-8.98, with hydrostatic pressure: docs/theory.md, "Stre
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from functools import lru_cache
 
 import numpy as np
 from numba import njit
@@ -255,6 +256,19 @@ def plastic_section(law: StressStrainLaw, wall: PipeWall, segments: int = 40,
         raise ValueError("segments must be >= 2")
     if not max_curvature_ratio > 1.0:
         raise ValueError("max_curvature_ratio must be > 1")
+    try:
+        hash(law)
+    except TypeError:       # a law with an unhashable field (a list table): no memo
+        return _fit_section(law, wall, int(segments), float(max_curvature_ratio))
+    # the fit integrates the fibre model at 2000 curvatures (60 ms for a Ramberg-Osgood wall):
+    # every build of a scenario, and the recorder's stress rows, fit the same frozen law and
+    # wall, so the fit is kept (a copy is handed out: callers may change its arrays)
+    fit = _fit_section_memo(law, wall, int(segments), float(max_curvature_ratio))
+    return replace(fit, params=fit.params.copy(), break_curvatures=fit.break_curvatures.copy(),
+                   break_moments=fit.break_moments.copy(), stress_geometry=fit.stress_geometry.copy())
+
+
+def _fit_section(law: StressStrainLaw, wall: PipeWall, segments: int, max_curvature_ratio: float) -> PlasticSection:
     ky = yield_curvature(law, wall)
     kb = break_curvatures(law, wall, segments, max_curvature_ratio)
     mb = moment_curvature(law, wall, kb)
@@ -270,6 +284,9 @@ def plastic_section(law: StressStrainLaw, wall: PipeWall, segments: int = 40,
                           yield_moment=yield_moment(law, wall), plastic_moment=plastic_moment(law, wall),
                           break_curvatures=kb, break_moments=mb,
                           stress_geometry=stress_geometry(wall, law.yield_stress), law=law, wall=wall)
+
+
+_fit_section_memo = lru_cache(maxsize=64)(_fit_section)
 
 
 def wall_from_section(section) -> PipeWall:
