@@ -311,7 +311,10 @@ def simulate(scenario, *, progress=None):
     """Statics (if enabled) then dynamics (if enabled and duration > 0) -> Results.
 
     ``progress(fraction, time)`` is called as the run advances; if it raises, the run stops
-    with ``rfesim.CancelledError``. A diverging run raises ``rfesim.SolverError`` whose
+    with ``rfesim.CancelledError``, whose ``results`` hold what the dynamics recorded up to
+    the last output step (status 3, rfesim.solvers.dynamics.CANCELLED, "cancelled at t =
+    ..."; None when nothing was recorded yet, or for a cancel in the statics), in every
+    formulation as for an interruption below. A diverging run raises ``rfesim.SolverError`` whose
     ``results`` hold everything computed before; a KeyboardInterrupt in the dynamics (Ctrl-C,
     or a SIGTERM the command line turns into it; a BaseException, so a progress callback that
     raises it is not turned into CancelledError) carries them the same way (``results``,
@@ -358,11 +361,10 @@ def simulate(scenario, *, progress=None):
             exc.results.version = __version__
             exc.results.message = _with_warnings(exc.results.message, info) + _dynamic_warnings(model, exc.results, sc)
         raise
-    except CancelledError:
-        raise
-    except KeyboardInterrupt as exc:
-        # Ctrl-C (or SIGTERM turned into it by the command line): run_dynamics attached the
-        # results so far (status INTERRUPTED), as to a SolverError
+    except (CancelledError, KeyboardInterrupt) as exc:
+        # a progress callback that raised (CancelledError, status CANCELLED) or Ctrl-C (or
+        # SIGTERM turned into it by the command line; status INTERRUPTED): run_dynamics
+        # attached the results so far, as to a SolverError
         part = getattr(exc, "results", None)
         if part is not None:
             part.scenario_json, part.version = meta["scenario_json"], __version__

@@ -2,7 +2,8 @@
 
 `ScenarioError` is raised for bad input and always names the field and the reason.
 `SolverError` is raised when a run cannot go on; it says when and where, and it carries
-the results computed so far in `.results`.
+the results computed so far in `.results`; so does `CancelledError` (a progress callback
+that raised) when the dynamics had recorded outputs.
 """
 from __future__ import annotations
 
@@ -64,4 +65,16 @@ class SolverError(RfesimError, RuntimeError):
 
 
 class CancelledError(RfesimError):
-    """Raised when a progress callback asks a run to stop."""
+    """Raised when a progress callback asks a run to stop (it raised an exception, the
+    ``__cause__`` of this one).
+
+    Attributes: ``message`` (the text), ``time`` (s, the last output time recorded, or
+    None), ``results`` (a cancel during the dynamics: the Results recorded up to the last
+    output step, status 3 (CANCELLED), message "cancelled at t = ... s", in every formulation;
+    None when nothing was recorded yet, and for a cancel during statics)."""
+
+    def __init__(self, message: str = "cancelled", *, time: float | None = None, results=None):
+        self.message = message
+        self.time = time
+        self.results = results
+        super().__init__(message)

@@ -336,8 +336,10 @@ class VesselResults:
 class Results:
     """What a run produced. ``status`` 0: finished; 1: stopped by a SolverError (the
     arrays hold what was computed before); 2: interrupted by Ctrl-C or SIGTERM (the arrays
-    hold what was computed before). A run cancelled through the progress callback raises
-    ``CancelledError`` and returns no Results."""
+    hold what was computed before; rfesim.solvers.dynamics.INTERRUPTED); 3: cancelled
+    through the progress callback, the HTTP service's cancel (the run raises
+    ``CancelledError`` whose ``results`` hold what was recorded up to the last output step;
+    rfesim.solvers.dynamics.CANCELLED)."""
 
     time: np.ndarray
     lines: dict[str, LineResults]

@@ -76,7 +76,8 @@ class JobStatus(BaseModel):
     wall_time: float | None = Field(None, description="Wall time of the run in the worker [s]")
     summary: dict[str, float | None] | None = Field(None, description="Max top tension, max/min tension, "
                                                     "max bend moment, touchdown range, DAF (SI units)")
-    has_results: bool = False
+    has_results: bool = Field(False, description="A results file to fetch: that of a finished run, or what a run "
+                                                 "failed or cancelled during its dynamics computed up to then")
     warnings: list[str] = Field(default_factory=list,
                                 description="Warnings about the scenario and its run: those answered at submit, then "
                                             "those the run logged (statics: no unique static shape, buckling, shear; "
@@ -383,7 +384,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             return {"id": job_id, "status": "cancelled", "message": "cancelled before it started"}
         if status == "running":
             return {"id": job_id, "status": "running",
-                    "message": "cancel requested: the run stops at its next output step"}
+                    "message": "cancel requested: the run stops at its next output step and keeps its "
+                               "results up to it"}
         raise _conflict(f"job {job_id} is already {status}: nothing to cancel")
 
     @app.get("/jobs/{job_id}/events", tags=["jobs"], responses={

@@ -17,8 +17,10 @@ start method), each with its own duplex pipe, one job at a time. A small supervi
 
 * progress arrives over the pipe, throttled by the worker;
 * cancel is a message the worker reads inside its progress callback (the run stops at
-  the next output step); a worker that does not stop within ``cancel_grace`` seconds
-  (e.g. busy in statics, which reports no progress) is killed and replaced;
+  the next output step, its results up to there written and kept: the outcome has
+  ``has_results``); a worker that does not stop within ``cancel_grace`` seconds
+  (e.g. busy in statics, which reports no progress) is killed and replaced, its job
+  cancelled without results;
 * a worker that dies (SIGKILL, out-of-memory killer, a crash in native code) fails only
   the job it was running, with the exit signal in the message, and a new worker is
   started in its place;
@@ -469,7 +471,9 @@ class DaskExecutor(JobExecutor):
             try:
                 _write_atomic(path, data)
             except OSError as exc:
-                out.update(status="failed", has_results=False,
+                # a finished job whose results are lost failed; a cancelled one stays cancelled
+                out.update(status="failed" if out.get("status") == "done" else out.get("status", "failed"),
+                           has_results=False,
                            message=f"{out.get('message', '')}; the results could not be written: {exc}")
         return out
 

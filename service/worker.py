@@ -8,7 +8,8 @@ Two ways in, one body (:func:`execute`):
   runs a tiny scenario so the numba cache is loaded before the first job, says "ready",
   then runs one job at a time from its pipe. Progress goes back over the pipe; a
   "cancel" message read from the pipe inside the progress callback stops the run
-  (the callback raises, rfesim stops with CancelledError). When the web process dies
+  (the callback raises, rfesim stops with CancelledError, which carries the results up to
+  the last output step: the job keeps them). When the web process dies
   the worker ends within a second, whatever it is doing (a forked watcher process SIGKILLs
   it: :func:`watch_parent`), and the job it was running is re-queued at the service's next
   start. While numba compiles kernels (the first run on a machine, a cache miss) the worker
@@ -288,10 +289,12 @@ def warm_up() -> float:
 def execute(spec: dict, progress: Callable[[float, float], None], results_path: Path) -> dict[str, Any]:
     """Run one job. ``spec``: ``{"id", "scenario"}`` (a scenario dict). ``progress(fraction,
     t)`` may raise :class:`Cancelled`. Writes ``results_path`` (atomically) when there are
-    results. Returns the outcome: ``status`` (done / failed / cancelled), ``message``,
-    ``summary``, ``wall_time``, ``has_results``, ``progress``, ``sim_time``, ``warnings``
-    (what rfesim logged as warnings during the run: statics, dynamics, template notes) and
-    ``compile_time`` (s the run spent compiling numba kernels)."""
+    results: those of a finished run, and those recorded before a solver failure or a cancel
+    (rfesim's ``CancelledError.results``: up to the last output step). Returns the outcome:
+    ``status`` (done / failed / cancelled), ``message``, ``summary``, ``wall_time``,
+    ``has_results``, ``progress``, ``sim_time``, ``warnings`` (what rfesim logged as warnings
+    during the run: statics, dynamics, template notes) and ``compile_time`` (s the run spent
+    compiling numba kernels)."""
     watch = compile_watch()
     compiled0 = watch.seconds
     warnings = _WarningLog()
@@ -324,7 +327,9 @@ def _execute(spec: dict, progress: Callable[[float, float], None], results_path:
             try:
                 res.to_netcdf(results_path)
             except OSError as exc:
-                out.update(status="failed", message=f"{message}; the results could not be written: {exc}")
+                # a finished run whose results are lost failed; a cancelled one stays cancelled
+                out.update(status="failed" if status == "done" else status,
+                           message=f"{message}; the results could not be written: {exc}")
             else:
                 out["has_results"] = True
             out["summary"] = summarize(res)
@@ -341,6 +346,12 @@ def _execute(spec: dict, progress: Callable[[float, float], None], results_path:
         if isinstance(cause, ParentGone):
             raise cause from None
         where = f" at t = {last['t']:.6g} s" if last["t"] is not None else ""
+        part = getattr(exc, "results", None)
+        if part is not None and len(part.time):
+            # the dynamics recorded up to the cancel: kept (results.nc, summary), as for a
+            # failed run
+            return outcome("cancelled", f"cancelled while running{where}; the results up to "
+                                        f"t = {float(part.time[-1]):.6g} s are kept", part)
         return outcome("cancelled", f"cancelled while running{where}")
     except rfesim.SolverError as exc:
         return outcome("failed", f"solver error: {exc}", exc.results)

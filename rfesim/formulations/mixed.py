@@ -45,7 +45,7 @@ from ..model.outputs import reactions
 from ..scenario.chains import chain_point
 from ..solvers.banded import bt_factor, bt_solve
 from ..solvers.buckling import buckling_warnings, shear_warnings
-from ..solvers.dynamics import output_schedule
+from ..solvers.dynamics import newton_tolerance, output_schedule
 from ..solvers.kernels import REBASE_THRESHOLD, genalpha_parameters, jacobian_fd, jacobian_fd_general, residual_q
 from ..solvers.residual import residual_norm
 from ..solvers.system import System
@@ -817,7 +817,9 @@ def make_integrator(ms: MixedScene, st: State, rho_inf, tolerance, max_iteration
     force_ref = sysm.force_scale(st)
     roundoff = sysm.roundoff_force(st)
     reach = ms.chain_ref / max(ms.total_weight, 1e-300)
-    tol = max(float(tolerance), 100.0 * roundoff / force_ref)
+    # the lines' floor also holds the resolution of contact springs' absolute positions
+    # (solvers.dynamics.newton_tolerance), as for a scene of lines
+    tol = newton_tolerance(sysm, st, tolerance, force_ref)
     chain_tol = max(float(tolerance), 100.0 * roundoff * reach / ms.chain_ref)
     return Integrator(ms, rho_inf, tol, max_iterations, reuse, chain_tol)
 
@@ -834,7 +836,8 @@ def start_dynamics(ms: MixedScene, st: State, c) -> None:
 def simulate(sc, progress=None):
     """Statics (if enabled) and dynamics of a scene mixing chains with absolute-coordinate
     lines -> Results. ``progress(fraction, time)`` after every output (an exception from it
-    stops the run as CancelledError). A SolverError carries the results so far (status 1),
+    stops the run as CancelledError, with the results up to that output: ``results``, status
+    3, "cancelled at t = ..."). A SolverError carries the results so far (status 1),
     a KeyboardInterrupt in the dynamics (Ctrl-C, or a SIGTERM the command line turns into
     it) too (``results``, status 2, "interrupted at t = ..."), as for a scene of lines."""
     ms = MixedScene(sc)
@@ -871,7 +874,7 @@ def simulate(sc, progress=None):
                 try:
                     progress(min(1.0, st.t / T), st.t)
                 except Exception as exc:
-                    raise CancelledError(f"cancelled at t = {st.t:.6g} s: {exc}") from exc
+                    raise CancelledError(str(exc)) from exc
     except SolverError as exc:
         counters.update(vars(ig.stats))
         exc.results = rec.results(sc, status=1, message=_with_warnings(str(exc), ms.statics_warnings),
@@ -889,6 +892,21 @@ def simulate(sc, progress=None):
             message = _with_warnings(f"interrupted at t = {float(rec.rec.time[n - 1]):.6g} s", ms.statics_warnings)
             exc.results = rec.results(sc, status=INTERRUPTED, message=message, counters=counters, kind="dynamics")
         raise
+    except CancelledError as exc:
+        # the progress callback raised (the service's cancel) after an output: the results up
+        # to it go with the cancellation (status CANCELLED), as with an interruption
+        from ..solvers.dynamics import cancelled
+        counters.update(vars(ig.stats))
+        counters["time_step"] = h
+        counters["wall_time"] = _time.perf_counter() - wall0
+        n = rec.complete()
+
+        def part(status, message):
+            return rec.results(sc, status=status, message=_with_warnings(message, ms.statics_warnings),
+                               counters=counters, kind="dynamics")
+
+        raise cancelled(exc, float(rec.rec.time[n - 1]) if n else st.t, part if n else None) \
+            from (exc.__cause__ or exc)
     counters.update(vars(ig.stats))
     counters["time_step"] = h
     counters["wall_time"] = _time.perf_counter() - wall0

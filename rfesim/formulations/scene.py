@@ -30,7 +30,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import CancelledError, SolverError
+from ..errors import SolverError
 from ..results import JointResults, LineResults, Results
 from ..scenario.chains import line_frame, planar_axes
 from . import planar as pl
@@ -641,11 +641,12 @@ def _unit_rows(unit, times, Q, QD):
     return Q, QD, QDD
 
 
-def _interrupted(sc, scene, states, rates, recorded, counters, per_out=None, failure=None):
+def _interrupted(sc, scene, states, rates, recorded, counters, per_out=None, failure=None, cancelled=False):
     """The Results (status 2) of a run interrupted by a KeyboardInterrupt (Ctrl-C, or a
     SIGTERM the command line turns into it) while its units were integrated, or None when
     no unit had recorded an output yet (as `rfesim.solvers.dynamics.run_dynamics` before its
-    first one).
+    first one). ``cancelled``: the progress callback stopped the run (`_Cancel`): status 3
+    (CANCELLED), "cancelled at t = ...", the same time span.
 
     ``recorded[k]``: (times, Q, QD, QDD or None) that unit k had recorded, or None. The units
     are integrated one after another, so an interruption finds the earlier ones at the end
@@ -656,7 +657,7 @@ def _interrupted(sc, scene, states, rates, recorded, counters, per_out=None, fai
     got further than that, and names a unit that had diverged before (``failure``: label,
     time, reason), which the finished run would have raised as a SolverError."""
     from .. import __version__
-    from ..solvers.dynamics import INTERRUPTED
+    from ..solvers.dynamics import CANCELLED, INTERRUPTED
     units = scene.chains + scene.planars
     if not any(r is not None and len(r[0]) for r in recorded):
         return None
@@ -674,7 +675,7 @@ def _interrupted(sc, scene, states, rates, recorded, counters, per_out=None, fai
         else:
             hist.append((Q[:n], QD[:n], QDD[:n]))
     t_end = float(times[-1])
-    message = f"interrupted at t = {t_end:.6g} s"
+    message = f"{'cancelled' if cancelled else 'interrupted'} at t = {t_end:.6g} s"
     further = [f"{u.label} t = {float(r[0][-1]):.6g} s" for u, r in zip(units, rows) if len(r[0]) > n]
     if further:
         reached = "had not started" if not started[lag] else f"had reached t = {t_end:.6g} s"
@@ -688,8 +689,19 @@ def _interrupted(sc, scene, states, rates, recorded, counters, per_out=None, fai
         counters["steps"] = (n - 1) * per_out        # the steps of the time span kept
     res = _results(sc, scene, times, hist, kind="dynamics", message=message, counters=counters,
                    version=__version__)
-    res.status = INTERRUPTED
+    res.status = CANCELLED if cancelled else INTERRUPTED
     return res
+
+
+class _Cancel(KeyboardInterrupt):
+    """What `simulate`'s progress report raises when the progress callback raised ``cause``
+    (the service's cancel): a KeyboardInterrupt, so that the unit integrators (chain RK4,
+    planar RK4 / generalized-alpha, DOP853) attach the outputs they had recorded to it as to
+    a Ctrl-C (their ``history``); `simulate` turns it into CancelledError with the results."""
+
+    def __init__(self, cause: Exception):
+        super().__init__(str(cause))
+        self.cause = cause
 
 
 def simulate(sc, progress=None):
@@ -702,7 +714,8 @@ def simulate(sc, progress=None):
     SIGTERM the command line turns into it) propagates with ``results`` attached (status 2,
     "interrupted at t = ..."; `_interrupted`): the time span every unit had reached, so with
     units still to integrate only the start state at t = 0 (statics or the initial shape),
-    or None when nothing was recorded yet."""
+    or None when nothing was recorded yet. A progress callback that raises stops the run as
+    CancelledError with the results kept the same way (status 3, "cancelled at t = ...")."""
     from .. import __version__
     from ..solvers.dynamics import output_schedule
     from . import mixed
@@ -739,7 +752,7 @@ def simulate(sc, progress=None):
         try:
             progress(fraction, fraction * dyn.duration)
         except Exception as exc:
-            raise CancelledError(f"cancelled at t = {fraction * dyn.duration:.6g} s: {exc}") from exc
+            raise _Cancel(exc) from exc         # the integrators attach their outputs (`_Cancel`)
 
     def keep(k, exc):
         """The outputs unit k recorded before an interruption (its integrator attaches them)."""
@@ -821,6 +834,15 @@ def simulate(sc, progress=None):
                 raise SolverError(msg, time=t_fail, element=label,
                                   results=_partial(sc, scene, times, hist, n_keep, f"{msg} at t = {t_fail:.6g} s",
                                                    counters))
+    except _Cancel as exc:
+        # the progress callback raised (the service's cancel): the time span all units
+        # reached goes with the CancelledError, as with an interruption
+        from ..solvers.dynamics import cancelled
+        counters["wall_time"] = _time.perf_counter() - wall0
+        part = _interrupted(sc, scene, states, rates, recorded, counters, per_out, failure, cancelled=True)
+        t = float(part.time[-1]) if part is not None else 0.0
+        err = cancelled(exc.cause, t, (lambda **kw: part) if part is not None else None)
+        raise err from exc.cause
     except KeyboardInterrupt as exc:
         counters["wall_time"] = _time.perf_counter() - wall0
         exc.results = _interrupted(sc, scene, states, rates, recorded, counters, per_out, failure)

@@ -145,6 +145,59 @@ def _max_damping_ratio(system: System) -> float:
     return float(z.max()) if z.size else 0.0
 
 
+def contact_resolution_force(system: System, state: State) -> float:
+    """The force resolution (N) of the springs that compare an RFE's absolute position with a
+    point of the scene (not an SDE): tensioner pads and grips, rollers, reels, seabed contact
+    and friction, tuggers, deck contact; their stiffness times one ulp of the coordinates
+    (``ulp(max |r|)``; the seabed's normal gap: ulp of |z| plus the bed's slope times ulp of
+    |x|, |y|), at the state (the start of the run).
+
+    Within a generalised-alpha step the RFE positions are ``ref.X + q`` with ``ref.X`` fixed
+    and ``q`` the displacement (re-based after each step): the SDE gaps difference the two
+    parts apart (``rfesim.loads.sde``) and are continuous in q, but these springs take the
+    rounded sum ``r = ref.X + q``, which moves in steps of ulp(|r|), and no iterate brings
+    their forces below about k ulp(|r|) (docs/theory.md, 'Resolution of absolute positions in
+    dynamics'). 1e7 N/m/m pads on 1 m elements: 2.3e-6 N at 1200 m from the origin, 9.3e-3 N
+    at 6.7e6 m (a UTM northing)."""
+    km = system.km
+    if system.n == 0:
+        return 0.0
+    pos = np.abs(state.ref.X + state.q[:, :3])
+    ulp = float(np.spacing(pos.max()))
+    ulp_xy = float(np.spacing(pos[:, :2].max()))
+    ulp_z = float(np.spacing(pos[:, 2].max()))
+    length = float(km.rfe_length.max())
+    k = [0.0]
+    if km.has_tensioners and km.tens_kl.size:
+        k.append(max(float(km.tens_kl.max()), float(km.tens_kg.max())) * length * ulp)
+    if km.has_rollers and km.roller_k.size:
+        k.append(max(float(km.roller_k.max()), float(km.roller_kt.max()) if km.has_roller_friction else 0.0) * ulp)
+    if getattr(km, "has_reels", False) and km.reel_kr.size:
+        k.append(max(float(km.reel_kr.max()), float(km.reel_kl.max()), float(km.reel_kg.max())) * length * ulp)
+    if km.has_seabed:
+        slope = 0.0
+        if km.bed_s.size > 1:
+            slope = float(np.abs(np.diff(km.bed_z) / np.diff(km.bed_s)).max())
+        k.append(km.seabed_k * length * (ulp_z + slope * ulp_xy))
+        if km.has_friction:
+            k.append(km.seabed_kt * length * ulp)
+    if getattr(km, "has_tuggers", False) and km.tug_k.size:
+        k.append(float(km.tug_k.max()) * ulp)
+    if getattr(km, "has_deck", False) and km.body_deck_k.size:
+        k.append(float(km.body_deck_k.max()) * ulp)
+    return max(k)
+
+
+def newton_tolerance(system: System, state: State, tolerance: float, force_ref: float) -> float:
+    """The generalised-alpha Newton tolerance (residual over ``force_ref``): the scenario's,
+    floored at 100 times the round-off of the stiffest SDE (``System.roundoff_force``) and at
+    POSITION_FLOOR times the resolution of the contact springs' absolute positions
+    (``contact_resolution_force``), below which no iterate gets."""
+    from .statics import POSITION_FLOOR
+    floor = max(100.0 * system.roundoff_force(state), POSITION_FLOOR * contact_resolution_force(system, state))
+    return max(float(tolerance), floor / force_ref)
+
+
 SDE_CHANNELS = ("tension", "shear_force", "bend_moment", "torque", "curvature")
 END_CHANNELS = ("end_a_force", "end_b_force", "end_a_moment", "end_b_moment", "end_a_direction", "end_b_direction")
 
@@ -839,6 +892,19 @@ def output_schedule(T: float, h: float, output_interval: float | None, adaptive:
 
 
 INTERRUPTED = 2    # Results.status of a run stopped by KeyboardInterrupt (Ctrl-C, or SIGTERM from the command line)
+CANCELLED = 3      # Results.status of a run its progress callback stopped (CancelledError: the service's cancel)
+
+
+def cancelled(exc: Exception, t: float, make_results=None) -> CancelledError:
+    """The CancelledError of a run its progress callback stopped (``exc``: what the callback
+    raised, or the CancelledError made of it) at the last output time ``t``, with
+    ``make_results(status=, message=)`` -> the Results recorded so far (None: nothing recorded)."""
+    message = f"cancelled at t = {t:.6g} s"
+    reason = str(exc)
+    results = make_results(status=CANCELLED, message=message) if make_results is not None else None
+    return CancelledError(f"{message}: {reason}" if reason and reason != message else message, time=t,
+                          results=results)
+
 
 ARITHMETIC_HINT = ("a mass, inertia, density, stiffness or size far from the physical (near zero, or huge) makes "
                    "the equations divide by zero or overflow: check the scenario's values and their units")
@@ -1064,8 +1130,9 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
         if integ.kind == "generalized-alpha":
             am, af, beta, gamma = genalpha_parameters(integ.rho_inf)
             force_ref = system.force_scale(st)
-            floor = 100.0 * system.roundoff_force(st) / force_ref
-            tol = max(float(integ.tolerance), floor)
+            # floored at the round-off of the stiffest SDE and at the resolution of the contact
+            # springs' absolute positions (newton_tolerance)
+            tol = newton_tolerance(system, st, integ.tolerance, force_ref)
             flags = np.zeros(4, np.int64)   # kernels.ga_advance; [3]: a halved step (a third attempt)
             qdd_prev = st.qdd.copy()
             analytic = integ.jacobian == "analytic"
@@ -1254,5 +1321,10 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
         t = float(recorder.time[recorder.k - 1]) if recorder.k else st.t
         exc.results = make_results(status=INTERRUPTED, message=f"interrupted at t = {t:.6g} s")
         raise
+    except CancelledError as exc:
+        # the progress callback raised (the service's cancel): the results up to the last
+        # output step go with the cancellation too (status CANCELLED)
+        raise cancelled(exc, float(recorder.time[recorder.k - 1]) if recorder.k else st.t,
+                        make_results if recorder.k else None) from (exc.__cause__ or exc)
     counters["wall_time"] = _time.perf_counter() - wall0
     return st, recorder, counters
