@@ -7,14 +7,18 @@ curve's last direction past its end. ``_Curve.joints`` runs it up to 42 times pe
 (the secant on the closing strain), which made it most of a riser's model build in
 Python.
 
-Its arithmetic is that of the numpy code it replaces, operation for operation, so that
-the joints are the same to the last bit: a 3-vector dot product (``d @ d``,
-``np.linalg.norm``) is numpy's, i.e. OpenBLAS ``ddot``, which for n = 3 runs its scalar
-tail ``dot += y[i] * x[i]`` from 0 compiled to fused multiply-adds: ``_dot3`` is that
-chain of FMAs (llvm.fma, one rounding each; exact in software where the CPU has no FMA).
-Elementwise operations round separately as in numpy (no fastmath: no contraction), and
-``max``/``min`` keep Python's choice on ties and NaN. The slow readable reference is kept
-in tests/unit/test_march_kernel.py.
+Its arithmetic is that of the numpy code it replaces, operation for operation: a 3-vector
+dot product (``d @ d``, ``np.linalg.norm``) was numpy's, i.e. OpenBLAS ``ddot``, which on
+the machine the kernel was written on (OpenBLAS's Haswell kernel) runs its scalar tail
+``dot += y[i] * x[i]`` from 0 compiled to fused multiply-adds: ``_dot3`` is that chain of
+FMAs (llvm.fma, one rounding each; exact in software where the CPU has no FMA), and the
+joints were the same to the last bit there. OpenBLAS picks its kernel by CPU, and on
+others (an AMD EPYC, 2026-11-28) numpy's dot of 3-vectors rounds differently in the last
+bit: the kernel keeps the fused chain on every machine, so a start shape no longer depends
+on the BLAS build. Elementwise operations round separately as in numpy (no fastmath: no
+contraction), and ``max``/``min`` keep Python's choice on ties and NaN. The slow readable
+reference is kept in tests/unit/test_march_kernel.py (its dots are ``_dot3``, which is
+checked exactly against the fused chain in rational arithmetic).
 """
 from __future__ import annotations
 
@@ -44,7 +48,8 @@ def _fma(typingctx, a, b, c):
 
 @njit(cache=True)
 def _dot3(x0, x1, x2, y0, y1, y2):
-    """numpy's x @ y of two 3-vectors (OpenBLAS ddot: dot = 0; dot += y[i] * x[i], fused)."""
+    """x @ y of two 3-vectors as OpenBLAS's Haswell ddot computes it (dot = 0; dot += y[i] *
+    x[i], fused), on every machine."""
     s = _fma(y0, x0, 0.0)
     s = _fma(y1, x1, s)
     return _fma(y2, x2, s)
