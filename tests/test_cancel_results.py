@@ -14,75 +14,14 @@ import numpy as np
 import pytest
 
 import rfesim
-from rfesim.bench.cases import cantilever
+import scenes
 from rfesim.solvers.dynamics import CANCELLED, INTERRUPTED
 
-G = 9.81
 
-# a 12-element steel riser from the seabed to a heaving ship (the service tests' riser):
-# absolute coordinates, statics then 3 s of generalized-alpha, outputs every 0.1 s
-RISER = {
-    "schema_version": 1, "name": "tiny riser",
-    "environment": {"gravity": G, "water": {"density": 1025.0, "depth": 50.0},
-                    "seabed": {"normal_stiffness": 1.0e5, "damping_ratio": 0.5}},
-    "vessels": {"ship": {"motion": {"kind": "harmonic", "heave": {"amplitude": 0.5, "period": 8.0},
-                                    "ramp_duration": 2.0}}},
-    "line_types": {"pipe": {"outer_diameter": 0.2, "wall_thickness": 0.012, "youngs_modulus": 2.0e11,
-                            "density": 7850.0, "drag_normal": 1.0, "added_mass_normal": 1.0}},
-    "lines": {"riser": {"type": "pipe", "length": 100.0, "elements": 12,
-                        "end_a": {"attach": "fixed", "position": [-70.0, 0.0, -49.9]},
-                        "end_b": {"attach": "ship", "position": [0.0, 0.0, -5.0]}}},
-    "analysis": {"statics": {"enabled": True},
-                 "dynamics": {"duration": 3.0, "output_interval": 0.1,
-                              "integrator": {"kind": "generalized-alpha", "time_step": 0.05}}},
-}
-
-
-def _pendulum(kind="rk4", chains=("pendulum",)):
-    """Double pendulums of rigid links (one chain unit each), 0.3 rad off the vertical from
-    rest, statics off: 1 s, outputs every 0.1 s."""
-    integ = {"kind": kind}
-    if kind == "rk4":
-        integ["time_step"] = 0.002
-    chain = {"links": {"upper": {"rigid": True, "length": 1.0, "mass": 1.0},
-                       "lower": {"rigid": True, "length": 1.0, "mass": 1.0}},
-             "joints": {"top": {"kind": "revolute", "parent": "base", "child": "upper",
-                                "direction": [0, 0, -1], "axis": [0, 1, 0], "initial": 0.3},
-                        "middle": {"kind": "revolute", "parent": "upper", "child": "lower", "axis": [0, 1, 0]}}}
-    return {"environment": {"gravity": G},
-            "chains": {name: copy.deepcopy(chain) for name in chains},
-            "analysis": {"statics": {"enabled": False},
-                         "dynamics": {"duration": 1.0, "output_interval": 0.1, "integrator": integ}}}
-
-
-def _line(formulation, kind):
-    """A 10 m cantilever with a 10 kN tip load dropped from straight, as a planar line or a
-    chain of modified links: 0.2 s, outputs every 0.01 s."""
-    sc = cantilever(10, [{"at": "end_b", "force": [0, 0, -1e4]}], EI=2.2e8, L=10.0, EA=3.2e10, GA=1e10,
-                    mass=120.0, gravity=G)
-    sc["lines"]["beam"]["formulation"] = formulation
-    sc["analysis"]["statics"]["enabled"] = False
-    integ = {"kind": kind}
-    if kind != "adaptive":
-        integ["time_step"] = 1e-4
-    sc["analysis"]["dynamics"] = {"duration": 0.2, "output_interval": 0.01, "integrator": integ}
-    return sc
-
-
-def _mixed():
-    """A 3 m rope hanging from a sprung 2 m arm: statics, then 0.2 s of generalized-alpha with
-    0.01 s steps, outputs every 0.05 s."""
-    return {"environment": {"gravity": G},
-            "line_types": {"rope": {"EA": 1e5, "EIy": 1e-2, "GA": 1e5, "mass_per_length": 2.0}},
-            "chains": {"c": {"links": {"arm": {"rigid": True, "length": 2.0, "mass": 10.0}},
-                             "joints": {"j": {"kind": "revolute", "parent": "base", "child": "arm",
-                                              "axis": [0, 1, 0], "stiffness": 5e3, "initial": 0.05}}}},
-            "lines": {"rope": {"type": "rope", "length": 3.0, "elements": 4, "end_a": {"attach": "c.arm"},
-                               "end_b": {"attach": "free"}}},
-            "analysis": {"statics": {"enabled": True},
-                         "dynamics": {"enabled": True, "duration": 0.2, "output_interval": 0.05,
-                                      "integrator": {"kind": "generalized-alpha", "time_step": 0.01,
-                                                     "rho_inf": 0.8}}}}
+# the tiny riser (absolute coordinates), 3 s of dynamics
+RISER = copy.deepcopy(scenes.RISER)
+RISER["analysis"]["dynamics"]["duration"] = 3.0
+_pendulum, _line, _mixed = scenes.pendulum, scenes.cantilever_line, scenes.mixed_rope
 
 
 class Stop(Exception):

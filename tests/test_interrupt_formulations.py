@@ -4,7 +4,6 @@ scenes of absolute-coordinate lines: chains and classical / modified / planar li
 (rfesim.formulations.mixed); `rfesim run` writes them (status 2). A few seconds each."""
 from __future__ import annotations
 
-import copy
 import json
 import signal
 
@@ -12,10 +11,9 @@ import numpy as np
 import pytest
 
 import rfesim
-from rfesim.bench.cases import cantilever
+import scenes
 from rfesim.cli import main
 
-G = 9.81
 
 
 class _InterruptAt:
@@ -38,51 +36,11 @@ class _InterruptAt:
         pass
 
 
-def _pendulum(kind="rk4", chains=("pendulum",)):
-    """Double pendulums of rigid links (one chain unit each), started 0.3 rad off the
-    vertical from rest, statics off: 1 s, outputs every 0.1 s."""
-    integ = {"kind": kind}
-    if kind == "rk4":
-        integ["time_step"] = 0.002
-    chain = {"links": {"upper": {"rigid": True, "length": 1.0, "mass": 1.0},
-                       "lower": {"rigid": True, "length": 1.0, "mass": 1.0}},
-             "joints": {"top": {"kind": "revolute", "parent": "base", "child": "upper",
-                                "direction": [0, 0, -1], "axis": [0, 1, 0], "initial": 0.3},
-                        "middle": {"kind": "revolute", "parent": "upper", "child": "lower", "axis": [0, 1, 0]}}}
-    return {"environment": {"gravity": G},
-            "chains": {name: copy.deepcopy(chain) for name in chains},
-            "analysis": {"statics": {"enabled": False},
-                         "dynamics": {"duration": 1.0, "output_interval": 0.1, "integrator": integ}}}
+_pendulum, _mixed = scenes.pendulum, scenes.mixed_rope
 
 
 def _planar(kind):
-    """A 10 m planar cantilever with a 10 kN tip load, dropped from straight: 0.2 s, outputs
-    every 0.01 s."""
-    sc = cantilever(10, [{"at": "end_b", "force": [0, 0, -1e4]}], EI=2.2e8, L=10.0, EA=3.2e10, GA=1e10,
-                    mass=120.0, gravity=G)
-    sc["lines"]["beam"]["formulation"] = "planar"
-    sc["analysis"]["statics"]["enabled"] = False
-    integ = {"kind": kind}
-    if kind != "adaptive":
-        integ["time_step"] = 1e-4
-    sc["analysis"]["dynamics"] = {"duration": 0.2, "output_interval": 0.01, "integrator": integ}
-    return sc
-
-
-def _mixed():
-    """A 3 m rope hanging from a sprung 2 m arm (tests/unit/test_mixed_scene.py): statics,
-    then 0.2 s of generalized-alpha with 0.01 s steps, outputs every 0.05 s."""
-    return {"environment": {"gravity": G},
-            "line_types": {"rope": {"EA": 1e5, "EIy": 1e-2, "GA": 1e5, "mass_per_length": 2.0}},
-            "chains": {"c": {"links": {"arm": {"rigid": True, "length": 2.0, "mass": 10.0}},
-                             "joints": {"j": {"kind": "revolute", "parent": "base", "child": "arm",
-                                              "axis": [0, 1, 0], "stiffness": 5e3, "initial": 0.05}}}},
-            "lines": {"rope": {"type": "rope", "length": 3.0, "elements": 4, "end_a": {"attach": "c.arm"},
-                               "end_b": {"attach": "free"}}},
-            "analysis": {"statics": {"enabled": True},
-                         "dynamics": {"enabled": True, "duration": 0.2, "output_interval": 0.05,
-                                      "integrator": {"kind": "generalized-alpha", "time_step": 0.01,
-                                                     "rho_inf": 0.8}}}}
+    return scenes.cantilever_line("planar", kind)
 
 
 def _interrupted(sc, at, **kw):

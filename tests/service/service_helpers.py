@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import copy
 import os
+import sys
 import time
 from pathlib import Path
 
@@ -13,23 +14,10 @@ from service.launch import ServerProcess
 REPO = Path(__file__).resolve().parents[2]
 SCENARIOS = REPO / "scenarios"
 
-# a 12-element steel riser from the seabed to a heaving ship: seabed contact (touchdown),
-# a top tension at end B (DAF), about 0.1-0.2 s of work per second simulated
-RISER: dict = {
-    "schema_version": 1, "name": "tiny riser",
-    "environment": {"gravity": 9.81, "water": {"density": 1025.0, "depth": 50.0},
-                    "seabed": {"normal_stiffness": 1.0e5, "damping_ratio": 0.5}},
-    "vessels": {"ship": {"motion": {"kind": "harmonic", "heave": {"amplitude": 0.5, "period": 8.0},
-                                    "ramp_duration": 2.0}}},
-    "line_types": {"pipe": {"outer_diameter": 0.2, "wall_thickness": 0.012, "youngs_modulus": 2.0e11,
-                            "density": 7850.0, "drag_normal": 1.0, "added_mass_normal": 1.0}},
-    "lines": {"riser": {"type": "pipe", "length": 100.0, "elements": 12,
-                        "end_a": {"attach": "fixed", "position": [-70.0, 0.0, -49.9]},
-                        "end_b": {"attach": "ship", "position": [0.0, 0.0, -5.0]}}},
-    "analysis": {"statics": {"enabled": True},
-                 "dynamics": {"duration": 1.0, "output_interval": 0.1,
-                              "integrator": {"kind": "generalized-alpha", "time_step": 0.05}}},
-}
+# the tiny riser of the tests' shared scenes (tests/scenes.py): 12 elements, seabed contact,
+# a top tension at end B, about 0.1-0.2 s of work per second simulated
+sys.path.insert(0, str(REPO / "tests"))
+from scenes import RISER  # noqa: E402
 
 
 def riser(**overrides) -> dict:
