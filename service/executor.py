@@ -7,7 +7,8 @@ The job manager (``service.jobs``) talks to one executor from its one thread:
     executor.submit(job_id, spec, results_path) -> bool
     executor.cancel(job_id)
     executor.wait(timeout) -> [event, ...]        # ("started", id, info) | ("progress", id, fraction, t)
-                                                  # | ("compiling", id, bool) | ("outcome", id, outcome dict)
+                                                  # | ("compiling", id, bool) | ("writing", id, t)
+                                                  # | ("outcome", id, outcome dict)
     executor.wake()                               # from any thread: make wait() return now
     executor.shutdown()
 
@@ -20,7 +21,11 @@ start method), each with its own duplex pipe, one job at a time. A small supervi
   the next output step, its results up to there written and kept: the outcome has
   ``has_results``); a worker that does not stop within ``cancel_grace`` seconds
   (e.g. busy in statics, which reports no progress) is killed and replaced, its job
-  cancelled without results;
+  cancelled without results. A worker says "writing" before it writes a results file
+  (``("writing", id, t)`` events): from then on a cancelled job has ``cancel_write_grace``
+  seconds counted from that note (never less than what is left of ``cancel_grace``), as a
+  long run's file can take longer to write than the cancel grace; a worker still writing
+  after that is killed, its job cancelled without results and a message saying so;
 * a worker that dies (SIGKILL, out-of-memory killer, a crash in native code) fails only
   the job it was running, with the exit signal in the message, and a new worker is
   started in its place;
@@ -102,6 +107,8 @@ class _Worker:
         self.ready = False
         self.job_id: str | None = None
         self.cancel_at: float | None = None
+        self.writing_at: float | None = None     # when it said it writes the results file
+        self.writing_t: float | None = None      # ... up to this output time (s)
         self.dead = False
         self.compiling = False
 
@@ -110,13 +117,14 @@ class ProcessExecutor(JobExecutor):
     kind = "local processes"
 
     def __init__(self, workers: int = 1, *, warmup: bool = True, cancel_grace: float = 10.0,
-                 stagger_timeout: float = 120.0):
+                 cancel_write_grace: float = 600.0, stagger_timeout: float = 120.0):
         self.size = int(workers)
         self.stagger_timeout = float(stagger_timeout)
         self._deferred: list[int] = []
         self._deferred_until = 0.0
         self.warmup = warmup
         self.cancel_grace = float(cancel_grace)
+        self.cancel_write_grace = float(cancel_write_grace)
         self.workers: list[_Worker | None] = [None] * self.size
         self._respawn_at: dict[int, float] = {}
         self._failures: dict[int, int] = {}      # consecutive deaths before "ready", per slot
@@ -209,6 +217,7 @@ class ProcessExecutor(JobExecutor):
                     continue
                 w.job_id = job_id
                 w.cancel_at = None
+                w.writing_at = w.writing_t = None
                 self._events.append(("started", job_id, {"worker": f"local process {w.pid}", "pid": w.pid}))
                 return True
         return False
@@ -223,6 +232,17 @@ class ProcessExecutor(JobExecutor):
                 except (OSError, EOFError):
                     pass               # its death is seen by wait()
                 return
+
+    def _deadline(self, w: _Worker) -> float | None:
+        """When a cancelled job's worker is killed: ``cancel_grace`` s after the cancel, or,
+        once the worker said it writes the results file, ``cancel_write_grace`` s after that
+        note if later; None without a cancel."""
+        if w.cancel_at is None:
+            return None
+        due = w.cancel_at + self.cancel_grace
+        if w.writing_at is not None:
+            due = max(due, w.writing_at + self.cancel_write_grace)
+        return due
 
     def wake(self) -> None:
         try:
@@ -240,7 +260,8 @@ class ProcessExecutor(JobExecutor):
                 self._spawn(index)
         if self._events:
             timeout = 0.0
-        deadlines = [w.cancel_at + self.cancel_grace for w in self.workers if w is not None and w.cancel_at]
+        deadlines = [due for w in self.workers if w is not None and not w.dead
+                     and (due := self._deadline(w)) is not None]
         deadlines += list(self._respawn_at.values())
         if self._deferred:
             deadlines.append(self._deferred_until)
@@ -264,12 +285,24 @@ class ProcessExecutor(JobExecutor):
                 self._retire(w, _describe_exit(w.process.exitcode))
         now = time.monotonic()
         for w in list(self.workers):
-            if w is not None and not w.dead and w.cancel_at is not None and now - w.cancel_at > self.cancel_grace:
+            if w is None or w.dead:
+                continue
+            due = self._deadline(w)
+            if due is None or now <= due:
+                continue
+            if w.writing_at is not None:
+                log.warning("job %s: its results up to t = %.6g s were not written within %.3g s after its cancel: "
+                            "killing worker pid %s", w.job_id, w.writing_t, self.cancel_write_grace, w.pid)
+                self._kill(w)
+                self._retire(w, f"its results up to t = {w.writing_t:.6g} s were not written within "
+                                f"{self.cancel_write_grace:g} s of the start of the write (RFESIM_CANCEL_WRITE_GRACE), "
+                                f"so its worker process was killed and replaced and the results are lost")
+            else:
                 log.warning("job %s did not stop within %.3g s of its cancel: killing worker pid %s",
                             w.job_id, self.cancel_grace, w.pid)
                 self._kill(w)
-                self._retire(w, f"did not stop within {self.cancel_grace:g} s, so its worker process was killed "
-                                f"and replaced")
+                self._retire(w, f"did not stop within {self.cancel_grace:g} s (RFESIM_CANCEL_GRACE), so its worker "
+                                f"process was killed and replaced")
         events, self._events = self._events, []
         return events
 
@@ -287,6 +320,9 @@ class ProcessExecutor(JobExecutor):
                     log.info("worker %d (pid %s) ready (warm-up %.2f s)", w.index, msg[1], msg[2])
                 elif kind == "progress" and msg[1] == w.job_id:
                     self._events.append(("progress", msg[1], msg[2], msg[3]))
+                elif kind == "writing" and msg[1] == w.job_id:
+                    w.writing_at, w.writing_t = time.monotonic(), float(msg[2])
+                    self._events.append(("writing", msg[1], w.writing_t))
                 elif kind == "compiling":
                     w.compiling = bool(msg[2])
                     if msg[1] is None:
@@ -298,6 +334,7 @@ class ProcessExecutor(JobExecutor):
                     self._events.append(("outcome", msg[1], msg[2]))
                     w.job_id = None
                     w.cancel_at = None
+                    w.writing_at = w.writing_t = None
                     w.compiling = False
         except (EOFError, OSError):
             pass                       # the sentinel says why
@@ -430,17 +467,26 @@ class DaskExecutor(JobExecutor):
         return events
 
     def _poll_progress(self) -> list[tuple]:
-        """One round trip for the progress of every running job (a distributed.Queue)."""
+        """One round trip for the progress of every running job (a distributed.Queue):
+        ``[id, fraction, t]`` items, and ``[id, "writing", t]`` once a task writes its results
+        file (Dask kills no task after a cancel, so this only changes the job's message)."""
         try:
             items = self._progress.get(batch=True)
         except Exception as exc:
             log.warning("progress from the Dask cluster: %s", exc)
             return []
         latest: dict[str, tuple[float, float]] = {}
+        writing: list[tuple] = []
         for item in items:
             if isinstance(item, (list, tuple)) and len(item) == 3 and item[0] in self._running:
-                latest[item[0]] = (float(item[1]), float(item[2]))
-        return [("progress", job_id, f, t) for job_id, (f, t) in latest.items()]
+                try:
+                    if item[1] == "writing":
+                        writing.append(("writing", item[0], float(item[2])))
+                    else:
+                        latest[item[0]] = (float(item[1]), float(item[2]))
+                except (TypeError, ValueError):
+                    continue
+        return [("progress", job_id, f, t) for job_id, (f, t) in latest.items()] + writing
 
     def _collect(self, job_id: str) -> dict:
         fut, path = self._running.pop(job_id)
@@ -514,5 +560,6 @@ def _write_atomic(path: Path, data: bytes) -> None:
 def make_executor(settings) -> JobExecutor:
     if settings.scheduler_address:
         return DaskExecutor(settings.scheduler_address)
-    return ProcessExecutor(settings.workers, warmup=settings.warmup, cancel_grace=settings.cancel_grace)
+    return ProcessExecutor(settings.workers, warmup=settings.warmup, cancel_grace=settings.cancel_grace,
+                           cancel_write_grace=settings.cancel_write_grace)
 

@@ -29,6 +29,12 @@ log = logging.getLogger("rfesim.service.jobs")
 PROGRESS_FLUSH = 1.0     # s between database writes of one job's progress
 
 
+def writing_message(t: float, cancelled: bool) -> str:
+    """A running job's message while its results file is written (up to the output time ``t``, s)."""
+    text = f"writing the results up to t = {t:.6g} s"
+    return f"cancel requested: {text}" if cancelled else text
+
+
 class JobManager:
     def __init__(self, store: Store, executor: JobExecutor, data_dir: Path, *, max_attempts: int = 3):
         self.store = store
@@ -37,6 +43,8 @@ class JobManager:
         self.max_attempts = max_attempts
         self.live: dict[str, tuple[float, float]] = {}       # job id -> (fraction, simulated time)
         self._running_message: dict[str, str] = {}           # job id -> "running on ..." (its worker)
+        self._writing: dict[str, float] = {}                 # job id -> t (s): its results file is being written
+        self._writing_lock = threading.Lock()                # its message vs. a cancel from a route
         self._flushed: dict[str, float] = {}
         self._cancels: queue.SimpleQueue = queue.SimpleQueue()
         self._stop = threading.Event()
@@ -89,7 +97,12 @@ class JobManager:
         "running" while a running job is being stopped), or None if unknown."""
         if self.store.cancel_queued(job_id):
             return "cancelled"
-        if self.store.request_cancel(job_id):
+        with self._writing_lock:
+            requested = self.store.request_cancel(job_id)
+            t = self._writing.get(job_id) if requested else None
+            if t is not None:                  # the run is over: its results are being written
+                self.store.set_running_message(job_id, writing_message(t, cancelled=True))
+        if requested:
             self._cancels.put(job_id)
             self.executor.wake()
             return "running"
@@ -179,9 +192,23 @@ class JobManager:
             # a cold numba cache: the job shows no progress for minutes, say why
             message = self._running_message.get(job_id, "running")
             self.store.set_running_message(job_id, f"{message}: {COMPILING_NOTE}" if event[2] else message)
+        elif kind == "writing":
+            # the run is over (finished, failed or cancelled) and its results file is being
+            # written: after a cancel the executor waits for the write (cancel_write_grace)
+            t = float(event[2])
+            with self._writing_lock:
+                job = self.store.get(job_id)
+                if job is not None and job["status"] == "running":
+                    self._writing[job_id] = t
+                    cancelled = bool(job["cancel_requested"])
+                    message = writing_message(t, cancelled=cancelled)
+                    if not cancelled:
+                        message = f"{self._running_message.get(job_id, 'running')}: {message}"
+                    self.store.set_running_message(job_id, message)
         elif kind == "outcome":
             out = event[2]
             self.live.pop(job_id, None)
+            self._writing.pop(job_id, None)
             self._flushed.pop(job_id, None)
             self._running_message.pop(job_id, None)
             status = out.get("status", "failed")

@@ -49,6 +49,12 @@ class Settings(BaseSettings):
                                                    "instead of re-queued")
     cancel_grace: float = Field(10.0, gt=0.0, description="Seconds a running job has to stop after a cancel "
                                                           "before its worker process is killed and replaced")
+    cancel_write_grace: float = Field(600.0, gt=0.0,
+                                      description="Seconds a cancelled job's worker has to write the results up to "
+                                                  "the cancel, counted from when it starts writing them (a long "
+                                                  "run's file can take longer than cancel_grace); a worker still "
+                                                  "writing after that is killed and replaced, and the job has no "
+                                                  "results. Never shortens cancel_grace")
     warmup: bool = Field(True, description="Workers run a tiny scenario at start to load the numba cache")
     submit_model_check: bool = Field(True, description="Build each submitted scenario's model (POST /jobs, and once "
                                                        "per distinct model in POST /sweeps), as `rfesim check` does: "

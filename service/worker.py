@@ -9,13 +9,17 @@ Two ways in, one body (:func:`execute`):
   then runs one job at a time from its pipe. Progress goes back over the pipe; a
   "cancel" message read from the pipe inside the progress callback stops the run
   (the callback raises, rfesim stops with CancelledError, which carries the results up to
-  the last output step: the job keeps them). When the web process dies
+  the last output step: the job keeps them). Before it writes a results file the worker
+  says "writing" over the pipe: the executor then gives a cancelled job's write its own,
+  longer deadline (a long run's file can take longer to write than the cancel grace).
+  When the web process dies
   the worker ends within a second, whatever it is doing (a forked watcher process SIGKILLs
   it: :func:`watch_parent`), and the job it was running is re-queued at the service's next
   start. While numba compiles kernels (the first run on a machine, a cache miss) the worker
   says so over the pipe (:class:`CompileWatch`): the job's message and ``/health`` show it.
 * :func:`dask_task` runs one job as a Dask task (``service.executor.DaskExecutor``):
-  progress through a ``distributed.Queue``, cancel through a ``distributed.Event``,
+  progress (and the "writing" note) through a ``distributed.Queue``, cancel through a
+  ``distributed.Event``,
   the results file returned as bytes (a Dask worker need not share our disk).
 
 This module imports nothing heavy at import time: the thread variables must be set
@@ -286,11 +290,13 @@ def warm_up() -> float:
     return time.perf_counter() - t0
 
 
-def execute(spec: dict, progress: Callable[[float, float], None], results_path: Path) -> dict[str, Any]:
+def execute(spec: dict, progress: Callable[[float, float], None], results_path: Path,
+            writing: Callable[[float], None] | None = None) -> dict[str, Any]:
     """Run one job. ``spec``: ``{"id", "scenario"}`` (a scenario dict). ``progress(fraction,
     t)`` may raise :class:`Cancelled`. Writes ``results_path`` (atomically) when there are
     results: those of a finished run, and those recorded before a solver failure or a cancel
-    (rfesim's ``CancelledError.results``: up to the last output step). Returns the outcome:
+    (rfesim's ``CancelledError.results``: up to the last output step); ``writing(t)`` is
+    called just before the file is written (``t``: the last output time, s). Returns the outcome:
     ``status`` (done / failed / cancelled), ``message``, ``summary``, ``wall_time``,
     ``has_results``, ``progress``, ``sim_time``, ``warnings`` (what rfesim logged as warnings
     during the run: statics, dynamics, template notes) and ``compile_time`` (s the run spent
@@ -301,7 +307,7 @@ def execute(spec: dict, progress: Callable[[float, float], None], results_path: 
     rfesim_log = logging.getLogger("rfesim")
     rfesim_log.addHandler(warnings)
     try:
-        out = _execute(spec, progress, results_path)
+        out = _execute(spec, progress, results_path, writing)
     finally:
         rfesim_log.removeHandler(warnings)
     out["warnings"] = merge_warnings([], warnings.messages)
@@ -309,7 +315,8 @@ def execute(spec: dict, progress: Callable[[float, float], None], results_path: 
     return out
 
 
-def _execute(spec: dict, progress: Callable[[float, float], None], results_path: Path) -> dict[str, Any]:
+def _execute(spec: dict, progress: Callable[[float, float], None], results_path: Path,
+             writing: Callable[[float], None] | None) -> dict[str, Any]:
     import rfesim
     from rfesim.sweep import summarize
 
@@ -324,6 +331,8 @@ def _execute(spec: dict, progress: Callable[[float, float], None], results_path:
         out = {"status": status, "message": message, "summary": None, "has_results": False,
                "progress": last["fraction"], "sim_time": last["t"]}
         if res is not None and len(res.time):
+            if writing is not None:
+                writing(float(res.time[-1]))
             try:
                 res.to_netcdf(results_path)
             except OSError as exc:
@@ -372,7 +381,9 @@ def process_main(conn, warmup: bool = True) -> None:
     """Main function of a local worker process: ``("run", spec)`` in, messages out.
 
     Out: ``("ready", pid, warmup_seconds)``, ``("started", job_id)``,
-    ``("progress", job_id, fraction, t)``, ``("outcome", job_id, outcome)``.
+    ``("progress", job_id, fraction, t)``, ``("writing", job_id, t)`` (the results file up
+    to the output time ``t`` is being written: the executor's deadline of a cancelled job
+    becomes the write grace), ``("outcome", job_id, outcome)``.
     In: ``("run", spec)``, ``("cancel", job_id)``, ``("stop",)``.
     """
     set_thread_environment()
@@ -438,9 +449,15 @@ def process_main(conn, warmup: bool = True) -> None:
             except (EOFError, OSError):
                 raise ParentGone("the service is gone") from None
 
+        def writing(t: float, job_id=job_id) -> None:
+            try:
+                conn.send(("writing", job_id, t))
+            except (OSError, EOFError):
+                raise ParentGone("the service is gone") from None
+
         try:
             conn.send(("started", job_id))
-            result = execute(spec, progress, Path(spec["results_path"]))
+            result = execute(spec, progress, Path(spec["results_path"]), writing)
         except ParentGone:
             return
         except (OSError, EOFError):
@@ -457,10 +474,12 @@ def process_main(conn, warmup: bool = True) -> None:
 def dask_task(spec: dict) -> dict[str, Any]:
     """Run one job on a Dask worker; the outcome carries the results file as bytes.
 
-    Progress goes to the ``distributed.Queue`` named in the spec, at most once a second;
-    the cancel flag is the ``distributed.Event`` named in the spec (``cancel_event``: one
-    per hand-out of the job, so a flag set when the service stopped does not cancel the job
-    handed out again after its restart), checked twice a second."""
+    Progress goes to the ``distributed.Queue`` named in the spec, at most once a second
+    (``[job_id, fraction, t]``), and so does the note that the results file is being
+    written (``[job_id, "writing", t]``); the cancel flag is the ``distributed.Event``
+    named in the spec (``cancel_event``: one per hand-out of the job, so a flag set when
+    the service stopped does not cancel the job handed out again after its restart),
+    checked twice a second."""
     set_thread_environment()
     from distributed import Event, Queue
 
@@ -479,11 +498,18 @@ def dask_task(spec: dict) -> dict[str, Any]:
             if cancel.is_set():
                 raise Cancelled("cancelled")
 
+    def writing(t: float) -> None:
+        if progress_queue is not None:
+            try:
+                progress_queue.put([job_id, "writing", t])
+            except Exception as exc:  # noqa: BLE001 - a note that cannot be sent must not lose the results
+                log.warning("job %s: could not say that its results are being written: %s", job_id, exc)
+
     if cancel.is_set():
         return {"status": "cancelled", "message": "cancelled before it started", "summary": None,
                 "has_results": False, "wall_time": 0.0, "progress": 0.0, "sim_time": None}
     with tempfile.TemporaryDirectory(prefix="rfesim-job-") as tmp:
         path = Path(tmp) / "results.nc"
-        out = execute(spec, progress, path)
+        out = execute(spec, progress, path, writing)
         out["results_bytes"] = path.read_bytes() if out["has_results"] else None
     return out
