@@ -260,7 +260,7 @@ def plastic_section(law: StressStrainLaw, wall: PipeWall, segments: int = 40,
         hash(law)
     except TypeError:       # a law with an unhashable field (a list table): no memo
         return _fit_section(law, wall, int(segments), float(max_curvature_ratio))
-    # the fit integrates the fibre model at 2000 curvatures (60 ms for a Ramberg-Osgood wall):
+    # the fit integrates the fibre model at 2000 curvatures (about 18 ms for the reel-lay scenario's Ramberg-Osgood wall, most of its build):
     # every build of a scenario, and the recorder's stress rows, fit the same frozen law and
     # wall, so the fit is kept (a copy is handed out: callers may change its arrays)
     fit = _fit_section_memo(law, wall, int(segments), float(max_curvature_ratio))
