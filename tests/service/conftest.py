@@ -40,9 +40,10 @@ def make_server(tmp_path_factory):
         s.stop()
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def shared_server(tmp_path_factory):
-    """One server (2 workers) for the tests that do not restart or reconfigure it."""
+    """One server (2 workers) for the tests that do not restart or reconfigure it, shared by
+    all the modules (each start costs about 5 s: the server and its workers' warm-up)."""
     data_dir = tmp_path_factory.mktemp("shared") / "data"
     s = ServerProcess(data_dir, env={"RFESIM_WORKERS": "2", "RFESIM_CANCEL_GRACE": "10"})
     s.start(timeout=600.0)
