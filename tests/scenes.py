@@ -78,3 +78,23 @@ def mixed_rope():
                                       "integrator": {"kind": "generalized-alpha", "time_step": 0.01,
                                                      "rho_inf": 0.8}}}}
 
+
+
+def j_lay_template(element_length: float, *, vessel: dict | None = None, analysis: dict | None = None,
+                   name: str = "J-lay template") -> dict:
+    """The bundled J-lay template (scenarios/j_lay.json as of these tests): a 12-inch X65 pipe
+    from an 85 deg tower into 1200 m of water, 50 m laid; ``vessel`` is the template's vessel
+    section (at the origin, still by default), ``analysis`` the scenario's (statics only by
+    default)."""
+    return {
+        "schema_version": 1, "name": name,
+        "environment": {"gravity": G, "water": {"density": 1025.0, "depth": 1200.0},
+                        "seabed": {"normal_stiffness": 1.0e6, "damping_ratio": 0.2, "friction": 0.5}},
+        "pipelay": {"lay": {
+            "method": "j-lay", "tower_angle_deg": 85.0, "exit": [0.0, 0.0, 0.0],
+            "vessel": vessel if vessel is not None else {"position": [0.0, 0.0, 0.0]},
+            "pipe": {"outer_diameter": 0.3239, "wall_thickness": 0.0159, "grade": "X65"},
+            "laid_length": 50.0, "element_length": element_length}},
+        "analysis": analysis if analysis is not None else {"statics": {"enabled": True},
+                                                           "dynamics": {"enabled": False}},
+    }

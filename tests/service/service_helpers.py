@@ -3,7 +3,6 @@ from __future__ import annotations
 
 import copy
 import os
-import sys
 import time
 from pathlib import Path
 
@@ -14,9 +13,9 @@ from service.launch import ServerProcess
 REPO = Path(__file__).resolve().parents[2]
 SCENARIOS = REPO / "scenarios"
 
-# the tiny riser of the tests' shared scenes (tests/scenes.py): 12 elements, seabed contact,
-# a top tension at end B, about 0.1-0.2 s of work per second simulated
-sys.path.insert(0, str(REPO / "tests"))
+# the tiny riser of the tests' shared scenes (tests/scenes.py, importable through
+# tests/conftest.py): 12 elements, seabed contact, a top tension at end B, about 0.1-0.2 s
+# of work per second simulated
 from scenes import RISER  # noqa: E402
 
 

@@ -19,6 +19,7 @@ import numpy as np
 import pytest
 
 import rfesim
+import scenes
 from rfesim.model.compile import compile_scenario
 from rfesim.solvers.dynamics import contact_resolution_force, newton_tolerance
 from rfesim.solvers.kernels import residual_q
@@ -31,23 +32,15 @@ FAR = 6.7e6          # m, a UTM northing: 2^22 <= x < 2^23, one ulp = 2^-30 m
 def j_lay(x0: float, duration: float, time_step: float):
     """The bundled J-lay template (scenarios/j_lay.json as of this test) with 1 m elements,
     its vessel at (x0, 0, 0)."""
-    return rfesim.load_scenario({
-        "schema_version": 1,
-        "name": "J-lay template, far from the origin",
-        "environment": {"gravity": 9.81, "water": {"density": 1025.0, "depth": 1200.0},
-                        "seabed": {"normal_stiffness": 1.0e6, "damping_ratio": 0.2, "friction": 0.5}},
-        "pipelay": {"lay": {
-            "method": "j-lay", "tower_angle_deg": 85.0, "exit": [0.0, 0.0, 0.0],
-            "vessel": {"position": [x0, 0.0, 0.0],
-                       "motion": {"kind": "harmonic", "heave": {"amplitude": 1.5, "period": 10.0},
-                                  "pitch": {"amplitude": 1.0, "period": 10.0, "phase_deg": 90.0},
-                                  "ramp_duration": 10.0}},
-            "pipe": {"outer_diameter": 0.3239, "wall_thickness": 0.0159, "grade": "X65"},
-            "laid_length": 50.0, "element_length": 1.0}},
-        "analysis": {"statics": {"enabled": True},
-                     "dynamics": {"duration": duration, "output_interval": 0.1,
-                                  "integrator": {"kind": "generalized-alpha", "time_step": time_step}}},
-    })
+    return rfesim.load_scenario(scenes.j_lay_template(
+        1.0, name="J-lay template, far from the origin",
+        vessel={"position": [x0, 0.0, 0.0],
+                "motion": {"kind": "harmonic", "heave": {"amplitude": 1.5, "period": 10.0},
+                           "pitch": {"amplitude": 1.0, "period": 10.0, "phase_deg": 90.0},
+                           "ramp_duration": 10.0}},
+        analysis={"statics": {"enabled": True},
+                  "dynamics": {"duration": duration, "output_interval": 0.1,
+                               "integrator": {"kind": "generalized-alpha", "time_step": time_step}}}))
 
 
 _RUNS = {}

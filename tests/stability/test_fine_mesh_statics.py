@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 
 import rfesim
+import scenes
 from rfesim.model.compile import compile_scenario
 from rfesim.solvers.statics import position_resolution_force
 from rfesim.solvers.system import System
@@ -31,18 +32,9 @@ def j_lay(element_length: float, tolerance: float | None = None):
     statics = {"enabled": True}
     if tolerance is not None:
         statics["tolerance"] = tolerance
-    return rfesim.load_scenario({
-        "schema_version": 1,
-        "name": "J-lay template, fine mesh",
-        "environment": {"gravity": 9.81, "water": {"density": 1025.0, "depth": 1200.0},
-                        "seabed": {"normal_stiffness": 1.0e6, "damping_ratio": 0.2, "friction": 0.5}},
-        "pipelay": {"lay": {
-            "method": "j-lay", "tower_angle_deg": 85.0, "exit": [0.0, 0.0, 0.0],
-            "vessel": {"position": [0.0, 0.0, 0.0]},
-            "pipe": {"outer_diameter": D, "wall_thickness": T_WALL, "grade": "X65"},
-            "laid_length": 50.0, "element_length": element_length}},
-        "analysis": {"statics": statics, "dynamics": {"enabled": False}},
-    })
+    return rfesim.load_scenario(scenes.j_lay_template(
+        element_length, name="J-lay template, fine mesh",
+        analysis={"statics": statics, "dynamics": {"enabled": False}}))
 
 
 def test_force_resolution_of_the_positions_is_above_the_default_tolerance():
