@@ -30,7 +30,7 @@ import rfesim
 
 from . import results_json, validate
 from .executor import make_executor
-from .jobs import JobManager
+from .jobs import JobManager, writing_message
 from .middleware import BodyLimit, TokenAuth
 from .paths import SAFE_NAME, find_scenarios_dir
 from .settings import Settings
@@ -383,6 +383,10 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         if status == "cancelled":
             return {"id": job_id, "status": "cancelled", "message": "cancelled before it started"}
         if status == "running":
+            t = manager().writing_time(job_id)
+            if t is not None:            # the run is over: its results file is being written
+                return {"id": job_id, "status": "running",
+                        "message": f"cancel requested: {writing_message(t, cancelled=False)}: kept"}
             return {"id": job_id, "status": "running",
                     "message": "cancel requested: the run stops at its next output step and keeps its "
                                "results up to it"}

@@ -109,6 +109,12 @@ class JobManager:
         job = self.store.get(job_id)
         return job["status"] if job else None
 
+    def writing_time(self, job_id: str) -> float | None:
+        """The output time (s) up to which a running job's results file is being written, or
+        None when it is not writing one."""
+        with self._writing_lock:
+            return self._writing.get(job_id)
+
     def get(self, job_id: str) -> dict | None:
         job = self.store.get(job_id)
         return self.overlay([job])[0] if job is not None else None

@@ -145,6 +145,7 @@ def test_a_cancel_that_comes_while_a_finished_run_writes_does_not_kill_it(monkey
         assert job["status"] == "running" and job["message"].startswith("running on local process "), job
         r = client.delete(f"/jobs/{job_id}")
         assert r.status_code == 202 and r.json()["status"] == "running", r.text
+        assert r.json()["message"] == "cancel requested: writing the results up to t = 1 s: kept", r.text
         assert _job(client, job_id)["message"] == "cancel requested: writing the results up to t = 1 s"
         job, _ = _watch(client, job_id, _over)
         assert job["status"] == "done" and job["has_results"] is True and job["progress"] == 1.0, job
