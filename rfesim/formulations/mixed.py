@@ -880,22 +880,11 @@ def simulate(sc, progress=None):
         exc.results = rec.results(sc, status=1, message=_with_warnings(str(exc), ms.statics_warnings),
                                   counters=counters, kind="dynamics")
         raise
-    except KeyboardInterrupt as exc:
-        # Ctrl-C (or a SIGTERM the command line turns into it): the results so far go with the
-        # interruption, as for a scene of lines (rfesim.solvers.dynamics.run_dynamics)
-        from ..solvers.dynamics import INTERRUPTED
-        counters.update(vars(ig.stats))
-        counters["time_step"] = h
-        counters["wall_time"] = _time.perf_counter() - wall0
-        n = rec.complete()
-        if n:
-            message = _with_warnings(f"interrupted at t = {float(rec.rec.time[n - 1]):.6g} s", ms.statics_warnings)
-            exc.results = rec.results(sc, status=INTERRUPTED, message=message, counters=counters, kind="dynamics")
-        raise
-    except CancelledError as exc:
-        # the progress callback raised (the service's cancel) after an output: the results up
-        # to it go with the cancellation (status CANCELLED), as with an interruption
-        from ..solvers.dynamics import cancelled
+    except (KeyboardInterrupt, CancelledError) as exc:
+        # Ctrl-C (or a SIGTERM the command line turns into it; status INTERRUPTED) or a progress
+        # callback that raised (the service's cancel; status CANCELLED): the results up to the
+        # last output go with it, as for a scene of lines (rfesim.solvers.dynamics.run_dynamics)
+        from ..solvers.dynamics import INTERRUPTED, cancelled
         counters.update(vars(ig.stats))
         counters["time_step"] = h
         counters["wall_time"] = _time.perf_counter() - wall0
@@ -905,6 +894,10 @@ def simulate(sc, progress=None):
             return rec.results(sc, status=status, message=_with_warnings(message, ms.statics_warnings),
                                counters=counters, kind="dynamics")
 
+        if isinstance(exc, KeyboardInterrupt):
+            if n:
+                exc.results = part(INTERRUPTED, f"interrupted at t = {float(rec.rec.time[n - 1]):.6g} s")
+            raise
         raise cancelled(exc, float(rec.rec.time[n - 1]) if n else st.t, part if n else None) \
             from (exc.__cause__ or exc)
     counters.update(vars(ig.stats))
