@@ -21,7 +21,9 @@ log = logging.getLogger("rfesim")
 
 
 def _scenario(scenario) -> Scenario:
-    return scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
+    # a Scenario instance too is validated again (rfesim.scenario.load.load_scenario): its
+    # fields may have been assigned since it was validated
+    return load_scenario(scenario)
 
 
 def _other_formulations(sc: Scenario) -> bool:

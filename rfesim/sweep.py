@@ -278,7 +278,7 @@ def _base_dict(scenario) -> dict:
     from .scenario.load import _read_file, parse_text
 
     if isinstance(scenario, Scenario):
-        return scenario.model_dump(mode="json")
+        return scenario.model_dump(mode="json", warnings=False)
     if isinstance(scenario, dict):
         return scenario
     if isinstance(scenario, (str, os.PathLike)):

@@ -1028,11 +1028,24 @@ def load_scenario(source: str | os.PathLike | dict | Scenario, overrides: dict[s
     before validation, as a base file + load case. Relative data-file paths in the
     scenario (``file`` of a csv or rao vessel motion) are taken from ``base_dir``: by
     default the scenario file's folder, or the current directory for text and dicts.
+    A Scenario is validated again (fields assigned after validation are not checked by
+    pydantic); ``rfesim.statics``, ``simulate`` and ``modes`` do the same.
     """
     if isinstance(source, Scenario):
-        if not overrides:
-            return source
-        source = source.model_dump(mode="json")
+        # validated again: a Scenario's fields can be assigned after it was validated
+        # (``sc.environment.water.density = -1025``), which pydantic does not check, and a
+        # run on it would give wrong numbers or fail deep inside; its dump is the expanded,
+        # resolved scenario, so this costs a few ms and gives an equal Scenario when unchanged
+        kept = list(getattr(source, "_template_warnings", None) or [])
+        try:
+            dumped = source.model_dump(mode="json", warnings=False)
+        except Exception as exc:   # pydantic cannot serialize a value assigned without checking
+            raise ScenarioError([("", f"the Scenario has a field changed to a value that is not a "
+                                      f"scenario value ({type(exc).__name__}: {exc}); change fields through "
+                                      f"load_scenario(sc, overrides={{...}})")]) from None
+        out = load_scenario(dumped, overrides)
+        out._template_warnings = kept + [w for w in out._template_warnings if w not in kept]
+        return out
     if isinstance(source, dict):
         data = source
     elif isinstance(source, bytes):
