@@ -19,12 +19,17 @@ RFE lifting off so fast that the damper would pull has N = 0 and is out of conta
 Friction (stick/slip). Each RFE in contact carries an anchor point ``A`` (history: the
 committed anchor is read, the trial one written; the integrators commit after every
 accepted step). The tangential displacement ``u = (I - n n^T)(r - A)`` of the RFE centre
-loads a stick spring ``f = -k_t l_c u``; the force is split into axial (along the RFE axis
+loads a stick spring ``-k_t l_c u`` with a damper ``-c_t l_c v_t`` in parallel (the
+centre's velocity in the seabed plane; c_t per unit length from friction_damping_ratio,
+``seabed_damping``: critically damped by default, so a load that comes on at once does not
+swing the line past its static deflection and make it slip at half the limit, nor leave it
+ringing; docs/theory.md, "Stick damper"); the force is split into axial (along the RFE axis
 projected on the seabed, e_1) and lateral (e_2 = n x e_1) parts and returned radially onto
-the friction ellipse ``(f_1/mu_1)^2 + (f_2/mu_2)^2 <= N^2`` when it lies outside (slip);
-the trial anchor is then ``A' = r + f / (k_t l_c)``, so the anchor slides with the pipe
-and the force stays at the friction limit. A sticking line holds still under any force
-below the limit (no creep), unlike a viscous regularisation. Modes (``mode[0]``):
+the friction ellipse ``(f_1/mu_1)^2 + (f_2/mu_2)^2 <= N^2`` when it lies outside (slip),
+spring and damper shares alike; the trial anchor is ``A' = r + f_spring / (k_t l_c)``, so
+in slip the anchor slides with the pipe (only ever towards it) and the force stays at the
+friction limit. A sticking line holds still under any force below the limit (no creep),
+unlike a viscous regularisation. Modes (``mode[0]``):
 
 * 0 spring-slider (dynamics);
 * 1 fully mobilised axial friction pointing towards end A (statics: the line was pulled
@@ -39,6 +44,18 @@ import math
 from numba import njit
 
 from ._common import add_force_moment
+
+
+def seabed_damping(seabed, mass_per_length: float) -> tuple[float, float]:
+    """(normal, stick) damping per unit length of a line or body with this mass per length on
+    the seabed, ``2 zeta sqrt(k m)`` with the seabed's damping_ratio and normal stiffness, and
+    its friction_damping_ratio and stick stiffness (default 0.1 normal_stiffness); (0, 0)
+    without a seabed."""
+    if seabed is None:
+        return 0.0, 0.0
+    kt = seabed.friction_stiffness or 0.1 * seabed.normal_stiffness
+    return (2.0 * seabed.damping_ratio * math.sqrt(seabed.normal_stiffness * mass_per_length),
+            2.0 * seabed.friction_damping_ratio * math.sqrt(kt * mass_per_length))
 
 
 @njit(cache=True)
@@ -57,11 +74,13 @@ def seabed_height(bed_s, bed_z, bed_dir, x, y, out):
 
 
 @njit(cache=True)
-def seabed_forces(rfe_length, rfe_contact_radius, rfe_seabed_c, bed_s, bed_z, bed_dir, seabed_k, mu, kt,
+def seabed_forces(rfe_length, rfe_contact_radius, rfe_seabed_c, rfe_seabed_ct, bed_s, bed_z, bed_dir, seabed_k,
+                  mu, kt,
                   R, r, v, w, F, M, contact_force, contact_length, anchor, anchored, anchor_trial,
                   anchored_trial, mode, friction_force, tmp):
     """Normal contact and friction of every RFE (see the module text). ``mu`` = [axial,
-    lateral] coefficients; ``kt`` the stick stiffness per unit length; ``anchor``/``anchored``
+    lateral] coefficients; ``kt`` the stick stiffness and ``rfe_seabed_ct`` its damper per unit
+    length; ``anchor``/``anchored``
     the committed friction anchors (read), ``anchor_trial``/``anchored_trial`` written;
     ``friction_force`` (n, 3) the friction force on each RFE; ``tmp`` a (3,) scratch."""
     fmode = mode[0]
@@ -142,28 +161,42 @@ def seabed_forces(rfe_length, rfe_contact_radius, rfe_seabed_c, bed_s, bed_z, be
             e2y = nz * e1x - nx * e1z
             e2z = nx * e1y - ny * e1x
             klc = kt * lc
+            # first touch (the anchor is where the RFE is now): no force
+            f1 = 0.0
+            f2 = 0.0
             if fmode == 1:
                 f1 = -mu[0] * fn
-                f2 = 0.0
-            elif anchored[i] == 0:
-                f1 = 0.0        # first touch: the anchor is where the RFE is now
-                f2 = 0.0
-            else:
+            # the spring's share of the force (s1, s2) places the trial anchor
+            s1 = f1
+            s2 = f2
+            if fmode == 0 and anchored[i] != 0:
                 ux = r[i, 0] - anchor[i, 0]
                 uy = r[i, 1] - anchor[i, 1]
                 uz = r[i, 2] - anchor[i, 2]
-                f1 = -klc * (ux * e1x + uy * e1y + uz * e1z)
-                f2 = -klc * (ux * e2x + uy * e2y + uz * e2z)
+                s1 = -klc * (ux * e1x + uy * e1y + uz * e1z)
+                s2 = -klc * (ux * e2x + uy * e2y + uz * e2z)
+                # the stick damper on the centre's sliding velocity (e1, e2 lie in the seabed plane)
+                clc = rfe_seabed_ct[i] * lc
+                f1 = s1 - clc * (v[i, 0] * e1x + v[i, 1] * e1y + v[i, 2] * e1z)
+                f2 = s2 - clc * (v[i, 0] * e2x + v[i, 1] * e2y + v[i, 2] * e2z)
                 if mu[0] <= 0.0:
                     f1 = 0.0
+                    s1 = 0.0
                 if mu[1] <= 0.0:
                     f2 = 0.0
+                    s2 = 0.0
                 q1 = f1 / mu[0] if mu[0] > 0.0 else 0.0
                 q2 = f2 / mu[1] if mu[1] > 0.0 else 0.0
                 phi = math.sqrt(q1 * q1 + q2 * q2)
                 if phi > fn:
-                    f1 *= fn / phi
-                    f2 *= fn / phi
+                    # slip: the force returned onto the ellipse, its spring and damper shares
+                    # alike, so the anchor only moves towards the line (sliding with it); with
+                    # no damper the spring holds the limit, as the classical spring-slider
+                    lam = fn / phi
+                    f1 *= lam
+                    f2 *= lam
+                    s1 *= lam
+                    s2 *= lam
             ffx = f1 * e1x + f2 * e2x
             ffy = f1 * e1y + f2 * e2y
             ffz = f1 * e1z + f2 * e2z
@@ -171,9 +204,9 @@ def seabed_forces(rfe_length, rfe_contact_radius, rfe_seabed_c, bed_s, bed_z, be
             friction_force[i, 1] = ffy
             friction_force[i, 2] = ffz
             anchored_trial[i] = 1
-            anchor_trial[i, 0] = r[i, 0] + ffx / klc
-            anchor_trial[i, 1] = r[i, 1] + ffy / klc
-            anchor_trial[i, 2] = r[i, 2] + ffz / klc
+            anchor_trial[i, 0] = r[i, 0] + (s1 * e1x + s2 * e2x) / klc
+            anchor_trial[i, 1] = r[i, 1] + (s1 * e1y + s2 * e2y) / klc
+            anchor_trial[i, 2] = r[i, 2] + (s1 * e1z + s2 * e2z) / klc
             fx += ffx
             fy += ffy
             fz += ffz

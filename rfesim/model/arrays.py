@@ -34,6 +34,7 @@ class KernelModel(NamedTuple):
     rfe_cat: np.ndarray             # (n,) axial added-mass coefficient
     rfe_contact_radius: np.ndarray  # (n,) m, seabed contact radius (outer radius)
     rfe_seabed_c: np.ndarray        # (n,) N*s/m/m, seabed normal damping per unit length
+    rfe_seabed_ct: np.ndarray       # (n,) N*s/m/m, damping of the seabed friction's stick spring per unit length
     # --- SDEs (primary division, eqs. 8.86-8.89)
     sde_left: np.ndarray            # (nsde,) int64, RFE i-1
     sde_right: np.ndarray           # (nsde,) int64, RFE i

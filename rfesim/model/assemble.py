@@ -406,7 +406,8 @@ def local_loads(km, att, ws, scale):
                       km.tug_count, km.tug_k, km.tug_L0, km.tug_c, att.time[0], att.p, att.R, att.v, att.w, ws.R,
                       ws.r, ws.v, ws.w, ws.F, ws.M, ws.tug_tension, ws.tug_length)
     if km.has_seabed:
-        seabed_forces(km.rfe_length, km.rfe_contact_radius, km.rfe_seabed_c, km.bed_s, km.bed_z, km.bed_dir,
+        seabed_forces(km.rfe_length, km.rfe_contact_radius, km.rfe_seabed_c, km.rfe_seabed_ct, km.bed_s, km.bed_z,
+                      km.bed_dir,
                       km.seabed_k, km.seabed_mu, km.seabed_kt, ws.R, ws.r, ws.v, ws.w, ws.F, ws.M,
                       ws.contact_force, ws.contact_length, ws.fric_anchor, ws.fric_anchored, ws.fric_anchor_trial,
                       ws.fric_anchored_trial, ws.fric_mode, ws.friction_force, ws.v3[31])

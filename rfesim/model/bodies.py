@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..kinematics import rot_zyx
+from ..loads.seabed import seabed_damping
 
 CONNECTION_STIFFNESS_FACTOR = 100.0
 
@@ -81,13 +82,10 @@ def connection_rows(line_coefficients: np.ndarray, connection: str, end_mass: fl
 def body_rfe_row(body, sc) -> dict:
     """Per-RFE array values of a body's RFE (line hydrodynamics off: rfesim.loads.bodies acts)."""
     height = body.vertical_extent()
-    seabed = sc.environment.seabed
-    c_len = 0.0
-    if seabed is not None:
-        c_len = 2.0 * seabed.damping_ratio * math.sqrt(seabed.normal_stiffness * body.mass / height)
+    c_len, ct_len = seabed_damping(sc.environment.seabed, body.mass / height)
     return dict(mass=body.mass, inertia=np.asarray(body.principal_inertia(), float), length=height,
                 diameter=0.0, disp_area=0.0, cdn=0.0, cdt=0.0, can=0.0, cat=0.0,
-                contact_radius=0.5 * height, seabed_c=c_len)
+                contact_radius=0.5 * height, seabed_c=c_len, seabed_ct=ct_len)
 
 
 def body_arrays(sc, infos: list[BodyInfo]) -> dict:
@@ -186,7 +184,7 @@ def append_body(sc, name: str, index: int, line, pose, line_coefficients: np.nda
     centre, R, _ = pose
     row = body_rfe_row(body, sc)
     for key in ("mass", "inertia", "length", "diameter", "disp_area", "cdn", "cdt", "can", "cat", "contact_radius",
-                "seabed_c"):
+                "seabed_c", "seabed_ct"):
         rfe[key].append(row[key])
     rfe["kind"].append(kinds[0])
     rfe["attach"].append(-1)

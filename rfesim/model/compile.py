@@ -18,6 +18,7 @@ from ..errors import ScenarioError
 from ..kinematics import frame_from_tangent, minimal_rotation
 from ..vessel import VesselMotion, make_vessel_motion
 from ..sea.kernel import sea_spec
+from ..loads.seabed import seabed_damping
 from .arrays import (KIND_CLAMPED, KIND_FREE, KIND_PINNED, AttachmentState, KernelModel, Reference,
                      new_attachment_state)
 from .sections import Section, section_from_type
@@ -452,7 +453,8 @@ def compile_scenario(sc, start: str | None = None) -> Model:
     start = start or sc.analysis.statics.start
 
     rfe = {k: [] for k in ("mass", "inertia", "length", "kind", "attach", "attach_offset", "pin_arm", "clamp_R",
-                           "diameter", "disp_area", "cdn", "cdt", "can", "cat", "contact_radius", "seabed_c")}
+                           "diameter", "disp_area", "cdn", "cdt", "can", "cat", "contact_radius", "seabed_c",
+                           "seabed_ct")}
     sde = {k: [] for k in ("left", "right", "arm_left", "arm_right", "stiffness", "damping", "length")}
     loads = {k: [] for k in ("rfe", "arm", "force", "moment", "local")}
     q0_blocks, R0_blocks, X0_blocks = [], [], []
@@ -729,11 +731,9 @@ def compile_scenario(sc, start: str | None = None) -> Model:
             rfe["can"].append(sec.added_mass_normal)
             rfe["cat"].append(sec.added_mass_axial)
             rfe["contact_radius"].append(0.5 * sec.outer_diameter)
-            if seabed is not None:
-                c_len = 2.0 * seabed.damping_ratio * math.sqrt(seabed.normal_stiffness * sec.mass_per_length)
-            else:
-                c_len = 0.0
+            c_len, ct_len = seabed_damping(seabed, sec.mass_per_length)
             rfe["seabed_c"].append(c_len)
+            rfe["seabed_ct"].append(ct_len)
         # --- the joint SDE to the parent (rfesim.model.joins), numbered before the line's own SDEs
         if parent is not None:
             pe = end_b_of[parent]
@@ -929,6 +929,7 @@ def compile_scenario(sc, start: str | None = None) -> Model:
         rfe_clamp_R=f("clamp_R", (n, 3, 3)), rfe_diameter=f("diameter", (n,)), rfe_disp_area=f("disp_area", (n,)),
         rfe_cdn=f("cdn", (n,)), rfe_cdt=f("cdt", (n,)), rfe_can=f("can", (n,)), rfe_cat=f("cat", (n,)),
         rfe_contact_radius=f("contact_radius", (n,)), rfe_seabed_c=f("seabed_c", (n,)),
+        rfe_seabed_ct=f("seabed_ct", (n,)),
         sde_left=np.asarray(sde["left"], np.int64), sde_right=np.asarray(sde["right"], np.int64),
         sde_arm_left=np.asarray(sde["arm_left"], float).reshape(-1, 3),
         sde_arm_right=np.asarray(sde["arm_right"], float).reshape(-1, 3),

@@ -681,6 +681,13 @@ class Seabed(_Strict):
                  "(default: 0.1 * normal_stiffness; a stiffer spring holds the line closer but makes the "
                  "implicit integrator's Newton iterations work harder at stick/slip changes)",
         default=None, gt=0.0, le=MAX_STIFFNESS, limit=STIFFNESS_LIMIT)
+    friction_damping_ratio: float = _units(
+        "1", "Damping of the stick spring as a fraction of critical for the line's mass per length on it "
+             "(dynamics). At 1 a load that comes on at once (a pipe set down on a slope) takes the line to its "
+             "mobilisation displacement without ringing; the friction then peaks e^-2 = 13.5 % above the load "
+             "while it settles. 0 leaves the spring undamped: it overshoots to twice the load (slipping "
+             "at half the friction limit) and rings",
+        default=1.0, ge=0.0, le=10.0)
 
     @model_validator(mode="after")
     def _geometry(self):

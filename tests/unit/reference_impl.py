@@ -571,22 +571,29 @@ def seabed_on_plane_by_quadrature(length, contact_radius, seabed_damping, plane_
 
 
 def seabed_friction_spring_slider(normal, tangent, centre, anchor, stick_stiffness, contact_length, normal_force,
-                                  mu_axial, mu_lateral):
-    """Coulomb friction by a spring-slider: stick spring -k l (I - n n^T)(r - anchor), split into
-    axial (tangent projected on the seabed) and lateral parts, scaled back onto the ellipse
-    (f_a/mu_a)^2 + (f_l/mu_l)^2 = N^2 when outside; returns (force, new anchor)."""
+                                  mu_axial, mu_lateral, velocity=None, stick_damping=0.0):
+    """Coulomb friction by a spring-slider: stick spring -k l (I - n n^T)(r - anchor) and its
+    damper -c l (I - n n^T) v (Kelvin-Voigt), split into axial (tangent projected on the seabed)
+    and lateral parts, scaled back onto the ellipse (f_a/mu_a)^2 + (f_l/mu_l)^2 = N^2 when
+    outside (slip: spring and damper shares scaled alike); returns (force, new anchor), the
+    anchor where the spring's share of the force puts it."""
     P = np.eye(3) - np.outer(normal, normal)
     axial = P @ tangent
     axial /= np.linalg.norm(axial)
     lateral = np.cross(normal, axial)
     spring = -stick_stiffness * contact_length * (P @ (centre - anchor))
-    fa = spring @ axial if mu_axial > 0 else 0.0
-    fl = spring @ lateral if mu_lateral > 0 else 0.0
-    ratio = np.hypot(fa / mu_axial if mu_axial > 0 else 0.0, fl / mu_lateral if mu_lateral > 0 else 0.0)
+    damper = np.zeros(3) if velocity is None else -stick_damping * contact_length * (P @ velocity)
+    keep = np.array([mu_axial > 0, mu_lateral > 0], float)
+    spring_al = keep * np.array([spring @ axial, spring @ lateral])
+    total_al = spring_al + keep * np.array([damper @ axial, damper @ lateral])
+    ratio = np.hypot(total_al[0] / mu_axial if mu_axial > 0 else 0.0,
+                     total_al[1] / mu_lateral if mu_lateral > 0 else 0.0)
     if ratio > normal_force:
-        fa, fl = fa * normal_force / ratio, fl * normal_force / ratio
-    force = fa * axial + fl * lateral
-    return force, centre + force / (stick_stiffness * contact_length)
+        total_al = total_al * normal_force / ratio
+        spring_al = spring_al * normal_force / ratio
+    force = total_al[0] * axial + total_al[1] * lateral
+    spring_force = spring_al[0] * axial + spring_al[1] * lateral
+    return force, centre + spring_force / (stick_stiffness * contact_length)
 
 
 def spatial_central_differences(fun, Ra, Rb, ra, rb, step):

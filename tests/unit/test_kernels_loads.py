@@ -224,7 +224,8 @@ def call_seabed(length, radius, damping, seabed_z, seabed_k, R, r, v, w, F, M, c
     anchor_trial = np.full((n, 3), np.nan)
     anchored_trial = np.full(n, -1, np.int64)
     friction = np.full((n, 3), np.nan)
-    seabed_forces(length, radius, damping, bed_s, bed_z, bed_dir, seabed_k, np.asarray(mu, float), kt, R, r, v, w,
+    seabed_forces(length, radius, damping, np.zeros(n), bed_s, bed_z, bed_dir, seabed_k, np.asarray(mu, float), kt,
+                  R, r, v, w,
                   F, M, contact_force, contact_length, anchor, anchored, anchor_trial, anchored_trial,
                   np.array([mode], np.int64), friction, np.zeros(3))
     return anchor_trial, anchored_trial, friction

@@ -12,7 +12,7 @@ SEEDS = [1, 2, 3]
 
 
 def run_kernel(length, radius, damping, bed, k, R, r, v, w, mu=(0.0, 0.0), kt=1.0, anchor=None, anchored=None,
-               mode=2):
+               mode=2, stick_damping=None):
     n = length.shape[0]
     F = np.zeros((n, 3))
     M = np.zeros((n, 3))
@@ -23,7 +23,8 @@ def run_kernel(length, radius, damping, bed, k, R, r, v, w, mu=(0.0, 0.0), kt=1.
     at = np.zeros((n, 3))
     adt = np.zeros(n, np.int64)
     ff = np.zeros((n, 3))
-    seabed_forces(length, radius, damping, bed[0], bed[1], bed[2], k, np.asarray(mu, float), kt, R, r, v, w, F, M,
+    ct = np.zeros(n) if stick_damping is None else stick_damping
+    seabed_forces(length, radius, damping, ct, bed[0], bed[1], bed[2], k, np.asarray(mu, float), kt, R, r, v, w, F, M,
                   cf, cl, anchor, anchored, at, adt, np.array([mode], np.int64), ff, np.zeros(3))
     return F, M, cf, cl, at, adt, ff
 
@@ -85,8 +86,10 @@ def test_normal_contact_on_a_profile_against_quadrature(seed):
 
 
 @pytest.mark.parametrize("seed", SEEDS)
-def test_friction_against_spring_slider_reference(seed):
-    """Stick (inside the ellipse) and slip (outside) cases with anisotropic coefficients."""
+@pytest.mark.parametrize("damped", [False, True])
+def test_friction_against_spring_slider_reference(seed, damped):
+    """Stick (inside the ellipse) and slip (outside) cases with anisotropic coefficients,
+    without and with the stick damper (sliding velocities of 0.1 m/s)."""
     rng = np.random.default_rng(seed)
     bed = random_bed(rng)
     n = 16
@@ -103,15 +106,17 @@ def test_friction_against_spring_slider_reference(seed):
     anchor[n // 2:] = r[n // 2:] + rng.normal(scale=10.0, size=(n - n // 2, 3))    # these slip
     mu = (rng.uniform(0.2, 1.0), rng.uniform(0.2, 1.0))
     kt = 2e4
-    F, M, cf, cl, at, adt, ff = run_kernel(length, radius, np.zeros(n), bed, 1e5, R, r, np.zeros((n, 3)),
+    v = 0.1 * rng.normal(size=(n, 3)) if damped else np.zeros((n, 3))
+    ct = rng.uniform(1e3, 3e4, size=n) if damped else np.zeros(n)
+    F, M, cf, cl, at, adt, ff = run_kernel(length, radius, np.zeros(n), bed, 1e5, R, r, v,
                                            np.zeros((n, 3)), mu=mu, kt=kt, anchor=anchor,
-                                           anchored=np.ones(n, np.int64), mode=0)
+                                           anchored=np.ones(n, np.int64), mode=0, stick_damping=ct)
     slipped = 0
     for i in range(n):
         zb, nrm = ref.seabed_plane_under(bed[0], bed[1], bed[2], r[i, 0], r[i, 1])
         assert cl[i] == pytest.approx(length[i])
         force, new_anchor = ref.seabed_friction_spring_slider(nrm, R[i][:, 0], r[i], anchor[i], kt, cl[i], cf[i],
-                                                              mu[0], mu[1])
+                                                              mu[0], mu[1], v[i], ct[i])
         np.testing.assert_allclose(ff[i], force, rtol=1e-10, atol=1e-10 * cf[i])
         np.testing.assert_allclose(at[i], new_anchor, rtol=0, atol=1e-12 * 100)
         assert adt[i] == 1

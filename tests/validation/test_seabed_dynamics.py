@@ -116,3 +116,77 @@ def test_laid_pipe_holds_still_below_the_friction_limit_and_slides_above():
     fr = res.line("pipe").seabed_friction[-1]
     normal = res.line("pipe").seabed_force[-1]
     assert fr[:, 1].sum() == pytest.approx(-MU_LAT * normal.sum(), rel=1e-6)
+
+
+SLOPE_DEG = 10.0
+SLOPE_KT = 1e4                       # N/m/m, the default stick stiffness for normal_stiffness 1e5
+
+
+def pipe_on_slope(mu, damping_ratio=None, duration=6.0, slope_deg=SLOPE_DEG):
+    """A free 20 m pipe (0.5 m x 20 mm steel, 800 kg/m^3 contents, 10 elements) set down along
+    the fall line of a sloped seabed 100 m deep, from rest at its normal static penetration:
+    its weight's down-slope part comes on at once. Returns (t, down-slope displacement of its
+    middle, submerged weight per length)."""
+    th = np.radians(slope_deg)
+    D, t_w, kn = 0.5, 0.02, 1e5
+    steel = np.pi / 4 * (D ** 2 - (D - 2 * t_w) ** 2)
+    bore = np.pi / 4 * (D - 2 * t_w) ** 2
+    w_sub = G * (7850.0 * steel + 800.0 * bore - RHO * np.pi / 4 * D ** 2)
+    normal = np.array([-np.sin(th), 0.0, np.cos(th)])
+    up = np.array([np.cos(th), 0.0, np.sin(th)])
+    centre = np.array([0.0, 0.0, -100.0]) + normal * (D / 2 - w_sub * np.cos(th) / kn)
+    seabed = {"normal_stiffness": kn, "friction": mu, "slope_deg": slope_deg}
+    if damping_ratio is not None:
+        seabed["friction_damping_ratio"] = damping_ratio
+    res = rfesim.simulate({
+        "environment": {"gravity": G, "water": {"density": RHO, "depth": 100.0}, "seabed": seabed},
+        "line_types": {"p": {"outer_diameter": D, "wall_thickness": t_w, "youngs_modulus": 207e9,
+                             "density": 7850.0, "contents_density": 800.0}},
+        "lines": {"pipe": {"type": "p", "length": 20.0, "elements": 10,
+                           "end_a": {"attach": "free", "position": (centre - 10 * up).tolist()},
+                           "end_b": {"attach": "free", "position": (centre + 10 * up).tolist()}}},
+        "analysis": {"statics": {"enabled": False},
+                     "dynamics": {"duration": duration, "output_interval": 0.05,
+                                  "integrator": {"kind": "generalized-alpha", "time_step": 0.01}}}})
+    pos = res.line("pipe").position
+    mid = pos[:, pos.shape[1] // 2]
+    return res.time, (mid - mid[0]) @ -up, w_sub
+
+
+def test_a_pipe_set_down_on_a_slope_below_the_friction_limit_holds_at_its_mobilisation_displacement():
+    """mu = 0.2 on a 10 deg slope (mu / tan = 1.134): the pipe holds, having moved its
+    mobilisation displacement w_sub sin / k_t = 2.87 cm, and does not ring. The stick damper
+    (friction_damping_ratio, default 1) makes it so: the undamped stick spring swings the
+    suddenly loaded pipe to twice that, past the limit, and it slid 13.5 cm (audit 2026-11-28)."""
+    t, down, w_sub = pipe_on_slope(0.2)
+    mobilisation = w_sub * np.sin(np.radians(SLOPE_DEG)) / SLOPE_KT
+    assert mobilisation == pytest.approx(0.0287, abs=1e-4)
+    assert down[-1] == pytest.approx(mobilisation, rel=0.01)
+    assert np.ptp(down[t > 3.0]) < 1e-3 * mobilisation           # at rest, no ringing
+    assert down.max() < 1.01 * mobilisation                       # no overshoot past the static deflection
+    t0, down0, _ = pipe_on_slope(0.2, damping_ratio=0.0)
+    assert down0[-1] > 3.0 * mobilisation                          # undamped: slipped
+
+
+def test_a_pipe_held_by_friction_on_a_steep_slope_comes_to_rest():
+    """20 deg, mu = 0.5 (mu / tan = 1.37): held either way, but the undamped stick spring rings
+    at 2 pi sqrt(m / k_t) = 1.2 s with about 2 cm for as long as the run lasts; damped it
+    settles within the first seconds."""
+    t, down, w_sub = pipe_on_slope(0.5, slope_deg=20.0)
+    mobilisation = w_sub * np.sin(np.radians(20.0)) / SLOPE_KT
+    assert down[-1] == pytest.approx(mobilisation, rel=0.01)
+    assert np.ptp(down[t > 3.0]) < 1e-3 * mobilisation
+    t0, down0, _ = pipe_on_slope(0.5, damping_ratio=0.0, slope_deg=20.0)
+    assert np.ptp(down0[t0 > 3.0]) > 0.5 * mobilisation             # undamped: still ringing
+
+
+def test_below_the_friction_limit_the_damped_pipe_slides_with_the_coulomb_acceleration():
+    """mu = 0.15 < tan 10 deg: sliding from rest, x = a t^2 / 2 with a = w_sub (sin - mu cos) / m
+    (the stick damper acts only while the pipe sticks)."""
+    t, down, w_sub = pipe_on_slope(0.15, duration=4.0)
+    th = np.radians(SLOPE_DEG)
+    D, t_w = 0.5, 0.02
+    mass = 7850.0 * np.pi / 4 * (D ** 2 - (D - 2 * t_w) ** 2) + 800.0 * np.pi / 4 * (D - 2 * t_w) ** 2
+    a = w_sub * (np.sin(th) - 0.15 * np.cos(th)) / mass
+    late = t > 1.5
+    assert 2.0 * np.polyfit(t[late], down[late], 2)[0] == pytest.approx(a, rel=2e-3)
