@@ -289,7 +289,30 @@ def check_model(scenario) -> list[str]:
             scene.compile_scene(sc)
         return []
     model = compile_scenario(sc)
+    _check_output_times(sc, model)
     return _no_static_shape(sc, model) if sc.analysis.statics.enabled else []
+
+
+def _check_output_times(sc, model) -> None:
+    """The ScenarioError the dynamics of a run raise before their first step when the output
+    times would store more results than this machine's memory takes
+    (rfesim.solvers.dynamics._check_output_size, for the output times of its output schedule).
+    Unknown without a solve only for the default RK4 step (its stability limit) without an
+    output interval, which records at most about 10000 output times: not checked then."""
+    from .solvers.dynamics import _check_output_size, _whole_intervals, output_schedule
+    dyn = sc.analysis.dynamics
+    if not (dyn.enabled and dyn.duration > 0):
+        return
+    T, integ = float(dyn.duration), dyn.integrator
+    adaptive = integ.kind == "adaptive"
+    step = getattr(integ, "time_step", None)
+    if dyn.output_interval:
+        n_out = _whole_intervals(T, float(dyn.output_interval))
+    elif adaptive or step:
+        n_out = output_schedule(T, float(step or T), None, adaptive)[1]
+    else:
+        return
+    _check_output_size(System(model), n_out + 2)
 
 
 def statics(scenario, *, progress=None):

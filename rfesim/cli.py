@@ -4,7 +4,7 @@
     rfesim statics SCENARIO [-o OUT.nc]
     rfesim modes SCENARIO [-n 10]
     rfesim check SCENARIO [--expand]                   # validate only, clear errors
-    rfesim bench [--quick]                             # work-precision report
+    rfesim bench [--quick] [--only PART]               # work-precision report (--help: every option)
     rfesim serve [--host 127.0.0.1 --port 8000]        # the HTTP service
     rfesim sweep SCENARIO --vary path=v1,v2,... [--scheduler ADDRESS]
     rfesim schema [--json | --markdown] [-o FILE]      # the scenario's JSON Schema, or its field reference
@@ -12,7 +12,8 @@
 Exit codes: 0 success; 1 bad input (scenario error, missing file); 2 usage error or a
 missing optional component; 3 the solver failed (partial results are still written);
 130 interrupted (Ctrl-C, or SIGTERM during `run` and `sweep`: `run` writes the results
-recorded so far, status 2; `sweep` keeps the rows of the finished cases in its CSV).
+recorded so far, status 2, and its plot, and a further Ctrl-C or SIGTERM does not stop that
+write; `sweep` keeps the rows of the finished cases in its CSV).
 """
 from __future__ import annotations
 
@@ -129,8 +130,8 @@ def _plot_path(plot: str, scenario: Path, out: Path | None) -> Path:
 def _write(res, path: Path) -> None:
     try:
         res.to_netcdf(path)
-    except OSError as exc:
-        raise CliError(f"error: could not write {path}: {exc}") from None
+    except OSError as exc:     # Results.to_netcdf's reason ("the folder ... does not exist"), without [Errno]
+        raise CliError(f"error: could not write {path}: {exc.strerror or exc}") from None
     except Exception as exc:   # h5py's ValueError (a name it cannot take as a group), ...: say so, no traceback
         raise CliError(f"error: could not write the results to {path} ({type(exc).__name__}: {exc}); "
                        f"the results of this run are lost") from None
@@ -155,6 +156,70 @@ def sigterm_as_interrupt():
         yield
     finally:
         signal.signal(signal.SIGTERM, old if old is not None else signal.SIG_DFL)
+
+
+class _RunSignals:
+    """SIGINT and SIGTERM during ``rfesim run`` (a context manager; the main thread only).
+
+    While the run computes, the first of them raises KeyboardInterrupt (SIGTERM too: a batch
+    system stopping the job), with which rfesim.simulate hands back the results so far. Any
+    later one, and any one once the run is ``finishing`` (its results and plot being written),
+    is only noted, with one line on stderr: a second Ctrl-C in the write used to remove the
+    half-written file and lose every result, and one while the process was ending made its
+    exit code -2 rather than 130. ``interrupted`` says whether a signal (or a
+    KeyboardInterrupt) came; the command then exits 130.
+
+    ``keep_ignoring``: when a signal came, leave SIGINT and SIGTERM ignored after the block
+    (the program is about to exit 130, and the interpreter's shutdown takes a few tenths of
+    a second); otherwise the caller's handlers are restored (``main`` called in-process)."""
+
+    _SIGNALS = ("SIGINT", "SIGTERM")
+
+    def __init__(self, out: Path | None, keep_ignoring: bool = False):
+        self.out = out
+        self.keep_ignoring = keep_ignoring
+        self.interrupted = False
+        self._finishing = False
+        self._noted = False
+        self._old: dict = {}
+
+    def __enter__(self):
+        import signal
+        import threading
+
+        if threading.current_thread() is threading.main_thread():
+            for name in self._SIGNALS:
+                num = getattr(signal, name)
+                self._old[num] = signal.signal(num, self._handle)
+        return self
+
+    def __exit__(self, *exc):
+        import signal
+
+        for num, old in self._old.items():
+            if self.interrupted and self.keep_ignoring:
+                signal.signal(num, signal.SIG_IGN)
+            else:
+                signal.signal(num, old if old is not None else signal.SIG_DFL)
+        return False
+
+    def finishing(self, interrupted: bool = False) -> None:
+        """From now on signals do not interrupt: the results are being written."""
+        self._finishing = True
+        self.interrupted = self.interrupted or interrupted
+
+    def _handle(self, signum, frame):
+        if not (self._finishing or self.interrupted):
+            self.interrupted = True
+            raise KeyboardInterrupt(f"signal {signum}")
+        self.interrupted = True
+        if not self._noted and self.out is not None:
+            try:    # not _err: a signal that arrives inside a write to stderr must not break it
+                sys.stderr.write(f"still writing the results to {self.out}, please wait\n")
+                sys.stderr.flush()
+                self._noted = True
+            except (RuntimeError, ValueError, OSError):   # a reentrant write, a closed stream
+                pass
 
 
 def _kn(x: float) -> str:
@@ -342,37 +407,48 @@ def cmd_run(args) -> int:
     bar = _progress_bar(args)
     wall0 = time.perf_counter()
     failure = interrupted = None
-    try:
-        with sigterm_as_interrupt():
+    with _RunSignals(out, keep_ignoring=getattr(args, "program", False)) as signals:
+        try:
             res = rfesim.simulate(sc, progress=bar)
-    except rfesim.SolverError as exc:
-        failure = exc
-    except KeyboardInterrupt as exc:
-        interrupted = exc
-    finally:
-        if bar is not None:
-            bar.close()
-    if interrupted is not None:
-        return _interrupted(interrupted, out)
-    if failure is not None:
-        return _solver_failure(failure, out, args.plot)
-    wall = time.perf_counter() - wall0
+        except rfesim.SolverError as exc:
+            failure = exc
+        except KeyboardInterrupt as exc:
+            interrupted = exc
+        finally:
+            signals.finishing(interrupted is not None)
+            if bar is not None:
+                bar.close()
+        if interrupted is not None:
+            return _interrupted(interrupted, out, args.plot)
+        if failure is not None:
+            code = _solver_failure(failure, out, args.plot)
+        else:
+            code = _finished(res, sc, out, args.plot, time.perf_counter() - wall0)
+        if signals.interrupted:     # Ctrl-C while the results were written: they are whole, but say it came
+            _err("interrupted after the run had ended" + (f": its results were written to {out} first"
+                                                          if code == EXIT_OK else ""))
+            return EXIT_INTERRUPTED
+        return code
+
+
+def _finished(res, sc, out: Path, plot: str | None, wall: float) -> int:
     _write(res, out)
     print(f"{sc.name}: {_summary_message(res.message)}")
     for line in _run_summary(res, wall):
         print(line)
     print(f"results written to {out}")
-    if args.plot:
+    if plot:
         from .plot import plot_results
 
-        plot_results(res, args.plot)
-        print(f"plot written to {args.plot}")
+        plot_results(res, plot)
+        print(f"plot written to {plot}")
     return EXIT_OK
 
 
-def _interrupted(exc: KeyboardInterrupt, out: Path | None) -> int:
-    """Ctrl-C or SIGTERM during a run: write the results recorded so far (status 2, "interrupted
-    at t = ..."; rfesim.simulate attaches them to the interruption as ``results``)."""
+def _interrupted(exc: KeyboardInterrupt, out: Path | None, plot: str | None = None) -> int:
+    """Ctrl-C or SIGTERM during a run: write (and plot) the results recorded so far (status 2,
+    "interrupted at t = ..."; rfesim.simulate attaches them to the interruption as ``results``),
+    as a solver failure does."""
     res = getattr(exc, "results", None)
     if res is None or not len(res.time):
         _err("interrupted before any results were recorded: nothing written")
@@ -382,6 +458,11 @@ def _interrupted(exc: KeyboardInterrupt, out: Path | None) -> int:
         _write(res, out)
         _err(f"partial results ({len(res.time)} output times, t = {res.time[0]:.6g} .. {res.time[-1]:.6g} s, "
              f"status {res.status}) written to {out}")
+    if plot:
+        from .plot import plot_results
+
+        plot_results(res, plot)
+        _err(f"plot of the partial results written to {plot}")
     return EXIT_INTERRUPTED
 
 
@@ -549,6 +630,24 @@ def cmd_serve(args) -> int:
 
 # --------------------------------------------------------------------------- parser
 
+class _BenchHelp(argparse.Action):
+    """``rfesim bench --help``: the help of the benchmark runner, to which `rfesim bench` passes
+    the options it does not know itself (``--only PART`` with its parts, ``--no-moordyn``,
+    ...), rather than the ``--quick`` alone this subcommand declares."""
+
+    def __init__(self, option_strings, dest=argparse.SUPPRESS, default=argparse.SUPPRESS, help=None):
+        super().__init__(option_strings, dest=dest, default=default, nargs=0, help=help)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        if _module_exists("rfesim.bench.run"):
+            from rfesim.bench.run import build_parser as runner_parser
+
+            runner_parser().print_help()
+        else:
+            parser.print_help()
+        parser.exit()
+
+
 FORWARDS_EXTRA = ("bench", "sweep")
 
 
@@ -597,7 +696,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="print the scenario with its pipelay and crane templates expanded (JSON)")
     p.set_defaults(func=cmd_check)
 
-    p = sub.add_parser("bench", parents=[common], help="work-precision report (extra options go to the runner)")
+    p = sub.add_parser("bench", parents=[common], add_help=False,
+                       help="work-precision report (extra options go to the runner)")
+    p.add_argument("-h", "--help", action=_BenchHelp, help="show the benchmark runner's options and exit")
     p.add_argument("--quick", action="store_true", help="a short subset")
     p.set_defaults(func=cmd_bench)
 
@@ -675,6 +776,7 @@ def main(argv: list[str] | None = None) -> int:
     if extra and args.command not in FORWARDS_EXTRA:
         parser.error(f"unrecognized arguments: {' '.join(extra)}")
     args.extra = extra
+    args.program = argv is None     # the console script (not a call in-process): see _RunSignals
     _configure_logging(getattr(args, "verbose", 0) or 0)
 
     from .errors import CancelledError, RfesimError, ScenarioError, SolverError

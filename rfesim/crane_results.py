@@ -25,6 +25,46 @@ import math
 import numpy as np
 
 
+# the lines a crane template makes for its structure (rfesim.scenario.cranes), by the suffix
+# of the crane's name; its hoist rope is ``<crane>_rope``
+STRUCTURE_SUFFIXES = ("_pedestal", "_turret", "_boom", "_stub", "_stub_2", "_legs", "_legs_2", "_crossbeam",
+                      "_crossbeam_2")
+
+
+def crane_names(res) -> list[str]:
+    """The cranes of a crane template in these results: ``<crane>`` with the lines
+    ``<crane>_rope`` and ``<crane>_pedestal`` (column crane) or ``<crane>_legs`` (A-frame)."""
+    return [line[:-len("_rope")] for line in res.lines
+            if line.endswith("_rope") and any(line[:-len("_rope")] + s in res.lines for s in ("_pedestal", "_legs"))]
+
+
+def structure_lines(res, crane: str) -> list[str]:
+    """The lines of ``crane``'s structure (pedestal, turret, boom, A-frame stubs, legs and
+    crossbeam) in these results: not the hoist rope."""
+    return [crane + s for s in STRUCTURE_SUFFIXES if crane + s in res.lines]
+
+
+def rope_tension(res, crane: str, static_tension: float | None = None) -> dict:
+    """The hoist rope of ``crane``: ``rope_tension`` (nt,) N at the sheave (first rope SDE),
+    ``hook_tension`` (nt,) N at the payload, ``static_tension`` N (the reference of the DAF,
+    see :func:`crane_summary`), ``static_hook`` N (the payload's static load), ``daf`` and
+    ``body`` (the payload's BodyResults, or None)."""
+    rope = res.line(f"{crane}_rope")
+    top = np.asarray(rope.tension, float)[:, 0]
+    body = next((b for b in res.bodies.values() if getattr(b, "line", None) == f"{crane}_rope"), None)
+    hook = np.asarray(body.tension, float) if body is not None else np.asarray(rope.tension, float)[:, -1]
+    static, static_hook = float(top[0]), float(hook[0])
+    deck = None if body is None else getattr(body, "deck_force", None)
+    if body is not None and deck is not None and len(deck) and float(deck[0]) > 0.0 and res.scenario_json:
+        # a lift-off: the first sample is the rope's pull with the deck carrying the rest of the
+        # weight; the static reference is the hook load once the payload hangs in air
+        static, static_hook = hook_load_in_air(res, f"{crane}_rope", body.name, int(np.argmax(top)))
+    if static_tension is not None:
+        static = float(static_tension)
+    return {"rope_tension": top, "hook_tension": hook, "static_tension": static, "static_hook": static_hook,
+            "daf": float(np.max(top) / static) if static > 0.0 else math.nan, "body": body}
+
+
 def _member(res, crane: str) -> tuple[str, str]:
     """(structure line whose end A is the deck, the boom-like line carrying the drives)."""
     if f"{crane}_pedestal" in res.lines:
@@ -165,19 +205,10 @@ def crane_summary(res, crane: str, *, static_tension: float | None = None, slack
     ``luffing_rope``, the template's luffing_rope dict, and ``boom_length`` when its eye is
     not given)."""
     base_line, boom_line = _member(res, crane)
-    rope = res.line(f"{crane}_rope")
     time = np.asarray(res.time, float)
-    top = np.asarray(rope.tension, float)[:, 0]
-    body = next((b for b in res.bodies.values() if getattr(b, "line", None) == f"{crane}_rope"), None)
-    hook = np.asarray(body.tension, float) if body is not None else np.asarray(rope.tension, float)[:, -1]
-    static, static_hook = float(top[0]), float(hook[0])
-    deck = None if body is None else getattr(body, "deck_force", None)
-    if body is not None and deck is not None and len(deck) and float(deck[0]) > 0.0 and res.scenario_json:
-        # a lift-off: the first sample is the rope's pull with the deck carrying the rest of the
-        # weight; the static reference is the hook load once the payload hangs in air
-        static, static_hook = hook_load_in_air(res, f"{crane}_rope", body.name, int(np.argmax(top)))
-    if static_tension is not None:
-        static = float(static_tension)
+    loads = rope_tension(res, crane, static_tension)
+    top, hook, body = loads["rope_tension"], loads["hook_tension"], loads["body"]
+    static, static_hook = loads["static_tension"], loads["static_hook"]
     events = slack_events(time, hook, slack_fraction * static_hook)
     snaps = [e["snap_load"] for e in events if np.isfinite(e["snap_load"])]
     base = res.line(base_line)
@@ -206,7 +237,7 @@ def crane_summary(res, crane: str, *, static_tension: float | None = None, slack
             out["base_force_legs"] = np.stack(forces, axis=1)
     out.update({
         "time": time, "rope_tension": top, "hook_tension": hook, "static_tension": static,
-        "daf": float(np.max(top) / static) if static > 0.0 else math.nan,
+        "daf": loads["daf"],
         "slack_events": events, "snap_load_max": float(max(snaps)) if snaps else math.nan,
         "base_force": base_force, "base_moment": base_moment,
         "tip_position": tip, "tip_acceleration": _acceleration(time, tip),

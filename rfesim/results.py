@@ -2,6 +2,7 @@
 read from netCDF-4/HDF5 (one group per object, units and long names from one table)."""
 from __future__ import annotations
 
+import errno
 import json
 import os
 import secrets
@@ -106,6 +107,11 @@ LINE_CHANNELS = ("position", "tension", "shear_force", "bend_moment", "torque", 
                  "end_b_force", "end_a_moment", "end_b_moment", "seabed_force", "end_a_direction",
                  "end_b_direction", "seabed_friction", "touchdown_position", "touchdown_arc_length",
                  "von_mises_stress", "utilisation", "residual_curvature")
+# the channels along a line LineResults.range_graph takes: per point (a coordinate of the
+# position), per SDE, per RFE (seabed_force)
+RANGE_GRAPH_CHANNELS = ("position_x", "position_y", "position_z", "tension", "shear_force", "bend_moment",
+                        "torque", "curvature", "seabed_force", "von_mises_stress", "utilisation",
+                        "residual_curvature")
 # channels of a line whose end A is a join with drives only (rfesim.model.joins)
 DRIVE_CHANNELS = ("drive_angle", "drive_torque", "hinge_angle", "reeving_slip")
 
@@ -158,7 +164,11 @@ class LineResults:
     def range_graph(self, channel: str, t_from: float | None = None, time: np.ndarray | None = None) -> dict:
         """Range graph of an SDE or RFE channel along the line: ``{"arc_length", "min", "max",
         "mean"}`` over time (from ``t_from`` when the run's ``time`` is given).
-        For a channel per point (``position``), give ``channel="position_z"`` etc."""
+        For a channel per point (``position``), give ``channel="position_z"`` etc.
+        ValueError listing the channels it takes (:data:`RANGE_GRAPH_CHANNELS`) for another."""
+        if channel not in RANGE_GRAPH_CHANNELS:
+            raise ValueError(f"range_graph: '{channel}' is not a channel along the line; it takes "
+                             f"{', '.join(RANGE_GRAPH_CHANNELS)}")
         if channel.startswith("position_"):
             data = np.asarray(self.position)[..., "xyz".index(channel[-1])]
             s = np.asarray(self.arc_length)
@@ -167,7 +177,7 @@ class LineResults:
             data = None if data is None else np.asarray(data)
             nsde = len(self.sde_arc_length)
             if data is None or data.ndim != 2 or data.shape[1] not in (nsde, nsde + 1):
-                raise ValueError(f"{channel} is not a channel along the line (per SDE or per RFE)")
+                raise ValueError(f"range_graph: line '{self.name}' has no channel {channel} in these results")
             if data.shape[1] == nsde:
                 s = np.asarray(self.sde_arc_length)
             else:       # per RFE: the RFE centres, between the SDEs (and the ends)
@@ -398,9 +408,16 @@ class Results:
 
     # ------------------------------------------------------------------ netCDF
     def to_netcdf(self, path: str | os.PathLike) -> None:
-        """Write netCDF-4 (HDF5) atomically: a temporary file in the same folder, then rename."""
+        """Write netCDF-4 (HDF5) atomically: a temporary file in the same folder, then rename.
+        An OSError names ``path`` (its ``filename``) and the reason: the folder does not
+        exist, is not writable, the path is a folder, ... (not the hidden temporary file)."""
         path = os.fspath(path)
         folder, base = os.path.split(os.path.abspath(path))
+        shown = os.path.dirname(path) or "."         # the folder as the caller gave it
+        if os.path.isdir(path):
+            raise OSError(errno.EISDIR, "cannot write the results, the path is a folder", path)
+        if not os.path.isdir(folder):
+            raise OSError(errno.ENOENT, f"cannot write the results, the folder {shown!r} does not exist", path)
         # created like an ordinary file (mode 0o666 less the umask; mkstemp would give 0o600)
         while True:
             tmp = os.path.join(folder, f".{base}.{secrets.token_hex(6)}.tmp")
@@ -409,12 +426,18 @@ class Results:
                 break
             except FileExistsError:
                 continue
+            except OSError as exc:      # a folder that is not writable, a full disk, ...
+                raise OSError(exc.errno, f"cannot write the results in the folder {shown!r}: "
+                                         f"{exc.strerror or exc}", path) from None
         try:
             _write_netcdf(self, tmp)
             os.replace(tmp, path)
-        except BaseException:
+        except BaseException as exc:
             if os.path.exists(tmp):
                 os.unlink(tmp)
+            if isinstance(exc, OSError) and tmp in (exc.filename, exc.filename2) and exc.errno is not None:
+                # the hidden temporary file means nothing to the caller: name the path given
+                raise OSError(exc.errno, f"cannot write the results: {exc.strerror or exc}", path) from None
             raise
 
 

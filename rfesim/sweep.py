@@ -21,13 +21,16 @@ started again for the others, and the cases it may have been running are run aga
 alone (run_cases).
 
 Summary columns (SI units): ``max_top_tension`` (N, largest over lines of the top tension:
-the force at the end held on board, see :func:`line_top_tension`; the table's
-``top_tension_at`` names the line and the end, e.g. ``riser end B`` or ``lay tensioner``),
+the force at the end held on board, see :func:`line_top_tension`, for a crane template's
+hoist rope the tension at its sheave; the lines of a crane's structure, its pedestal, boom,
+legs, ..., are left out; the table's ``top_tension_at`` names the line and the end, e.g.
+``riser end B``, ``lay tensioner`` or ``crane_rope sheave``),
 ``max_tension`` / ``min_tension`` (N, effective tension over all SDEs and times),
 ``max_bend_moment`` (N*m), ``touchdown_min`` / ``touchdown_max`` (m, range over time and
 lines of the results' ``touchdown_arc_length``, the arc length from end A where seabed
 contact begins; empty when no line touches the seabed), ``daf`` (dynamic amplification:
-max top tension over the top tension at t = 0, the static one), ``wall_time`` (s),
+max top tension over the top tension at t = 0, the static one; for a crane's rope that of
+rfesim.crane_results.crane_summary), ``wall_time`` (s),
 ``status`` (done / failed) and ``message``. The CSV file holds every number in full
 precision; it gets each row as its case finishes, so an interrupted sweep (Ctrl-C,
 SIGTERM: exit code 130) keeps the finished cases.
@@ -86,9 +89,15 @@ def line_top_tension(res, name: str):
     axial force at end A without one (along the line's end tangent: rfesim.lay_results.lay_summary);
     otherwise the force at the
     end attached to a vessel, end B when both or neither are (a riser's top, as
-    ``LineResults.top_tension``)."""
+    ``LineResults.top_tension``). The hoist rope of a crane template (``<crane>_rope``) is
+    held at its sheave: the tension there (``"sheave"``), as
+    rfesim.crane_results.crane_summary's ``rope_tension``."""
     import numpy as np
 
+    from .crane_results import crane_names, rope_tension
+
+    if len(res.time) and name.endswith("_rope") and name[:-len("_rope")] in crane_names(res):
+        return rope_tension(res, name[:-len("_rope")])["rope_tension"], "sheave"
     lr = res.line(name)
     try:
         sc = json.loads(res.scenario_json) if res.scenario_json else {}
@@ -117,10 +126,16 @@ def _summary(res) -> tuple[dict[str, float | None], str | None]:
     """The summary columns and where the max top tension is (``"<line> <end>"``)."""
     import numpy as np
 
+    from .crane_results import crane_names, rope_tension, structure_lines
+
     out: dict[str, float | None] = {c: None for c in SUMMARY_COLUMNS}
     if len(res.time) == 0 or not res.lines:
         return out, None
-    top = {name: line_top_tension(res, name) for name in res.lines}
+    # a crane template's structure (pedestal, boom, legs, ...) is not a line held on board: its
+    # top tension would be the pedestal's base force; the crane's hoist rope stands for it
+    cranes = crane_names(res)
+    structure = {line for c in cranes for line in structure_lines(res, c)}
+    top = {name: line_top_tension(res, name) for name in res.lines if name not in structure}
     best = max(top, key=lambda n: np.nanmax(top[n][0]) if top[n][0].size else -np.inf)
     best_top, where = top[best]
     max_top = float(np.nanmax(best_top))
@@ -130,6 +145,9 @@ def _summary(res) -> tuple[dict[str, float | None], str | None]:
     out["max_bend_moment"] = _finite_or_none(max(np.nanmax(lr.bend_moment) for lr in res.lines.values()))
     out["touchdown_min"], out["touchdown_max"] = touchdown_range(res)
     static_top = float(best_top[0])
+    if best.endswith("_rope") and best[:-len("_rope")] in cranes:
+        # crane_summary's static reference: the hook load in air for a payload lifted off a deck
+        static_top = rope_tension(res, best[:-len("_rope")])["static_tension"]
     if static_top > 1e-9 * max(1.0, abs(max_top)) and math.isfinite(static_top):
         out["daf"] = _finite_or_none(max_top / static_top)
     return out, f"{best} {where}"

@@ -370,7 +370,8 @@ def _previous(path: Path) -> dict:
     return raw
 
 
-def main(argv=None) -> int:
+def build_parser() -> argparse.ArgumentParser:
+    """The runner's options; ``rfesim bench --help`` shows this parser's help (rfesim.cli)."""
     p = argparse.ArgumentParser(prog="rfesim bench", description=__doc__)
     p.add_argument("--quick", action="store_true", help="a small grid (a few minutes)")
     p.add_argument("--no-moordyn", action="store_true", help="skip the MoorDyn comparison")
@@ -380,7 +381,11 @@ def main(argv=None) -> int:
                    help="run only these parts (repeatable)")
     p.add_argument("--output", default=str(DOCS / "benchmarks.md"), help="report file (its core section is replaced)")
     p.add_argument("--validation", action="store_true", help="also write docs/validation.md")
-    args = p.parse_args(argv)
+    return p
+
+
+def main(argv=None) -> int:
+    args = build_parser().parse_args(argv)
     parts = set(args.only or ["h1", "h2", "scaling", "startup", "formulations"])
     if args.validation:
         parts.add("validation")

@@ -686,7 +686,8 @@ class Integrator:
         self.stats.rebases += rebase(st.q, st.qd, st.ref, sysm.km.rfe_kind, REBASE_THRESHOLD, st.qdd, st.aux, True)
         self.stats.steps += 1
         if not (np.all(np.isfinite(st.q)) and np.all(np.isfinite(x))):
-            raise SolverError(f"the run diverged: non-finite state at t = {t1:.6g} s", time=t1)
+            # SolverError adds "at t = ..." to the message
+            raise SolverError("the run diverged: non-finite state", time=t1)
         return True
 
     def advance(self, st: State, c, h, force_ref) -> None:
@@ -704,8 +705,7 @@ class Integrator:
                     self.stats.step_halvings += 1
                 return
             self.ms.system.set_history(saved)
-        raise SolverError(f"the run diverged: Newton iteration did not converge at t = {st.t + h:.6g} s",
-                          time=st.t + h, quantity="Newton iteration did not converge")
+        raise SolverError("the run diverged", time=st.t + h, quantity="Newton iteration did not converge")
 
 
 # ============================================================================ scenario entry points

@@ -752,8 +752,8 @@ def _raise(system: System, fail: np.ndarray, status: int, make_results, what: st
         hint = _slack_hint(system)
     res = make_results(status=1, message=f"{what}{quantity} at t = {t:.6g} s" + (f" in {where}" if where else "")
                        + (f"; {hint}" if hint else ""))
-    raise SolverError(f"the run diverged: {quantity}", time=t, element=where, quantity=quantity, results=res,
-                      hint=hint)
+    # SolverError adds the time, the place and "(quantity)" to the message: the quantity once
+    raise SolverError("the run diverged", time=t, element=where, quantity=quantity, results=res, hint=hint)
 
 
 def _slack_hint(system: System) -> str | None:
