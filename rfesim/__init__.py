@@ -37,6 +37,18 @@ def _numba_cache_dir() -> None:
 
 _numba_cache_dir()
 
+
+def _kernel_cache_guard() -> None:
+    """Drop rfesim's cached kernels when the sources they were compiled from changed
+    (rfesim._kernel_cache: numba alone would keep a kernel that inlined an edited one)."""
+    import os
+
+    from ._kernel_cache import guard
+    guard(os.environ.get("NUMBA_CACHE_DIR") or None)
+
+
+_kernel_cache_guard()
+
 from .errors import CancelledError, RfesimError, ScenarioError, SolverError  # noqa: E402
 from .scenario import Scenario, load_scenario  # noqa: E402
 from .results import Results, open_results  # noqa: E402
