@@ -120,6 +120,12 @@ def stable_rk4_step(system: System, state: State, safety: float) -> float:
         w = max(w, 1.1 * float(np.sqrt(2.0 * km.roller_k.max() / max(km.rfe_mass.min(), 1e-300))))
     # a mode damped past critical has a real eigenvalue -c/m (at most) beyond omega_max
     g = highest_damping_rate(system, state)
+    if km.has_seabed:
+        # the seabed's dampers act only on RFEs in contact (the stick damper once an anchor is
+        # set), which the start state need not show: c l / m of each RFE, an upper bound of
+        # the rate (an RK4 step past it made a pipe held by friction at 3 % of its limit slip)
+        c = np.maximum(km.rfe_seabed_c, km.rfe_seabed_ct if km.has_friction else 0.0)
+        g = max(g, 1.1 * float((c * km.rfe_length / np.maximum(km.rfe_mass, 1e-300)).max()))
     if w <= 0.0 and g <= 0.0:
         return 0.01
     step = math.inf
