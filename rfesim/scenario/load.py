@@ -667,7 +667,89 @@ def validate_dict(obj: Any, _raw: Callable | None = None) -> Scenario:
     if errors:
         raise user_fields(errors)
     sc._template_warnings = list(template_warnings)     # added to a run's statics warnings (rfesim.api)
+    sc._source = copy.deepcopy(obj)
+    sc._validated_dump = _plain(sc.model_dump(mode="python", warnings=False))
     return sc
+
+
+def _plain(value: Any) -> Any:
+    """A dump's values as plain Python: numpy scalars and arrays (assigned by a script) as
+    numbers and lists, tuples as lists."""
+    if isinstance(value, dict):
+        return {k: _plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    if type(value).__module__ == "numpy":
+        tolist = getattr(value, "tolist", None)
+        return _plain(tolist()) if tolist is not None else value
+    return value
+
+
+def _assignments(before: Any, now: Any, path: tuple = ()) -> list[tuple[tuple, Any]]:
+    """(path, value) of every place where ``now`` differs from ``before`` (two dumps); a
+    removed entry has the value ``_REMOVED``; lists are compared whole."""
+    if isinstance(before, dict) and isinstance(now, dict):
+        out = []
+        for key in now:
+            if key not in before:
+                out.append((path + (key,), now[key]))
+            else:
+                out += _assignments(before[key], now[key], path + (key,))
+        out += [(path + (key,), _REMOVED) for key in before if key not in now]
+        return out
+    return [] if _same(before, now) else [(path, now)]
+
+
+_REMOVED = object()
+
+
+def _same(a: Any, b: Any) -> bool:
+    # a type change counts (60.0 assigned to an int field is validated again, to 60)
+    try:
+        return type(a) is type(b) and bool(a == b)
+    except Exception:
+        return False
+
+
+def _assign(data: dict, path: tuple, value: Any, now: dict) -> None:
+    """Put an assignment into the input dict: ``data`` at ``path`` becomes ``value``; where the
+    input has no mapping on the way (a defaulted section, a shorthand the validators expanded)
+    the whole section is taken from the dump ``now``."""
+    cur, dump = data, now
+    for i, key in enumerate(path[:-1]):
+        dump = dump[key]
+        nxt = cur.get(key) if isinstance(cur, dict) else None
+        if not isinstance(nxt, dict):
+            cur[key] = copy.deepcopy(dump)       # the section as the Scenario has it now
+            return
+        cur = nxt
+    if value is _REMOVED:
+        cur.pop(path[-1], None)
+    else:
+        cur[path[-1]] = copy.deepcopy(value)
+
+
+def revalidated(sc: Scenario, overrides: dict[str, Any] | None = None) -> Scenario:
+    """``sc`` validated again with the fields assigned since it was validated (pydantic does
+    not check an assignment: ``sc.environment.water.density = -1025`` ran, with wrong
+    numbers). The assignments are put into the input it was validated from, so what a
+    validator filled in or what a field's default left unset stays so (a tugger's body_point,
+    a bilinear law's hardening_ratio); unchanged and without overrides: ``sc`` itself."""
+    now = _plain(sc.model_dump(mode="python", warnings=False))
+    source, before = sc._source, sc._validated_dump
+    if source is None or before is None:
+        data = now      # not made by validate_dict (model_construct): its whole dump
+    else:
+        changes = _assignments(before, now)
+        if not changes and not overrides:
+            return sc
+        data = copy.deepcopy(source)
+        for path, value in changes:
+            _assign(data, path, value, now)
+    kept = list(sc._template_warnings or [])
+    out = load_scenario(data, overrides)
+    out._template_warnings = kept + [w for w in out._template_warnings if w not in kept]
+    return out
 
 
 class _UniqueKeyLoader(yaml.SafeLoader):
@@ -1028,24 +1110,12 @@ def load_scenario(source: str | os.PathLike | dict | Scenario, overrides: dict[s
     before validation, as a base file + load case. Relative data-file paths in the
     scenario (``file`` of a csv or rao vessel motion) are taken from ``base_dir``: by
     default the scenario file's folder, or the current directory for text and dicts.
-    A Scenario is validated again (fields assigned after validation are not checked by
-    pydantic); ``rfesim.statics``, ``simulate`` and ``modes`` do the same.
+    A Scenario is validated again with the fields assigned since it was validated (pydantic
+    does not check an assignment; ``revalidated``); ``rfesim.statics``, ``simulate`` and
+    ``modes`` do the same. Unchanged and without overrides it is returned as it is.
     """
     if isinstance(source, Scenario):
-        # validated again: a Scenario's fields can be assigned after it was validated
-        # (``sc.environment.water.density = -1025``), which pydantic does not check, and a
-        # run on it would give wrong numbers or fail deep inside; its dump is the expanded,
-        # resolved scenario, so this costs a few ms and gives an equal Scenario when unchanged
-        kept = list(getattr(source, "_template_warnings", None) or [])
-        try:
-            dumped = source.model_dump(mode="json", warnings=False)
-        except Exception as exc:   # pydantic cannot serialize a value assigned without checking
-            raise ScenarioError([("", f"the Scenario has a field changed to a value that is not a "
-                                      f"scenario value ({type(exc).__name__}: {exc}); change fields through "
-                                      f"load_scenario(sc, overrides={{...}})")]) from None
-        out = load_scenario(dumped, overrides)
-        out._template_warnings = kept + [w for w in out._template_warnings if w not in kept]
-        return out
+        return revalidated(source, overrides)
     if isinstance(source, dict):
         data = source
     elif isinstance(source, bytes):

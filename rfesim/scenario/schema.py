@@ -1941,6 +1941,20 @@ class Scenario(_Strict):
     # what the templates' expansion found worth a warning (rfesim.scenario.pipelay.template_warning),
     # each naming the template field; added to the statics warnings of a run (rfesim.api)
     _template_warnings: list = PrivateAttr(default_factory=list)
+    # the expanded input this Scenario was validated from, and its dump then (plain values):
+    # rfesim.scenario.load.revalidated compares the dump now with it and validates the input
+    # with the fields assigned since (pydantic does not check an assignment)
+    _source: dict | None = PrivateAttr(default=None)
+    _validated_dump: dict | None = PrivateAttr(default=None)
+
+    def __eq__(self, other):
+        # two scenarios are equal when their fields are: not by how they were made (their
+        # private input, dump and template warnings, which pydantic would compare too)
+        if not isinstance(other, Scenario):
+            return NotImplemented
+        return self.__dict__ == other.__dict__
+
+    __hash__ = None
 
     @model_validator(mode="after")
     def _formulations(self):
