@@ -395,9 +395,17 @@ def simulate(scenario, *, progress=None):
             part.scenario_json, part.version = meta["scenario_json"], __version__
             part.message = _with_warnings(part.message, info)
         raise
-    res = rec.results(status=0, message=_with_warnings(f"finished: {counters.get('steps', 0)} steps", info),
-                      counters=dict(counters), **meta)
-    res.message += _dynamic_warnings(model, res, sc)
+    message = _with_warnings(f"finished: {counters.get('steps', 0)} steps", info)
+    try:
+        res = rec.results(status=0, message=message, counters=dict(counters), **meta)
+        res.message += _dynamic_warnings(model, res, sc)
+    except KeyboardInterrupt as exc:
+        # Ctrl-C after the last step, while the results were put together: the run is complete,
+        # and they go with the interruption as those of a run stopped early do (the command
+        # line's handler lets no second signal through while it writes them)
+        if getattr(exc, "results", None) is None:
+            exc.results = rec.results(status=0, message=message, counters=dict(counters), **meta)
+        raise
     return res
 
 

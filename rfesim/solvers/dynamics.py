@@ -124,8 +124,11 @@ def stable_rk4_step(system: System, state: State, safety: float) -> float:
         # the seabed's dampers act only on RFEs in contact (the stick damper once an anchor is
         # set), which the start state need not show: c l / m of each RFE, an upper bound of
         # the rate (an RK4 step past it made a pipe held by friction at 3 % of its limit slip)
-        c = np.maximum(km.rfe_seabed_c, km.rfe_seabed_ct if km.has_friction else 0.0)
-        g = max(g, 1.1 * float((c * km.rfe_length / np.maximum(km.rfe_mass, 1e-300)).max()))
+        # (the normal damper acts at the contact centroid, which also turns the RFE: up to
+        # 1.33 c l / m in partial contact, hence 1.4)
+        per_mass = km.rfe_length / np.maximum(km.rfe_mass, 1e-300)
+        c = np.maximum(1.4 * km.rfe_seabed_c, 1.1 * km.rfe_seabed_ct if km.has_friction else 0.0)
+        g = max(g, float((c * per_mass).max()))
     if w <= 0.0 and g <= 0.0:
         return 0.01
     step = math.inf

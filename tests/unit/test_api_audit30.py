@@ -112,3 +112,20 @@ def test_a_diverging_run_names_what_diverged_once():
     assert info.value.quantity == "velocity not finite or runaway"
     assert text.count("not finite or runaway") == 1, text
     assert info.value.results.message.count("not finite or runaway") == 1
+
+
+def test_ctrl_c_while_the_finished_run_is_put_together_keeps_its_results(monkeypatch):
+    """A Ctrl-C after the last step, while simulate builds the results and their warnings,
+    used to go out with no results ("nothing written"); the run is complete: they go with it."""
+    import rfesim.api as api
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(api, "_dynamic_warnings", interrupted)
+    with pytest.raises(KeyboardInterrupt) as info:
+        rfesim.simulate(copy.deepcopy(scenes.RISER))
+    res = info.value.results
+    assert res is not None and res.status == 0
+    assert res.time[-1] == pytest.approx(scenes.RISER["analysis"]["dynamics"]["duration"])
+    assert len(res.time) == 11
