@@ -712,17 +712,19 @@ def _same(a: Any, b: Any) -> bool:
 
 
 def _assign(data: dict, path: tuple, value: Any, now: dict) -> None:
-    """Put an assignment into the input dict: ``data`` at ``path`` becomes ``value``; where the
-    input has no mapping on the way (a defaulted section, a shorthand the validators expanded)
-    the whole section is taken from the dump ``now``."""
+    """Put an assignment into the input dict: ``data`` at ``path`` becomes ``value``. A section
+    the input left out (its defaults) is started empty, so it gets only the assigned field;
+    where the input gave something else than a mapping on the way (a shorthand the validators
+    expanded) the whole section is taken from the dump ``now``."""
     cur, dump = data, now
-    for i, key in enumerate(path[:-1]):
+    for key in path[:-1]:
         dump = dump[key]
-        nxt = cur.get(key) if isinstance(cur, dict) else None
-        if not isinstance(nxt, dict):
+        if key not in cur:
+            cur[key] = {}
+        elif not isinstance(cur[key], dict):
             cur[key] = copy.deepcopy(dump)       # the section as the Scenario has it now
             return
-        cur = nxt
+        cur = cur[key]
     if value is _REMOVED:
         cur.pop(path[-1], None)
     else:

@@ -140,3 +140,13 @@ def test_an_entry_added_or_removed_by_assignment_is_validated():
     del sc.line_types["pipe"]
     with pytest.raises(ScenarioError, match="pipe"):
         rfesim.load_scenario(sc)
+
+
+def test_a_field_assigned_in_a_section_the_input_left_out_gets_only_that_field():
+    d = copy.deepcopy(RISER)
+    del d["analysis"]["statics"]                    # the defaults
+    sc = rfesim.load_scenario(d)
+    sc.analysis.statics.max_iterations = 77
+    again = rfesim.load_scenario(sc)
+    assert again.analysis.statics.max_iterations == 77
+    assert again.analysis.statics.model_fields_set == {"max_iterations"}
