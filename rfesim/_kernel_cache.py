@@ -97,14 +97,35 @@ def cache_folders(cache_dir: str | None) -> list[str]:
     return folders
 
 
+def stamp_path(cache_dir: str | None = None) -> str:
+    """The file holding the fingerprint of the sources the cache in ``cache_dir`` was compiled
+    from (None: numba's default, next to the sources)."""
+    if cache_dir is None:
+        return os.path.join(PACKAGE, "__pycache__", STAMP)
+    return os.path.join(cache_dir, f"rfesim-{hashlib.sha1(PACKAGE.encode()).hexdigest()[:16]}-kernels.stamp")
+
+
+def mark_current(cache_dir: str | None = None) -> None:
+    """Stamp ``cache_dir`` as compiled from the present sources: for a cache filled by copying
+    another one (a test's, an image's), which the guard would otherwise take for one of unknown
+    sources and drop."""
+    _write_stamp(stamp_path(cache_dir), fingerprint())
+
+
+def _write_stamp(stamp: str, fingerprint_now: str) -> None:
+    os.makedirs(os.path.dirname(stamp), exist_ok=True)
+    tmp = f"{stamp}.{os.getpid()}.tmp"
+    with open(tmp, "w") as f:
+        f.write(fingerprint_now + "\n")
+    os.replace(tmp, stamp)
+
+
 def guard(cache_dir: str | None = None) -> bool:
     """Delete rfesim's cached kernels if the kernel sources changed since they were
-    compiled; True when it deleted some. ``cache_dir``: NUMBA_CACHE_DIR (None: numba's
-    default, next to the sources)."""
+    compiled (or the cache has no stamp: sources unknown); True when it deleted some.
+    ``cache_dir``: NUMBA_CACHE_DIR (None: numba's default, next to the sources)."""
     try:
-        stamp_dir = os.path.join(PACKAGE, "__pycache__") if cache_dir is None else cache_dir
-        stamp = os.path.join(stamp_dir, STAMP if cache_dir is None else
-                             f"rfesim-{hashlib.sha1(PACKAGE.encode()).hexdigest()[:16]}-kernels.stamp")
+        stamp = stamp_path(cache_dir)
         now = fingerprint()
         try:
             with open(stamp) as f:
@@ -125,11 +146,7 @@ def guard(cache_dir: str | None = None) -> bool:
                         removed = True
                     except OSError:
                         pass
-        os.makedirs(stamp_dir, exist_ok=True)
-        tmp = f"{stamp}.{os.getpid()}.tmp"
-        with open(tmp, "w") as f:
-            f.write(now + "\n")
-        os.replace(tmp, stamp)
+        _write_stamp(stamp, now)
         return removed
     except Exception:       # never stop an import over the cache: numba then works as it always did
         return False

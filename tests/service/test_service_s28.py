@@ -167,6 +167,10 @@ def numba_cache_without(folder: Path, evicted: str) -> Path:
         except OSError:
             shutil.copy2(src, dst)
     assert removed, f"no cached kernel {evicted!r}"
+    # compiled from these sources: else the worker's import drops the copied cache as one of
+    # unknown sources (rfesim._kernel_cache) and compiles everything, minutes
+    from rfesim._kernel_cache import mark_current
+    mark_current(str(folder))
     return folder
 
 

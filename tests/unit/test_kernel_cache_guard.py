@@ -80,3 +80,13 @@ def test_numba_puts_rfesim_kernels_where_the_guard_looks(tmp_path):
     found = [name for folder in folders if os.path.isdir(folder) for name in os.listdir(folder)
              if name.startswith("interp.bracket") and name.endswith(".nbi")]
     assert found
+
+
+def test_a_copied_cache_marked_current_is_kept(tmp_path):
+    """A cache filled by copying another (a test's, an image's) has no stamp: mark_current
+    stamps it, and the guard then keeps it."""
+    cache = str(tmp_path)
+    made = _fake_caches(kc.cache_folders(cache))
+    kc.mark_current(cache)
+    assert kc.guard(cache) is False
+    assert all(os.path.exists(p) for p in made)
