@@ -60,14 +60,14 @@ def _targets(path: str, text: str, sources: dict[str, bytes]) -> list[str]:
 def kernel_sources(sources: dict[str, bytes] | None = None) -> list[str]:
     """The files compiled kernels depend on: modules using numba, and what they import."""
     sources = _sources() if sources is None else sources
-    todo = [p for p, b in sources.items() if _USES_NUMBA.search(b) and p != os.path.abspath(__file__)]
-    seen = set(todo)
-    while todo:
-        path = todo.pop()
+    pending = [p for p, b in sources.items() if _USES_NUMBA.search(b) and p != os.path.abspath(__file__)]
+    seen = set(pending)
+    while pending:
+        path = pending.pop()
         for target in _targets(path, sources[path].decode("utf-8", "replace"), sources):
             if target not in seen:
                 seen.add(target)
-                todo.append(target)
+                pending.append(target)
     return sorted(seen)
 
 
