@@ -53,9 +53,16 @@ def seabed_damping(seabed, mass_per_length: float) -> tuple[float, float]:
     without a seabed."""
     if seabed is None:
         return 0.0, 0.0
-    kt = seabed.friction_stiffness or 0.1 * seabed.normal_stiffness
     return (2.0 * seabed.damping_ratio * math.sqrt(seabed.normal_stiffness * mass_per_length),
-            2.0 * seabed.friction_damping_ratio * math.sqrt(kt * mass_per_length))
+            2.0 * seabed.friction_damping_ratio * math.sqrt(stick_stiffness(seabed) * mass_per_length))
+
+
+def stick_stiffness(seabed) -> float:
+    """The friction's stick stiffness per unit length in contact (N/m/m): friction_stiffness,
+    by default a tenth of the normal stiffness; 0 without a seabed."""
+    if seabed is None:
+        return 0.0
+    return float(seabed.friction_stiffness or 0.1 * seabed.normal_stiffness)
 
 
 @njit(cache=True)

@@ -18,7 +18,7 @@ from ..errors import ScenarioError
 from ..kinematics import frame_from_tangent, minimal_rotation
 from ..vessel import VesselMotion, make_vessel_motion
 from ..sea.kernel import sea_spec
-from ..loads.seabed import seabed_damping
+from ..loads.seabed import seabed_damping, stick_stiffness
 from .arrays import (KIND_CLAMPED, KIND_FREE, KIND_PINNED, AttachmentState, KernelModel, Reference,
                      new_attachment_state)
 from .sections import Section, section_from_type
@@ -947,7 +947,7 @@ def compile_scenario(sc, start: str | None = None) -> Model:
         seabed_k=float(seabed.normal_stiffness) if seabed is not None else 0.0,
         bed_s=bed_s, bed_z=bed_z, bed_dir=bed_dir,
         seabed_mu=np.array([seabed.mu_axial, seabed.mu_lateral] if seabed is not None else [0.0, 0.0]),
-        seabed_kt=float((seabed.friction_stiffness or 0.1 * seabed.normal_stiffness) if seabed is not None else 0.0),
+        seabed_kt=stick_stiffness(seabed),
         has_water=bool(has_water), has_morison=bool(has_morison), has_seabed=seabed is not None,
         has_loads=len(loads["rfe"]) > 0,
         has_friction=seabed is not None and (seabed.mu_axial > 0.0 or seabed.mu_lateral > 0.0),
