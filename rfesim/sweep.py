@@ -42,9 +42,11 @@ import contextlib
 import csv
 import itertools
 import json
+import logging
 import math
 import os
 import sys
+import threading
 import time
 from pathlib import Path
 from typing import Any, Iterator
@@ -161,12 +163,53 @@ def summarize(res) -> dict[str, float | None]:
 
 # --------------------------------------------------------------------------- one load case
 
+_case_tag = threading.local()       # the case a thread is running (run_case), for its log records
+_plain_records = None               # the record factory before _tag_records put its own
+
+
+def _tag_records() -> None:
+    """Install, once per process, a log record factory that starts the message of every
+    record logged while a thread runs a case with ``case N: `` (a sweep's warnings reach
+    stderr from many worker processes; without the tag one cannot tell whose they are)."""
+    global _plain_records
+    if _plain_records is not None:
+        return
+    _plain_records = logging.getLogRecordFactory()
+
+    def factory(*args, **kwargs):
+        record = _plain_records(*args, **kwargs)
+        index = getattr(_case_tag, "index", None)
+        if index is not None and isinstance(record.msg, str):
+            record.msg = f"case {index}: {record.msg}"
+        return record
+
+    logging.setLogRecordFactory(factory)
+
+
+@contextlib.contextmanager
+def _tagged(index: int) -> Iterator[None]:
+    """Log records of this thread are tagged with the case ``index`` inside the block."""
+    _tag_records()
+    before = getattr(_case_tag, "index", None)
+    _case_tag.index = index
+    try:
+        yield
+    finally:
+        _case_tag.index = before
+
+
 def run_case(case: dict, index: int = 0) -> dict[str, Any]:
     """Run one load case (a scenario dict) and summarise it; runs in a worker process.
 
     Returns ``{"case", "status", "message", "wall_time", "top_tension_at", **summary}``; a
-    run that diverges is summarised from its partial results with status "failed".
+    run that diverges is summarised from its partial results with status "failed". What
+    the run logs (warnings) starts with ``case <index>: ``.
     """
+    with _tagged(index):
+        return _run_case(case, index)
+
+
+def _run_case(case: dict, index: int) -> dict[str, Any]:
     import rfesim
 
     wall0 = time.perf_counter()
