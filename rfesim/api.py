@@ -20,6 +20,35 @@ from .solvers.system import System
 log = logging.getLogger("rfesim")
 
 
+# what a scene switches on (rfesim.model.compile: each term is a load module the kernels skip
+# when its flag is off), for the -v log of the model
+_TERMS = (("has_water", "buoyancy"), ("has_morison", "Morison loads"), ("has_sea", "waves / current"),
+          ("has_seabed", "seabed"), ("has_friction", "seabed friction"), ("has_rollers", "rollers"),
+          ("has_roller_friction", "roller friction"), ("has_tensioners", "tensioners"), ("has_reels", "reels"),
+          ("has_plastic", "elasto-plastic SDEs"), ("has_tension_only", "tension-only SDEs"),
+          ("has_bodies", "rigid bodies"), ("has_deck", "deck contact"), ("has_tuggers", "tugger lines"),
+          ("has_reeving", "reeving"), ("has_closures", "closed chains"), ("has_loads", "point loads"))
+
+
+def describe_model(model) -> str:
+    """One line on the size of a compiled model and the load terms it switches on."""
+    km = model.km
+    n = int(km.rfe_mass.shape[0])
+    terms = [name for flag, name in _TERMS if bool(getattr(km, flag, False))]
+    if float(km.gravity) != 0.0:
+        terms.insert(0, "gravity")
+    if getattr(model, "winches", None):
+        terms.append("winches")
+    return (f"model: {len(model.lines)} line(s) ({', '.join(li.name for li in model.lines)}), {n} RFEs, "
+            f"{int(np.count_nonzero(model.dof_mask))} degrees of freedom; terms: {', '.join(terms) or 'none'}")
+
+
+def _compiled(sc: Scenario):
+    model = compile_scenario(sc)
+    log.info("%s", describe_model(model))
+    return model
+
+
 def _scenario(scenario) -> Scenario:
     # a Scenario instance too is validated again (rfesim.scenario.load.load_scenario): its
     # fields may have been assigned since it was validated
@@ -195,6 +224,7 @@ def _static_state(system: System, sc: Scenario, progress=None):
                              load_steps=s.load_steps, progress=progress, seabed_friction=s.seabed_friction)
 
     saved = system.history()
+    wall0 = _time.perf_counter()
     try:
         state, info = solve()
     except SolverError as exc:
@@ -228,7 +258,18 @@ def _static_state(system: System, sc: Scenario, progress=None):
                      + list(info.warnings) + buckling_warnings(system, state) + shear_warnings(system, state))
     for w in info.warnings:
         log.warning("statics: %s", w)
+    log.info("statics: %s, %.3g s", info.message, _time.perf_counter() - wall0)
     return state, info
+
+
+def describe_run(counters, t_end: float) -> str:
+    """One line on the cost of a dynamic run from its counters (rfesim.solvers.dynamics)."""
+    wall = float(counters.get("wall_time", 0.0) or 0.0)
+    speed = f", {t_end / wall:.3g}x real time" if wall > 0 and t_end > 0 else ""
+    return (f"dynamics: {t_end:g} s simulated in {wall:.3g} s{speed}; {counters.get('steps', 0)} steps "
+            f"(time step {counters.get('time_step', float('nan')):.3g} s, {counters.get('step_halvings', 0)} halvings)"
+            + (f", {counters['newton_iterations']} Newton iterations, {counters.get('jacobians', 0)} Jacobians"
+               if counters.get("newton_iterations") else ""))
 
 
 def _catenary_retry(system: System, sc: Scenario, exc: SolverError, excess, saved, solve):
@@ -288,7 +329,7 @@ def check_model(scenario) -> list[str]:
         else:
             scene.compile_scene(sc)
         return []
-    model = compile_scenario(sc)
+    model = _compiled(sc)
     _check_output_times(sc, model)
     return _no_static_shape(sc, model) if sc.analysis.statics.enabled else []
 
@@ -321,7 +362,7 @@ def statics(scenario, *, progress=None):
     if _other_formulations(sc):
         from .formulations import scene
         return scene.statics(sc, progress)
-    system = System(compile_scenario(sc))
+    system = System(_compiled(sc))
     wall0 = _time.perf_counter()
     state, info = _static_state(system, sc, progress)
     rec = Recorder(system, 1)
@@ -361,8 +402,9 @@ def simulate(scenario, *, progress=None):
             raise
         if res.kind == "dynamics":
             res.message += _dynamic_warnings(None, res, sc)
+            log.info("%s", describe_run(res.counters, float(res.time[-1])))
         return res
-    model = compile_scenario(sc)
+    model = _compiled(sc)
     system = System(model)
     an = sc.analysis
     meta = dict(scenario_json=sc.model_dump_json(), version=__version__)
@@ -396,6 +438,7 @@ def simulate(scenario, *, progress=None):
             part.message = _with_warnings(part.message, info)
         raise
     message = _with_warnings(f"finished: {counters.get('steps', 0)} steps", info)
+    log.info("%s", describe_run(counters, float(state.t)))
     try:
         res = rec.results(status=0, message=message, counters=dict(counters), **meta)
         res.message += _dynamic_warnings(model, res, sc)

@@ -1193,6 +1193,8 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
                             ok = True
                             if level > 0:
                                 counters["step_halvings"] = counters.get("step_halvings", 0) + 1
+                                log.debug("dynamics: the step at t = %.6g s taken as %d substeps of %.3g s",
+                                          t_step0, sub, h / sub)
                             break
                         status = s2
                     flags[0] = 0
