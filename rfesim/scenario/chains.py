@@ -414,6 +414,15 @@ def check_formulations(sc) -> None:
                 raise FieldError(f"{base}.dofs", f"must be a non-empty subset of {list(allowed)} for the "
                                                  f"{ln.formulation} formulation, got {ln.dofs}"
                                  if allowed else "the planar formulation has no dofs selection")
+        if lt.material.kind != "elastic":
+            # the classical, modified and planar SDEs (eqs. 8.7-8.8, 8.2, 8.3) take the section's elastic
+            # stiffness; only the absolute formulation's SDE carries the plastic bending law (8.4.2), so
+            # this line would otherwise run elastic without a word
+            raise FieldError(f"{base}.formulation",
+                             f"line type '{ln.type}' has an elastoplastic material (line_types.{ln.type}.material, "
+                             f"law '{lt.material.law}'), but the elasto-plastic SDE law (section 8.4.2) is "
+                             f"implemented in the absolute formulation only: the {ln.formulation} formulation "
+                             f"would run it elastic (use formulation 'absolute', or an elastic material)")
         if lt.damping is not None and (lt.damping.axial_ratio is not None or lt.damping.bending_ratio is not None):
             raise FieldError(f"line_types.{ln.type}.damping", f"damping ratios are not supported by the "
                                                                f"{ln.formulation} formulation: give the bending "
@@ -451,6 +460,13 @@ def check_formulations(sc) -> None:
                                                                f"{', '.join(sorted(sc.line_types)) or 'none'})")
             if link.type is not None and not link.rigid:
                 lt = sc.line_types[link.type]
+                if lt.material.kind != "elastic":
+                    raise FieldError(f"{base}.links.{lname}.type",
+                                     f"line type '{link.type}' has an elastoplastic material (line_types."
+                                     f"{link.type}.material, law '{lt.material.law}'), but the elasto-plastic SDE "
+                                     f"law (section 8.4.2) is implemented in the absolute formulation only: a "
+                                     f"flexible chain link ({link.formulation} formulation) would run it elastic "
+                                     f"(use an elastic material, or an absolute-formulation line)")
                 if lt.damping is not None and (lt.damping.axial_ratio is not None
                                                or lt.damping.bending_ratio is not None):
                     raise FieldError(f"line_types.{link.type}.damping", "damping ratios are not supported on chain "

@@ -1071,7 +1071,8 @@ StrainStressRow = Annotated[list[float], _fixed_length_numbers(2, "[strain, stre
 class ElastoplasticMaterial(_Strict):
     """Elasto-plastic pipe steel (section 8.4.2, rfesim.materials): the SDE bending moment
     follows the fibre-integrated moment-curvature of the pipe wall with kinematic
-    hardening. Needs a pipe geometry. Laws: ``bilinear`` (yield_stress, hardening_ratio;
+    hardening. Needs a pipe geometry and a line in the absolute formulation (the classical,
+    modified and planar SDEs and chain links are elastic only: refused there). Laws: ``bilinear`` (yield_stress, hardening_ratio;
     0 is elastic-perfectly plastic), ``ramberg-osgood`` (eps = sigma/E + ro_offset *
     (sigma/yield_stress)^ro_n), ``table`` (rows [strain, stress], the first row the
     yield point on the elastic line, slopes not increasing; the last slope continues)."""
