@@ -593,7 +593,12 @@ def _payload(out: dict, name: str, tpl, raw: dict, tip, rope_length: float) -> t
     attach = list(tpl.payload_attachment) if tpl.payload_attachment is not None else [0.0, 0.0, top]
     generated = ()
     if body.get("position") is None:
-        body["position"] = [tip[0] - attach[0], tip[1] - attach[1], tip[2] - rope_length - attach[2]]
+        # the attachment is in the body frame: turn it by the payload's orientation_deg (the
+        # same ZYX rotation the model gives the body, rfesim.model.bodies.body_rotation) so
+        # the hook point starts straight under the sheave, the rope vertical
+        from ..model.bodies import body_rotation
+        arm = body_rotation(tpl.payload) @ np.asarray(attach, float)
+        body["position"] = [float(tip[0] - arm[0]), float(tip[1] - arm[1]), float(tip[2] - rope_length - arm[2])]
         generated = ("position",)
     bname = f"{name}_payload"
     _add(out, "bodies", bname, body, "payload", copy_of="payload", generated=generated)
