@@ -681,28 +681,83 @@ class WinchController:
 
     def _correct_tension(self, km, h: float) -> bool:
         """The constant-tension winch's speed against its characteristic at the tension the
-        step reached (backward Euler on the payout): when v differs from v(T_{n+1}), one
-        Newton update on the rope's axial stiffness k (dT/dv = -k h, slope 1 + k h / gain
-        outside the dead band, then secants) resets the payout and returns True (the step
-        is redone). The staggered rule (the speed from T_n) was stable only while
-        k h / gain < 2."""
+        step reached (backward Euler on the payout): when v differs from v(T_{n+1}) by more
+        than SPEED_TOLERANCE of max_speed, a new speed is set and True returned (the step is
+        redone). The staggered rule (the speed from T_n) was stable only while k h / gain < 2.
+
+        The residual r(v) = v - v_char(T(v)) is increasing in v (a faster payout slackens the
+        rope) but kinked where the characteristic saturates at +-max_speed or enters the dead
+        band: a Newton or secant step on r itself cycles over a kink when k h / gain is large
+        (gain 1e3 N*s/m on a 7e6 N/m rope at 20 ms: slope 1 + k h / gain = 147 on the
+        sloped part, 1 on the saturated one). So only the smooth part is linearised, the
+        tension T(v) ~ T_i + S (v - v_i) (S = -k h, the far end held still over the step,
+        then the secant of the tries), and the kinked characteristic is met exactly on that
+        line (``_meet``); the new speed stays inside the bracket of the tries' signs of r
+        (bisected when the line's root leaves it). On the sloped part this is the Newton
+        step of slope 1 + k h / gain as before."""
         m = self.mode
         t_next, D, v, D_mode, v_mode, D_c, v_c = self._next
         T = float(self.system.ws.sigma[self.info.first_sde, 0])
         res = v_mode - self._tension_speed(T)
+        tries = getattr(self, "_tries", None)
+        if tries is None or tries[0] != (t_next, h):
+            tries = self._tries = ((t_next, h), [])
+        tries = tries[1]
+        tries.append((v_mode, T, res))
+        self._unsettled = (h, T, v_mode, res)
         if abs(res) <= self.SPEED_TOLERANCE * m.max_speed:
             return False
-        prev = getattr(self, "_secant", None)
-        if prev is not None and prev[:2] == (t_next, h) and prev[2] != v_mode and prev[3] != res:
-            slope = (res - prev[3]) / (v_mode - prev[2])
-        else:
+        lo = max((t[0] for t in tries if t[2] < 0.0), default=-m.max_speed)
+        hi = min((t[0] for t in tries if t[2] > 0.0), default=m.max_speed)
+        S = None
+        if len(tries) > 1:
+            v0, T0, _ = tries[-2]
+            if v0 != v_mode:
+                S = (T - T0) / (v_mode - v0)
+        if S is None or not S <= 0.0:
             k = self._rope_axial()[0] if T > 0.0 else 0.0
-            outside = abs(T - m.tension) > m.dead_band and abs(self._tension_speed(T)) < m.max_speed
-            slope = 1.0 + (k * h / m.gain if outside else 0.0)
-        self._secant = (t_next, h, v_mode, res)
-        v_mode -= res / slope
+            S = -k * h
+        new = self._meet(T, v_mode, S)
+        if not lo < new < hi and lo < hi:
+            new = 0.5 * (lo + hi)          # the line's root left the bracket of the tries: bisect
+        v_mode = new
         self._repay(km, t_next, self.D_mode + h * v_mode, v_mode, D_c, v_c)
         return True
+
+    def _meet(self, T: float, v: float, S: float) -> float:
+        """The speed u (m/s) at which the characteristic meets the tension line T + S (u - v)
+        (S <= 0 N*s/m): the root of u - v_char(T + S (u - v)), increasing in u and in
+        [-max_speed, max_speed]; each piece (saturated, sloped, dead band) solved exactly."""
+        m = self.mode
+        vmax, g, band = m.max_speed, m.gain, m.dead_band
+
+        def tension(u):
+            return T + S * (u - v)
+
+        if tension(vmax) - m.tension - band >= g * vmax:
+            return vmax                                   # saturated paying out at vmax
+        if tension(-vmax) - m.tension + band <= -g * vmax:
+            return -vmax                                  # saturated hauling in
+        base = T - S * v - m.tension                      # T + S (u - v) - tension = base + S u
+        if base - band > 0.0:                             # above the band at u = 0: pays out
+            return min(vmax, max(0.0, (base - band) / (g - S)))
+        if base + band < 0.0:                             # below it: hauls in
+            return max(-vmax, min(0.0, (base + band) / (g - S)))
+        return 0.0                                        # in the dead band at u = 0
+
+    def coupling_note(self, h: float) -> str:
+        """What to change when the constant-tension speed did not settle at the step h
+        (rfesim.solvers.controlled), '' for other modes or a settled winch."""
+        last = getattr(self, "_unsettled", None)
+        if self.mode.kind != "tension" or last is None or last[0] != h:
+            return ""
+        m = self.mode
+        hh, T, v, res = last
+        k = self._rope_axial()[0] if T > 0.0 else 0.0
+        return (f"winch '{self.name}' (constant tension): its speed {v:.4g} m/s missed the characteristic by "
+                f"{abs(res):.3g} m/s at tension {T:.6g} N, with k h / gain = {k * hh / m.gain:.3g} (rope axial "
+                f"stiffness k = {k:.3g} N/m); raise winches.{self.name}.mode.gain (N*s/m) toward k h = "
+                f"{k * hh:.3g}, shorten the time step, or lower mode.max_speed ({m.max_speed:g} m/s)")
 
     def after_step(self, km, state, t: float, h: float) -> None:
         t_next, D, v, D_mode, v_mode, D_c, v_c = self._next

@@ -82,9 +82,12 @@ def advance_controlled(system, st, t_target: float, h: float, step, flags, count
         if flags.shape[0] > 3:
             flags[3] = 0
         if status != 0 and unbalanced is not None:
+            # what to change, from the winches that did not settle (constant tension: gain, step, max_speed)
+            notes = [n for n in (c.coupling_note(h / 2 ** MAX_HALVINGS) for c in controllers
+                                 if hasattr(c, "coupling_note")) if n]
             raise SolverError(f"the winches' coupling to their ropes (drum balance, constant-tension "
                               f"speed) did not settle within {COUPLING_ITERATIONS} tries of a step at "
-                              f"h/{2 ** MAX_HALVINGS}",
+                              f"h/{2 ** MAX_HALVINGS}" + "".join(f"; {n}" for n in notes),
                               time=unbalanced, quantity="winch drum coupling")
         if status != 0:
             st = saved
