@@ -147,8 +147,9 @@ class Body(_Strict):
                                                   limit=LENGTH_LIMIT)
     volume: float = _units("m^3", "Displaced volume when fully submerged (a box: at most a * b * c)", default=0.0,
                            ge=0.0)
-    height: float | None = _units("m", "Vertical extent over which the body goes under water (buoyancy, drag, "
-                                  "added mass and slamming scale with the submerged part of it); default: "
+    height: float | None = _units("m", "Vertical extent over which the body goes under water (buoyancy, drag "
+                                  "and added mass scale with the submerged part of it; slamming acts, "
+                                  "unscaled, while it crosses the surface); default: "
                                   "the cube root of the volume; for a box: its c (or left out)", default=None,
                                   gt=0.0)
     centre_of_buoyancy: Vector3 = _units("m", "Centre of buoyancy from the centre of mass, body axes (also the "

@@ -248,7 +248,8 @@ class ReelSpec(_Strict):
                                          "plus the largest length the payout table pays out plus two elements "
                                          "(so that reeled pipe reaches past the straightener once that path is "
                                          "paid out, and the reel never empties), at least a quarter turn and at "
-                                         "most half a turn less one element", default=None, gt=0.0)
+                                         "most half a turn less one element (the cap can leave the reeled pipe "
+                                         "short of the straightener at the end of the payout)", default=None, gt=0.0)
 
 
 class ReelLayTemplate(_Template):
