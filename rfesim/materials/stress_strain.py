@@ -178,7 +178,9 @@ class RambergOsgood(StressStrainLaw):
         s = np.minimum(E * e, sy * (e / a) ** (1.0 / n))
         for _ in range(200):
             g = s / E + a * (s / sy) ** n - e
-            dg = 1.0 / E + a * n * s ** (n - 1.0) / sy ** n
+            # (s / sy)^(n-1) / sy, not s^(n-1) / sy^n: sy^n overflows for n > 35 (steels near
+            # perfectly plastic), the ratio stays below (e / a)^((n-1)/n)
+            dg = 1.0 / E + a * n * (s / sy) ** (n - 1.0) / sy
             step = g / dg
             s = s - step
             if np.all(np.abs(step) <= 1e-15 * np.maximum(s, sy)):
@@ -188,7 +190,7 @@ class RambergOsgood(StressStrainLaw):
     def tangent(self, strain):
         s = np.abs(self.stress(strain))
         E, sy, n, a = self.youngs_modulus, self.yield_stress, self.exponent, self.offset
-        return 1.0 / (1.0 / E + a * n * s ** (n - 1.0) / sy ** n)
+        return 1.0 / (1.0 / E + a * n * (s / sy) ** (n - 1.0) / sy)
 
     def backbone(self):
         lo, hi = self.backbone_span

@@ -360,6 +360,14 @@ def tension_only_forces(km, ws, F, M):
 
 
 @njit(cache=True, _nrt=False)
+def _scale_forces(F, M, c):
+    for i in range(F.shape[0]):
+        for k in range(3):
+            F[i, k] *= c
+            M[i, k] *= c
+
+
+@njit(cache=True, _nrt=False)
 def local_loads(km, att, ws, scale):
     """Every load that acts on one RFE alone (all but the SDEs), added to ws.F, ws.M."""
     if km.gravity != 0.0:
@@ -388,10 +396,18 @@ def local_loads(km, att, ws, scale):
                                             ws.water_vel[i:i + 1], ws.water_acc[i:i + 1])
         buoyancy_forces(km.rfe_length, km.rfe_disp_area, km.rfe_kind, km.water_density, km.gravity, scale,
                         ws.r, ws.sub_frac, ws.sub_point, ws.F, ws.M)
-        if km.has_morison:
+        if km.has_morison and scale > 0.0:
+            # statics' load steps (scale < 1) ramp the current's drag with the weights: F + scale
+            # * morison as scale * (F / scale + morison), with no buffer. Held at its full value,
+            # it made a short load step harder, not easier (a line in a strong current whose
+            # statics needed load steps could not take any). Dynamics: scale 1, untouched.
+            if scale != 1.0:
+                _scale_forces(ws.F, ws.M, 1.0 / scale)
             morison_forces(km.rfe_length, km.rfe_diameter, km.rfe_disp_area, km.rfe_cdn, km.rfe_cdt, km.rfe_can,
                            km.rfe_cat, km.water_density, ws.R, ws.r, ws.v, ws.w, ws.sub_frac, ws.sub_point,
                            ws.water_vel, ws.water_acc, ws.F, ws.M, ws.Ma, ws.Ja)
+            if scale != 1.0:
+                _scale_forces(ws.F, ws.M, scale)
         if km.has_bodies:
             body_hydro_forces(km.body_rfe, km.body_volume, km.body_height, km.body_box, km.body_cob, km.body_drag,
                               km.body_added_mass, km.body_added_inertia, km.body_slam, km.water_density, km.gravity,

@@ -21,7 +21,7 @@ from ..loads.seabed import seabed_height
 from ..model.bodies import connection_force
 from ..model.joins import drive_angles, drive_outputs, hinge_angle, joint_loads, rebase_motors
 from .banded import bt_matvec
-from .kernels import Q_JACOBIAN, Q_NEWTON, Q_POSITION, Q_VELOCITY, dp_advance, ga_advance, genalpha_parameters, \
+from .kernels import Q_JACOBIAN, Q_NEWTON, Q_POSITION, Q_THROUGH, Q_VELOCITY, dp_advance, ga_advance, genalpha_parameters, \
     rk4_advance, _DP_A, _DP_B, _DP_C, _DP_E
 from .recording import END_ORDER, SDE_ORDER
 from .system import System
@@ -30,7 +30,8 @@ from ..results import WINCH_CHANNELS
 log = logging.getLogger("rfesim")
 
 QUANTITY = {Q_POSITION: "position not finite or runaway", Q_VELOCITY: "velocity not finite or runaway",
-            Q_NEWTON: "Newton iteration did not converge", Q_JACOBIAN: "singular Jacobian"}
+            Q_NEWTON: "Newton iteration did not converge", Q_JACOBIAN: "singular Jacobian",
+            Q_THROUGH: "rope elements pushed through one another (axial strain below -1)"}
 
 
 def highest_frequency(system: System, state: State, iterations: int = 60) -> float:
@@ -759,10 +760,20 @@ def _raise(system: System, fail: np.ndarray, status: int, make_results, what: st
     quantity = QUANTITY.get(int(fail[2]), "failure")
     if int(fail[2]) == Q_NEWTON:
         hint = _slack_hint(system)
+    elif int(fail[2]) == Q_THROUGH:
+        hint = THROUGH_HINT + (f"; {hint}" if hint else "")
     res = make_results(status=1, message=f"{what}{quantity} at t = {t:.6g} s" + (f" in {where}" if where else "")
                        + (f"; {hint}" if hint else ""))
     # SolverError adds the time, the place and "(quantity)" to the message: the quantity once
     raise SolverError("the run diverged", time=t, element=where, quantity=quantity, results=res, hint=hint)
+
+
+THROUGH_HINT = ("a slack rope carries no compression, so a payload or an element driven into it faster than "
+                "the rope can fold passes through it, and the rope then comes apart with no tension (the run "
+                "stops there; generalized-alpha first retries the step in substeps down to 1/64). It happens to a light "
+                "payload on a stiff crane whipped by a drive, or to a rope with no damping: damp the rope "
+                "(its damping_ratio, e.g. 0.05), lower analysis.dynamics.integrator.rho_inf (e.g. 0.5), "
+                "shorten the time step, or slow the drive")
 
 
 def _slack_hint(system: System) -> str | None:

@@ -29,7 +29,8 @@ STALE_ITERATIONS = 6.0          # ... unless it still contracts (below CONTRACTS
 CONTRACTS = 0.9                 # tolerance within this many more iterations (a Jacobian costs 6-10 residuals)
 
 # quantity codes in ``fail[2]``
-Q_POSITION, Q_VELOCITY, Q_NEWTON, Q_JACOBIAN = 0, 1, 2, 3
+Q_POSITION, Q_VELOCITY, Q_NEWTON, Q_JACOBIAN, Q_THROUGH = 0, 1, 2, 3, 4
+ROPE_THROUGH_STRAIN = -1.0      # axial strain of a tension-only SDE below which its elements passed through
 
 
 @njit(cache=True)
@@ -95,6 +96,26 @@ def check_state(q, qd, mask, fail, t):
                 fail[1] = i
                 fail[2] = Q_VELOCITY if abs(v) > RUNAWAY_SPEED else Q_POSITION
                 return 2
+    return 0
+
+
+@njit(cache=True, _nrt=False)
+def check_ropes(km, ws, fail, t):
+    """A tension-only SDE (rope) whose axial strain ws.eps[s, 0] of the last evaluation is
+    below ROPE_THROUGH_STRAIN: its two elements were pushed through one another, further
+    than the SDE's length. The rope carries no compression, so nothing pushes them back,
+    and from there a joint pulled apart reads as compression too: the rope has come
+    apart with no tension and the run goes on as if nothing happened (a payload flung 200 m
+    from the sheave on a 2 m rope). A diverged state: fill fail (the SDE's left RFE) and
+    return 2 (the driver retries the interval in shorter steps), else 0."""
+    if not km.has_tension_only:
+        return 0
+    for s in range(km.sde_tension_only.shape[0]):
+        if km.sde_tension_only[s] != 0 and ws.eps[s, 0] < ROPE_THROUGH_STRAIN:
+            fail[0] = t
+            fail[1] = km.sde_left[s]
+            fail[2] = Q_THROUGH
+            return 2
     return 0
 
 
@@ -265,6 +286,8 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
                 qdd[i, k] = A
                 aux[i, k] = anew
         status = check_state(q, qd, mask, fail, t1)
+        if status == 0:
+            status = check_ropes(km, ws, fail, t1)      # ws: the converged iterate's evaluation
         if status != 0:
             return status
         nre = rebase(q, qd, ref, km.rfe_kind, REBASE_THRESHOLD, qdd, aux, True)
@@ -321,6 +344,8 @@ def rk4_advance(km, vs, att, ws, q, qd, qdd, ref, t0, h, nsteps, mask, k_q, k_v,
                 q[i, k] += h / 6.0 * (k_q[0, i, k] + 2.0 * k_q[1, i, k] + 2.0 * k_q[2, i, k] + k_q[3, i, k])
                 qd[i, k] += h / 6.0 * (k_v[0, i, k] + 2.0 * k_v[1, i, k] + 2.0 * k_v[2, i, k] + k_v[3, i, k])
         status = check_state(q, qd, mask, fail, t + h)
+        if status == 0:
+            status = check_ropes(km, ws, fail, t + h)   # ws: the last stage, at t + h
         if status != 0:
             return status
         stats[3] += rebase(q, qd, ref, km.rfe_kind, REBASE_THRESHOLD, qdd, qdd, False)
@@ -409,6 +434,8 @@ def dp_advance(km, vs, att, ws, q, qd, qdd, ref, t0, t_end, h_in, h_max, rtol, a
                     k_q[0, i, k] = k_q[6, i, k]
                     k_v[0, i, k] = k_v[6, i, k]
             status = check_state(q, qd, mask, fail, t)
+            if status == 0:
+                status = check_ropes(km, ws, fail, t)     # ws: the last stage, the accepted state
             if status != 0:
                 return status
             nre = rebase(q, qd, ref, km.rfe_kind, REBASE_THRESHOLD, k_v[0], k_v[0], False)

@@ -5,8 +5,8 @@ Jacobian is factored in O(n). Every Newton update is followed by a re-base of ev
 reference rotation (statics has no rate history), so large rotations such as a cantilever
 rolled into a full circle never meet the Euler-angle singularity.
 
-Load ramping scales the applied loads (gravity, buoyancy, point loads) from a fraction to
-1; a failed increment is halved. Lines with both ends placed start from the elastic
+Load ramping scales the applied loads (gravity, buoyancy, point loads, current drag) from a
+fraction to 1; a failed increment is halved. Lines with both ends placed start from the elastic
 catenary (``rfesim.catenary``) and take the full load at once. Ropes (tension-only SDEs)
 whose elements start compressed go through the equilibrium with compression allowed
 (``_solve_with_ropes``; docs/theory.md, 'Slack ropes in statics').
