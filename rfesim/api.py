@@ -220,8 +220,10 @@ def _static_state(system: System, sc: Scenario, progress=None):
     s = sc.analysis.statics
 
     def solve(start=None):
+        # a start shape of the model (its own or the catenary's): bodies hang first (hang_bodies)
         return solve_statics(system, start, tolerance=s.tolerance, max_iterations=s.max_iterations,
-                             load_steps=s.load_steps, progress=progress, seabed_friction=s.seabed_friction)
+                             load_steps=s.load_steps, progress=progress, seabed_friction=s.seabed_friction,
+                             hang=True)
 
     saved = system.history()
     wall0 = _time.perf_counter()

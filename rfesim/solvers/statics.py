@@ -21,6 +21,7 @@ import numpy as np
 
 from ..errors import SolverError
 from ..loads.drives import rest_of_workspace
+from ..loads.seabed import seabed_height
 from ..model.assemble import rebase
 from ..model.arrays import Reference
 from ..model.compile import State
@@ -88,7 +89,7 @@ def position_resolution_force(system: System, state: State) -> float:
     return float((km.sde_stiffness[:, :3].max(axis=1) * np.spacing(size)).max())
 
 
-def _regularise(J: np.ndarray, mu: float, mask: np.ndarray) -> np.ndarray:
+def _regularise(J: np.ndarray, mu: float, mask: np.ndarray, yaw: list | None = None) -> np.ndarray:
     """J + mu * diag(max(|J_ii|, 1e-6 * max |J_ii| of the same coordinate kind)): a
     Levenberg damping that only matters for coordinates with (nearly) no stiffness.
 
@@ -96,7 +97,14 @@ def _regularise(J: np.ndarray, mu: float, mask: np.ndarray) -> np.ndarray:
     every RFE to zero angles, where coordinate 5 is the rotation about the element axis):
     the torsion of a cable with GJ ~ 0 sits at 1e-16 of the stiffest shear springs, below
     the resolution of the Jacobian; its Newton steps would be noise and its equilibrium is
-    physically arbitrary, so it stays where it is."""
+    physically arbitrary, so it stays where it is.
+
+    ``yaw`` ((rfe, n) pairs, ``_free_yaw``) gets the same constant damping on the rotation
+    about the vertical of each body hanging on a pinned connection: nothing resists that turn
+    about its line (a pinned connection has no rotational stiffness and gravity has no moment
+    about the vertical), so Newton's steps along it are noise too (an attachment along y
+    turned the payload 11 degrees about its rope on the first step), and its yaw stays where
+    it starts."""
     Jr = J.copy()
     diag = np.abs(np.einsum("nkk->nk", J[:, 1]))
     floor_t = 1e-6 * (diag[:, :3][mask[:, :3]].max() if mask[:, :3].any() else 1.0)
@@ -107,7 +115,22 @@ def _regularise(J: np.ndarray, mu: float, mask: np.ndarray) -> np.ndarray:
     add[~mask] = 0.0
     idx = np.arange(6)
     Jr[:, 1, idx, idx] += add
+    for i, nz in yaw or ():
+        Jr[i, 1, 3:, 3:] += ROTATION_FLOOR * 1e6 * floor_r * np.outer(nz, nz)
     return Jr
+
+
+def _free_yaw(system: System, ref: Reference) -> list:
+    """(rfe, n) of every body on a pinned connection: n the rotation about the global vertical
+    in the RFE's re-based angle coordinates (psi, theta, phi at zero angles turn about the
+    body's z, y, x axes: n = (v_z, v_y, v_x), v = R^T e_z)."""
+    km = system.km
+    out = []
+    for info in getattr(system.model, "bodies", None) or []:
+        if np.all(km.sde_stiffness[info.sde, 3:] == 0.0):
+            v = ref.R[info.rfe][2]          # R^T e_z: the third row of R
+            out.append((info.rfe, np.array([v[2], v[1], v[0]])))
+    return out
 
 
 def _rechain(system: System, st: State, dq: np.ndarray, alpha: float, trial: np.ndarray, trial_ref: Reference,
@@ -212,15 +235,114 @@ def _deformation_direction(system: System, st: State, dq: np.ndarray, lam: float
     return eps0, (eps1 - eps2) / (2.0 * h)
 
 
+HANG_ANGLE = 1e-6   # rad: a body turned less than this from hanging is not turned
+
+
+def hang_bodies(system: System, state: State) -> tuple[State, list[str]]:
+    """(start, names): a copy of the start state in which every body hanging free on a pinned
+    connection and not hanging under its attachment point is turned to, with the connection
+    carrying its weight, and the names of those bodies (the state itself if none).
+
+    Why: in the start state the connection (and the line) carries no force yet, so nothing in
+    the Jacobian resists a rotation of the body about its attachment point: gravity acts at
+    the centre of mass, where it has no moment, and a connection without force has no
+    geometric stiffness. A crane payload with ``payload_attachment`` off its centre line
+    ([0, 1, 0.5]: a 63.4 degree roll to hang) made Newton's first step a rotation of
+    thousands of radians about those free axes; the step limit cut it to a crawl, the crawl
+    wandered about the free yaw and the load step failed at load factor 0 (in the crane's
+    symmetry plane, [1, 0, 0.5], it crawled to the pitch in 30 iterations). So each such body is
+
+    * turned by the smallest rotation (about a horizontal axis through the attachment point,
+      which stays where it is) that puts its weight centre under the attachment point: the
+      centre of mass, less the displaced water at the centre of buoyancy when fully submerged
+      (the potential energy g (R w)_z, w = -m a - rho V (c - a), a the attachment point and c
+      the centre of buoyancy in body axes, is least with R w pointing down); its yaw about the
+      vertical is kept;
+    * lowered by its net weight over the connection's axial stiffness (micrometres), so that
+      the connection carries that weight from the first Jacobian on, with the pendulum
+      stiffness of the hanging body; the residual is then the line's stretch, which Newton
+      solves in a few iterations. (A body hanging already is left as it is: its weight has no
+      moment, whichever way the first step turns it; the free yaw is damped in
+      ``_regularise``.)
+
+    Left alone: clamped connections (the line's end holds the body's rotation), bodies held
+    by tuggers or a deck, bodies in the splash zone (the buoyancy's moment changes with the
+    attitude), buoyant ones, and bodies in reach of the seabed."""
+    km = system.km
+    bodies = getattr(system.model, "bodies", None) or []
+    if not bodies:
+        return state, []
+    st = state.copy()
+    st.qd[:] = 0.0
+    system.evaluate(st)
+    ws = system.ws
+    held = set(int(i) for i in getattr(km, "tug_rfe", np.zeros(0, np.int64)))
+    deck = getattr(km, "body_deck_att", np.full(len(bodies), -1))
+    down = np.array([0.0, 0.0, -1.0])
+    turned = []
+    for info in bodies:
+        i, s = info.rfe, info.sde
+        k = float(km.sde_stiffness[s, 0])
+        if (np.any(km.sde_stiffness[s, 3:] != 0.0) or k <= 0.0 or i in held
+                or (len(deck) > info.index and deck[info.index] >= 0)):
+            continue
+        f = float(ws.sub_frac[i]) if km.has_water else 0.0
+        if 0.0 < f < 1.0:
+            continue
+        displaced = km.water_density * km.body_volume[info.index] * f
+        weight = km.gravity * (info.mass - displaced)
+        if weight <= 0.0:
+            continue
+        R = ws.R[i].copy()
+        a = np.asarray(km.sde_arm_right[s], float)
+        w = -info.mass * a
+        if f > 0.0:
+            w -= displaced * (np.asarray(km.body_cob[info.index], float) - a)
+        wg = R @ w
+        size = float(np.linalg.norm(wg))
+        if size <= 1e-12 * info.mass * max(float(np.linalg.norm(a)), 1e-12):
+            continue                                       # attached at its weight centre
+        u = wg / size
+        axis = np.cross(u, down)
+        angle = float(np.arctan2(np.linalg.norm(axis), float(u @ down)))
+        if angle < HANG_ANGLE:
+            continue                                       # hanging already
+        if np.linalg.norm(axis) < 1e-12:                   # upside down: turn about a horizontal axis
+            axis = np.cross(u, [1.0, 0.0, 0.0])
+        Q = _exp(angle * axis / np.linalg.norm(axis))
+        P = ws.r[i] + R @ a                                # the attachment point stays where it is
+        centre = P + Q @ (ws.r[i] - P) + down * (weight / k)
+        if km.has_seabed:
+            bed = np.zeros(3)
+            seabed_height(km.bed_s, km.bed_z, km.bed_dir, float(centre[0]), float(centre[1]), bed)
+            if centre[2] - km.rfe_contact_radius[i] < bed[0]:
+                continue
+        st.ref.R[i] = Q @ R
+        st.ref.X[i] = centre
+        st.q[i] = 0.0
+        turned.append(info.name)
+    if not turned:
+        return state, []
+    log.info("statics: started with %s turned to hang under the attachment point", ", ".join(turned))
+    return st, turned
+
+
 def solve_statics(system: System, state: State | None = None, *, tolerance: float = 1e-8, max_iterations: int = 400,
-                  load_steps: int = 1, progress=None, seabed_friction: str = "none") -> tuple[State, StaticsInfo]:
+                  load_steps: int = 1, progress=None, seabed_friction: str = "none",
+                  hang: bool | None = None) -> tuple[State, StaticsInfo]:
     """Static equilibrium of the scene at the state's time (vessels at their pose then).
 
     ``seabed_friction``: ``"none"`` (friction plays no part in statics) or ``"mobilised"``
     (full axial friction on the grounded length, pointing towards end A: the line was
     pulled towards end B as it was laid, as MoorPy assumes). Either way the friction
-    anchors are left so that a following dynamic run starts with the same forces."""
+    anchors are left so that a following dynamic run starts with the same forces.
+
+    ``hang``: start with the bodies hanging under their attachment points (``hang_bodies``);
+    by default when starting from the model's initial state (``state`` None), not from a
+    given state (an equilibrium being solved again keeps its pose)."""
     model = system.model
+    if hang if hang is not None else state is None:
+        state, _ = hang_bodies(system, state or model.initial)
     mobilised = seabed_friction == "mobilised"
     system.set_friction_mode(1 if mobilised else 2)
     system.ws.waves_off[0] = 1          # statics: still water plus current
@@ -433,11 +555,12 @@ def _solve(system: System, state: State | None, tolerance: float, max_iterations
                 J = system.static_jacobian_closed(st.q, st.ref, lam)
             else:
                 J = system.static_jacobian_accurate(st.q, st.ref, lam)
+            yaw = _free_yaw(system, st.ref)
             # Solve; raise the Levenberg damping while the direction is not a descent
             # direction (a part in compression has negative geometric stiffness).
             bad = 0
             for _attempt in range(12):
-                bad = bt_factor_closed(_regularise(J, mu, mask), fac, system.km, system.ws)
+                bad = bt_factor_closed(_regularise(J, mu, mask, yaw), fac, system.km, system.ws)
                 if bad < 0:
                     bt_solve_closed(fac, r, dq, system.km, system.ws)
                     dq *= -1.0
