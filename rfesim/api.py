@@ -88,6 +88,14 @@ def _seabed_folds(model) -> list[str]:
                        f"({length:.6g} m between points {apart}): slack lying on the seabed has no "
                        f"unique static shape; make the line as long as the distance between its ends, lift an "
                        f"end off the seabed, or set analysis.statics.enabled to false")
+        elif li.held_length > 0.0:
+            # the pipe held on supports from end A (reel, rollers, tensioner) is not slack
+            free = length - li.held_length
+            out.append(f"line '{li.name}' runs from the seabed to its last support, a point {height:.4g} m up and "
+                       f"{span:.4g} m away, {li.held_length:.6g} m from end A; beyond it its {free:.6g} m are "
+                       f"{length - limit:.4g} m longer than can hang vertically and lie straight on the seabed "
+                       f"({limit - li.held_length:.6g} m): the rest folds on the seabed, which has no unique static "
+                       f"shape; shorten the line, move its ends apart, or set analysis.statics.enabled to false")
         else:
             out.append(f"line '{li.name}' runs from the seabed to a point {height:.4g} m up and {span:.4g} m away, "
                        f"and is {length - limit:.4g} m longer ({length:.6g} m) than can hang vertically and "

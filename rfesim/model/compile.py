@@ -60,6 +60,8 @@ class LineInfo:
                                     #   _tension_estimate), against its fem shear limit (shear_limit)
     seabed_fold: tuple | None = None   # (length, horizontal span, height, limit) m of a heavy line from the seabed
                                        #   longer than can hang and lie straight (_seabed_fold)
+    held_length: float = 0.0   # m from end A to the last support point of its start shape (reel, rollers,
+                               #   tensioner track): the pipe there cannot fold on the seabed (_held_end)
 
     @property
     def nrfe(self) -> int:
@@ -246,16 +248,40 @@ def _grounded(p: np.ndarray, sec: Section, sc, length: float) -> bool:
     return z is not None and (p[2] - 0.5 * sec.outer_diameter - z) < 1e-3 * length
 
 
-def _seabed_fold(line, sec: Section, sc, A, B) -> tuple | None:
+def _held_end(curve: _Curve, held: list) -> tuple[float, np.ndarray] | None:
+    """(arc length, point) of the last vertex of the start curve that is a support point (a
+    reel's take-off point, a roller's resting point, a tensioner track's entry or exit): the
+    line is held there and up to there, and hangs free only beyond it. None without any."""
+    pts = [np.asarray(p, float).reshape(-1, 3) for p in held if p is not None and len(p)]
+    if not pts:
+        return None
+    P = np.vstack(pts)
+    scale = 1e-9 * max(1.0, float(np.abs(curve.X).max()))
+    hit = [k for k in range(curve.X.shape[0]) if np.min(np.linalg.norm(P - curve.X[k], axis=1)) <= scale]
+    if not hit:
+        return None
+    k = max(hit)
+    return float(curve.s[k]), curve.X[k].copy()
+
+
+def _seabed_fold(line, sec: Section, sc, A, B, held: tuple[float, np.ndarray] | None = None) -> tuple | None:
     """(length, horizontal span, height, limit) of a heavy line between placed ends, its lower
     end on the seabed, that is longer than ``limit``: what can hang vertically from the upper
     end down to the seabed under it and lie straight along the seabed to the lower end (on a
     flat seabed the horizontal span plus the height; on a slope or a profile the drop to the
     seabed under the upper end plus the length along the seabed). The rest would fold back
     on the seabed, which has no unique static shape (its start shape bunches it up). None
-    otherwise."""
+    otherwise.
+
+    ``held`` (``_held_end``: arc length from end A and point of the last support of the start
+    shape, end A upper): the line hangs free only from there, so span and height are taken
+    from that point and the limit adds the held length (the pipe on a reel-lay vessel's reel,
+    aligner, straightener and tensioner, 38 m at a 89.5 deg ramp, is not slack)."""
     if A is None or B is None or _submerged_weight(sec, sc) <= 0.0:
         return None
+    s_held = 0.0
+    if held is not None and B[2] <= A[2]:
+        s_held, A = held
     lo, hi = (A, B) if A[2] <= B[2] else (B, A)
     if not _grounded(lo, sec, sc, line.length):
         return None
@@ -271,7 +297,7 @@ def _seabed_fold(line, sec: Section, sc, A, B) -> tuple | None:
     zb = np.array([env.seabed_z_at(float(a), float(b)) for a, b in zip(x, y)])
     along = float(np.sum(np.sqrt(np.diff(x) ** 2 + np.diff(y) ** 2 + np.diff(zb) ** 2)))
     hang = height - float(zb[-1] - zb[0])
-    limit = max(hang, 0.0) + along
+    limit = s_held + max(hang, 0.0) + along
     if line.length <= limit * (1.0 + 1e-3):
         return None
     return line.length, span, max(hang, 0.0), limit
@@ -644,11 +670,15 @@ def compile_scenario(sc, start: str | None = None) -> Model:
         if rest is not None:
             # over rollers: through their resting points, then a catenary to end B
             curve = _supported_curve(A, B, L, rest, sec, sc)
+        held_points = [rest]
         if wrap is not None:
             # from end A along the wrap to the take-off point, then over the rollers
+            track = track_points(sc, lname, attachment_names, att0) if B is not None else None
             ts, tX = reel_tail(wrap[1][-1], wrap[2], L - wrap[0][-1], rest, B, tail=_catenary_tail(sec, sc),
-                               track=track_points(sc, lname, attachment_names, att0) if B is not None else None)
+                               track=track)
             curve = _Curve(np.concatenate([wrap[0], wrap[0][-1] + ts[1:]]), np.vstack([wrap[1], tX[1:]]))
+            held_points += [wrap[1][-1:], track]
+        held = _held_end(curve, held_points) if (rest is not None or wrap is not None) else None
         joints = curve.joints(lengths, B if (A is not None and B is not None) else None)
         if A is None:
             # only end B is placed: the curve was built ending at B; march from its start
@@ -815,7 +845,8 @@ def compile_scenario(sc, start: str | None = None) -> Model:
         lines.append(LineInfo(name=lname, rfe_start=n_total, rfe_stop=n_total + nseg + 1, sde_start=nsde_total,
                               sde_stop=nsde_total + nseg, length=L, elements=nseg, dx=dx, section=sec,
                               shear_model=shear_model, end_a=line.end_a, end_b=line.end_b, chord=end_distance,
-                              tension_estimate=tension, seabed_fold=_seabed_fold(line, sec, sc, A, B)))
+                              tension_estimate=tension, seabed_fold=_seabed_fold(line, sec, sc, A, B, held),
+                              held_length=held[0] if held is not None else 0.0))
         end_b_of[lname] = dict(rfe=n_total + nseg, point=centres[-1] + 0.5 * lengths[-1] * frames[-1][:, 0],
                                frame=frames[-1].copy(), dx=dx, length=lengths[-1], section=sec,
                                shear_model=shear_model, damping=lt.damping, mass=masses[-1], inertia=inertia[-1])

@@ -151,15 +151,22 @@ def track_points(sc, line_name: str, attachment_names, att0) -> np.ndarray | Non
 def reel_tail(P0: np.ndarray, d: np.ndarray, length: float, rest: np.ndarray | None, B: np.ndarray | None,
               tail=None, track: np.ndarray | None = None):
     """(s, X) from the take-off point P0: through the resting points on rollers and the
-    tensioner track points (in the order of their distance along d), then, when end B is
+    tensioner track points ahead of it along d (each next the nearest), then, when end B is
     placed, ``tail(G, B, remaining) -> (s, X)`` from the last of them G to B (the catenary
     with the remaining length; without ``tail``: straight to B), else straight on."""
     pts = [P0]
     cand = [c for c in (rest, track) if c is not None and len(c)]
     if cand:
         allp = np.vstack(cand)
-        ahead = allp[(allp - P0) @ d > 0.0]
-        pts.extend(ahead[np.argsort((ahead - P0) @ d)])
+        ahead = list(allp[(allp - P0) @ d > 0.0])
+        # chained nearest first, not sorted by the distance along d: a ramp near 90 deg runs
+        # almost across d, and there the straightener's offset middle roller came before the
+        # roller 3 m above it (89.9 deg: 20 -> 14 -> 17 -> 12 m up the ramp, 6 m of detour,
+        # so the start shape's catenary lacked 6 m and its last element started stretched
+        # 391 %, and statics failed)
+        while ahead:
+            k = int(np.argmin([np.linalg.norm(p - pts[-1]) for p in ahead]))
+            pts.append(ahead.pop(k))
     X = np.asarray(pts)
     s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(X, axis=0), axis=1))])
     remaining = length - s[-1]
