@@ -168,9 +168,10 @@ class _Template(_Strict):
                                           "of the stinger's station spacing, at most 4 m; j-lay a sixth of the "
                                           "bending boundary layer below the collar, sqrt(EI/T_top), at most 10 m; "
                                           "reel-lay 2 m; or give elements). An s-lay element longer than half the "
-                                          "station spacing, or a j-lay one longer than half that boundary layer, "
-                                          "gets a warning: the roller reactions scatter, the hang-off moment "
-                                          "comes out low", default=None,
+                                          "station spacing, a j-lay one longer than half that boundary layer, or a "
+                                          "reel-lay one longer than a ninth of the aligner radius (the default 2 m "
+                                          "on a 9 m aligner too) gets a warning: the roller reactions scatter, the "
+                                          "hang-off moment comes out low, the overbend strain high", default=None,
                                           ge=MIN_ELEMENT_LENGTH,
                                           floor=ELEMENT_LENGTH_FLOOR)
     elements: int | None = _units("1", "Number of elements of the line (instead of element_length)", default=None,
@@ -288,6 +289,13 @@ STINGER_ELEMENTS_PER_SPACING = 3.0
 # J-lay: the default element is at most this fraction of the bending boundary layer below the
 # collar, sqrt(EI/T_top) (_j_lay): 1.5 m in scenarios/j_lay.json
 HANG_OFF_ELEMENT_FRACTION = 1.0 / 6.0
+# Reel-lay: elements longer than this fraction of the aligner radius get a warning (_reel_lay).
+# The peak curvature at the aligner exit (the overbend strain) converges from above with the
+# element length l: scenarios/reel_lay.json (aligner radius 9 m) 0.1356, 0.1285, 0.1249 and
+# 0.1250 1/m at l = 2, 1, 0.5 and 0.25 m, 8.5 %, 2.8 %, -0.1 % off; l <= R/9 keeps it within
+# about 3 %, and R/18 within 0.1 %
+ALIGNER_COARSE_FRACTION = 1.0 / 9.0
+ALIGNER_ELEMENT_FRACTION = 1.0 / 18.0
 MAX_STINGER_STATIONS = 10000        # as the stinger support (rfesim.scenario.schema.StingerSupport)
 
 
@@ -953,7 +961,14 @@ def _reel_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
     entry_s, arc_start, take_off = geo.pop("entry_s"), geo.pop("arc_start"), geo.pop("take_off")
     arc = tpl.aligner_radius * al
     stations = max(2, round(arc / 1.0))
+    coarse = ALIGNER_COARSE_FRACTION * tpl.aligner_radius
     geo.update(
+        coarse_mesh=(coarse,
+                     f"longer than a ninth of the aligner radius ({coarse:.4g} m): the pipe's peak curvature at "
+                     f"the aligner exit, and with it the overbend strain and moment, comes out high (on a 9 m "
+                     f"aligner 8.5 % high with 2 m elements, 2.8 % with 1 m, converged with 0.5 m); give elements "
+                     f"of at most {ALIGNER_ELEMENT_FRACTION * tpl.aligner_radius:.4g} m (an eighteenth of the "
+                     f"aligner radius)"),
         max_element=min(layer, 0.5 * track, 0.25 * reel_radius, 0.25 * tpl.aligner_radius),
         max_element_reason=f"bending boundary layer sqrt(EI/H) = {layer:.3g} m, half the tensioner, a quarter "
                            f"of the reel and aligner radii must each span at least one element",
