@@ -597,6 +597,17 @@ def _track_length(tpl, length_estimate: float, default_element: float | None = N
     return max(10.0, 3.0 * length_estimate / n)
 
 
+def _half_track(tpl, track: float, what: str) -> str:
+    """'half the <what> (<m>)' for a max_element_reason, saying where a default track length
+    came from: without tensioner.length the track is 10 m and at least three elements
+    (_track_length), so with long elements it is longer than the 10 m default (100 m J-lay
+    elements: a 292 m collar, reported as "half the collar (147 m)" without a word why)."""
+    if tpl.tensioner.length is not None:
+        return f"half the {what} ({0.5 * track:.3g} m)"
+    return (f"half the {what} ({0.5 * track:.3g} m; without tensioner.length the {what} is 10 m long and at "
+            f"least three elements, so these elements stretch it to {track:.4g} m)")
+
+
 def _payout_reach(pay) -> float:
     """The largest paid-out length a payout table reaches (0 without a table: a driven
     payout's total is not known before the run)."""
@@ -793,8 +804,8 @@ def _s_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
                      f"doubled); give elements of at most a third of the spacing ({spacing / 3.0:.4g} m, the "
                      f"default)"),
         max_element=min(layer, 0.5 * track),
-        max_element_reason=f"bending boundary layer sqrt(EI/H) = {layer:.3g} m and half the tensioner "
-                           f"({0.5 * track:.3g} m) must each span at least one element",
+        max_element_reason=f"bending boundary layer sqrt(EI/H) = {layer:.3g} m and "
+                           f"{_half_track(tpl, track, 'tensioner')} must each span at least one element",
         supports={
             "tensioner": _tensioner(tpl, "", None, [x0 - gap - track, y0, zA], [1.0, 0.0, 0.0],
                                     track + half_element, top, static_load=top, upstream=track,
@@ -850,8 +861,8 @@ def _j_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
     collar.pop("line")
     collar["attach"] = None
     geo.update(max_element=min(layer, 0.5 * track),
-               max_element_reason=f"bending boundary layer sqrt(EI/H) = {layer:.3g} m and half the collar "
-                                  f"({0.5 * track:.3g} m) must each span at least one element",
+               max_element_reason=f"bending boundary layer sqrt(EI/H) = {layer:.3g} m and "
+                                  f"{_half_track(tpl, track, 'collar')} must each span at least one element",
                supports={"collar": collar}, default_element=default_element,
                coarse_mesh=(0.5 * hang_off,
                             f"longer than half the bending boundary layer below the collar, sqrt(EI/T_top) = "
