@@ -121,13 +121,17 @@ def _regularise(J: np.ndarray, mu: float, mask: np.ndarray, yaw: list | None = N
 
 
 def _free_yaw(system: System, ref: Reference) -> list:
-    """(rfe, n) of every body on a pinned connection: n the rotation about the global vertical
-    in the RFE's re-based angle coordinates (psi, theta, phi at zero angles turn about the
-    body's z, y, x axes: n = (v_z, v_y, v_x), v = R^T e_z)."""
+    """(rfe, n) of every body on a pinned connection that ``hang_bodies`` turned to hang: n the
+    rotation about the global vertical in the RFE's re-based angle coordinates (psi, theta,
+    phi at zero angles turn about the body's z, y, x axes: n = (v_z, v_y, v_x), v = R^T e_z).
+    Only those: a body that hung from the start keeps the Newton path it had (a force-driven
+    A-frame portal, whose statics has a second equilibrium with the legs swung over, reached
+    that one at 171 deg when its payload's yaw was damped too)."""
     km = system.km
+    hung = getattr(system, "hung_bodies", None) or ()
     out = []
     for info in getattr(system.model, "bodies", None) or []:
-        if np.all(km.sde_stiffness[info.sde, 3:] == 0.0):
+        if info.name in hung and np.all(km.sde_stiffness[info.sde, 3:] == 0.0):
             v = ref.R[info.rfe][2]          # R^T e_z: the third row of R
             out.append((info.rfe, np.array([v[2], v[1], v[0]])))
     return out
@@ -342,7 +346,9 @@ def solve_statics(system: System, state: State | None = None, *, tolerance: floa
     given state (an equilibrium being solved again keeps its pose)."""
     model = system.model
     if hang if hang is not None else state is None:
-        state, _ = hang_bodies(system, state or model.initial)
+        state, turned = hang_bodies(system, state or model.initial)
+        # their free yaw is damped from here on (_free_yaw), in the solves of this system that follow too
+        system.hung_bodies = set(turned)
     mobilised = seabed_friction == "mobilised"
     system.set_friction_mode(1 if mobilised else 2)
     system.ws.waves_off[0] = 1          # statics: still water plus current
