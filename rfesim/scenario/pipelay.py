@@ -894,6 +894,27 @@ def _reel_payout(tpl, back_tension: float) -> dict:
 MAX_REEL_WRAP_DEG = 180.0
 
 
+def _elastic_on_reel(pipe, reel_radius: float) -> None:
+    """Warn (``pipe.material``) when an elastic pipe is bent on the reel beyond its grade's yield
+    strain: reeling is plastic by design (a 12.75 in pipe on an 8 m drum is strained 2 %, some
+    ten times the yield strain), so an elastic pipe there carries moments about ten times its
+    first-yield moment into the aligner and straightener, and has no residual curvature."""
+    spec = pipe.spec
+    strain = 0.5 * spec.outer_diameter / reel_radius
+    yield_strain = pipe.yield_stress / spec.youngs_modulus
+    if strain <= yield_strain:
+        return
+    moment = pipe.EI / reel_radius
+    first_yield = pipe.yield_stress * pipe.inertia / (0.5 * spec.outer_diameter)
+    template_warning("pipe.material",
+                     f"an elastic pipe bent on the {reel_radius:.4g} m reel (pipe axis): its bending strain D/2R = "
+                     f"{100.0 * strain:.3g} % is {strain / yield_strain:.3g} times the yield strain of "
+                     f"{spec.grade} ({100.0 * yield_strain:.3g} %): it carries {moment / 1e6:.4g} MN*m on the "
+                     f"drum where its first-yield moment is {first_yield / 1e6:.4g} MN*m, and leaves the "
+                     f"straightener with no residual curvature; give material: elastoplastic (the reel-lay "
+                     f"default)")
+
+
 def _reel_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
     """Reel-lay, up the ramp from its exit: tensioner, 2 m, straightener, 2 m, the aligner
     arc (stinger kind, from horizontal down to the ramp angle), 2 m of horizontal pipe to
@@ -920,6 +941,8 @@ def _reel_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
     lift = rp + roller_radius                       # flat aligner rollers
     Rp = tpl.aligner_radius + lift
     reel_radius = tpl.reel.radius + rp               # the pipe axis on the drum
+    if pipe.material == "elastic":
+        _elastic_on_reel(pipe, reel_radius)
     # pipe on the drum at the start: enough for the payout and to bring reeled pipe past the
     # straightener (ReelSpec.stored_length), inside the largest wrap window
     element = min(tpl.element_length or DEFAULT_ELEMENT_LENGTH["reel-lay"], 0.25 * tpl.reel.radius,
