@@ -9,7 +9,6 @@ import json
 from pathlib import Path
 
 import numpy as np
-import pytest
 
 import rfesim
 from rfesim.model.compile import compile_scenario
