@@ -371,7 +371,9 @@ def statics(scenario, *, progress=None):
     sc = _scenario(scenario)
     if _other_formulations(sc):
         from .formulations import scene
-        return scene.statics(sc, progress)
+        res = scene.statics(sc, progress)
+        res.message += _breaking_load_message(sc, res)
+        return res
     system = System(_compiled(sc))
     wall0 = _time.perf_counter()
     state, info = _static_state(system, sc, progress)
@@ -379,8 +381,10 @@ def statics(scenario, *, progress=None):
     rec.record(state, state.qdd)
     counters = {"newton_iterations": info.iterations, "load_steps": info.load_steps,
                 "wall_time": _time.perf_counter() - wall0}
-    return rec.results(status=0, message=_with_warnings(info.message, info), counters=counters,
-                       scenario_json=sc.model_dump_json(), version=__version__, kind="statics")
+    res = rec.results(status=0, message=_with_warnings(info.message, info), counters=counters,
+                      scenario_json=sc.model_dump_json(), version=__version__, kind="statics")
+    res.message += _breaking_load_message(sc, res)
+    return res
 
 
 def simulate(scenario, *, progress=None):
@@ -413,6 +417,8 @@ def simulate(scenario, *, progress=None):
         if res.kind == "dynamics":
             res.message += _dynamic_warnings(None, res, sc)
             log.info("%s", describe_run(res.counters, float(res.time[-1])))
+        else:
+            res.message += _breaking_load_message(sc, res)
         return res
     model = _compiled(sc)
     system = System(model)
@@ -428,8 +434,10 @@ def simulate(scenario, *, progress=None):
     if not (dyn.enabled and dyn.duration > 0):
         rec = Recorder(system, 1)
         rec.record(state, state.qdd)
-        return rec.results(status=0, message=_with_warnings("statics only", info), counters=dict(counters),
-                           kind="statics", **meta)
+        res = rec.results(status=0, message=_with_warnings("statics only", info), counters=dict(counters),
+                          kind="statics", **meta)
+        res.message += _breaking_load_message(sc, res)
+        return res
     try:
         state, rec, counters = run_dynamics(system, state, dyn, progress=progress, counters=counters)
     except SolverError as exc:
@@ -465,6 +473,38 @@ def simulate(scenario, *, progress=None):
 DYNAMICS_WARNING = "; dynamics warning: "   # what precedes each dynamics warning in a results' message
 
 
+def breaking_load_warnings(sc: Scenario, results) -> list[str]:
+    """One message per line whose line type gives a ``breaking_load`` and whose effective
+    tension in ``results`` exceeds it: the peak, its time and place, and its multiple of the
+    breaking load."""
+    out = []
+    for name, line in (sc.lines or {}).items():
+        lt = (sc.line_types or {}).get(line.type)
+        mbl = getattr(lt, "breaking_load", None)
+        if not mbl or name not in results.lines:
+            continue
+        lr = results.line(name)
+        tension = np.asarray(lr.tension, float)
+        if tension.size == 0 or not np.isfinite(tension).any():
+            continue
+        k, j = np.unravel_index(int(np.nanargmax(tension)), tension.shape)
+        peak = float(tension[k, j])
+        if peak > mbl:
+            s = float(np.asarray(lr.sde_arc_length)[j])
+            out.append(f"line '{name}' reaches {peak / 1e3:.6g} kN of tension at t = {float(results.time[k]):.6g} s, "
+                       f"{s:.4g} m from end A: {peak / mbl:.3g} times the breaking_load of its line type "
+                       f"'{line.type}' ({mbl / 1e3:.6g} kN)")
+    return out
+
+
+def _breaking_load_message(sc: Scenario, results) -> str:
+    """The breaking-load warnings of a statics result, logged and as text for its message."""
+    warnings = breaking_load_warnings(sc, results)
+    for w in warnings:
+        log.warning("statics: %s", w)
+    return "".join(f"{STATICS_WARNING}{w}" for w in warnings)
+
+
 def _dynamic_warnings(model, results, sc=None) -> str:
     """A duration the output interval does not divide, the RAO vessels whose table leaves
     out a noticeable part of the sea (rfesim.sea.rao.rao_range_warnings) and the lines whose tension in the run went past
@@ -473,7 +513,8 @@ def _dynamic_warnings(model, results, sc=None) -> str:
     from .sea.rao import rao_range_warnings
     from .solvers.dynamics import output_interval_warning
     warnings = (rao_range_warnings(sc) if sc is not None else []) + (
-        dynamic_shear_warnings(model, results) if model is not None else [])
+        dynamic_shear_warnings(model, results) if model is not None else []) + (
+        breaking_load_warnings(sc, results) if sc is not None else [])
     for w in warnings:
         log.warning("dynamics: %s", w)
     # a duration the output interval does not divide: logged when the run was scheduled

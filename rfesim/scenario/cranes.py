@@ -213,6 +213,9 @@ class RopeSpec(_Strict):
                                 limit=COEFFICIENT_LIMIT)
     added_mass_normal: float = _units("1", "Normal added-mass coefficient", default=1.0, ge=0.0, le=MAX_COEFFICIENT,
                                       limit=COEFFICIENT_LIMIT)
+    breaking_load: float | None = _units("N", "Minimum breaking load (MBL) of the rope: a run whose rope tension "
+                                              "exceeds it says so (the rope's line type breaking_load); omit for "
+                                              "no check", default=None, gt=0.0, le=1e12)
 
     def count(self) -> int:
         return self.elements if self.elements is not None else min(100, max(10, int(math.ceil(self.length))))
@@ -224,7 +227,8 @@ class RopeSpec(_Strict):
         EI = self.bending_stiffness if self.bending_stiffness is not None else \
             ROPE_BENDING_FRACTION * STEEL_E * math.pi / 64.0 * d ** 4
         return {"EA": EA, "EIy": EI, "mass_per_length": mass, "outer_diameter": d,
-                "tension_only": True, "drag_normal": self.drag_normal, "added_mass_normal": self.added_mass_normal,
+                "tension_only": True, "breaking_load": self.breaking_load,
+                "drag_normal": self.drag_normal, "added_mass_normal": self.added_mass_normal,
                 "damping": {"axial_ratio": self.damping_ratio, "bending_ratio": self.damping_ratio}}
 
 

@@ -1225,6 +1225,10 @@ class LineType(_Strict):
     material: Material = Field(default_factory=ElasticMaterial)
     tension_only: bool = Field(False, description="A rope: the axial SDE force is max(0, EA eps + damping), "
                                                   "never compressive (slack); keep the bending stiffness small")
+    breaking_load: float | None = _units(
+        "N", "Minimum breaking load (MBL) of the line: a run whose effective tension exceeds it says so "
+             "(a warning with the peak, where and when, and its multiple of the MBL); omit for no check",
+        default=None, gt=0.0, le=1e12)
     damping: StructuralDamping | None = None
 
     @model_validator(mode="after")
