@@ -15,7 +15,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[2]
 SCENARIO = ROOT / "scenarios" / "column_crane.json"
 HS, TP, SEED = 2.0, 8.0, 11
-DIRECTION = 0.0              # deg, head seas (in beam seas the barge's roll slackens the rope: a harsher case)
+DIRECTION = 0.0              # deg, following seas for the heading 0 (in beam seas the barge's roll slackens the rope: a harsher case)
 DEPTH_OF_PAYLOAD = 10.0      # m, payload centre under the still water level
 SETTLE = 60.0                # s, start-up left out of the maximum (waves ramp in over 20 s)
 

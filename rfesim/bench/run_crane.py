@@ -97,7 +97,7 @@ def report(b: dict) -> str:
              f"boom at 45 deg slewed over the side, 36 mm hoist rope, 10 t module of 4 m3) holding the payload "
              f"{DEPTH_OF_PAYLOAD:g} m under the surface, the rope through the splash zone; {p['rfes']} RFEs in all "
              f"(pedestal, boom, rope and the payload); barge RAOs in a JONSWAP sea Hs {HS:g} m, Tp {TP:g} s, "
-             f"toward {DIRECTION:g} deg (head seas), seed {SEED}; generalized-alpha (rho_inf 0.8). Output: the largest rope tension at the sheave "
+             f"toward {DIRECTION:g} deg (following seas), seed {SEED}; generalized-alpha (rho_inf 0.8). Output: the largest rope tension at the sheave "
              f"after the first {SETTLE:g} s, sampled every {p['output_interval']:g} s in every run.", "",
              "| run | time step [s] | simulated [s] | wall time [s] | faster than real time | steps | step halvings "
              "| residual evaluations / step | Jacobians / step | static tension [kN] | max tension [kN] |",
