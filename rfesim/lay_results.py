@@ -133,7 +133,8 @@ def lay_summary(res, line: str | None = None, *, outer_diameter: float | None = 
     """Pipelay outputs of ``line`` (default: the one line with supports).
 
     ``outer_diameter``: steel diameter for the strains (default: the line type's
-    outer_diameter; give it for a coated pipe, whose line type has the coated diameter).
+    steel_outer_diameter, which the pipelay templates set for a coated pipe, else its
+    outer_diameter; give it for a coated pipe of your own line type without it).
     ``t_from``: range graphs and maxima from this time on (default: the whole run).
 
     Returns a dict: ``time`` (nt,); ``top_tension`` (nt,) N, the axial force at the top of
@@ -165,7 +166,7 @@ def lay_summary(res, line: str | None = None, *, outer_diameter: float | None = 
     name = _pick_line(sc, res, line)
     lr = res.line(name)
     lt = sc["line_types"][sc["lines"][name]["type"]]
-    D = float(outer_diameter or lt.get("outer_diameter") or 0.0)
+    D = float(outer_diameter or lt.get("steel_outer_diameter") or lt.get("outer_diameter") or 0.0)
     if lt.get("EIy") is not None:
         EI = float(lt["EIy"])
     else:

@@ -518,7 +518,8 @@ class _Pipe:
         G = p.youngs_modulus / (2.0 * (1.0 + nu))
         Dc = self.contact_diameter
         rotary = p.density * self.inertia + p.coating_density * math.pi / 64.0 * (Dc ** 4 - D ** 4)
-        return {"outer_diameter": Dc, "EA": self.EA, "EIy": self.EI, "EIz": self.EI, "GJ": 2.0 * G * self.inertia,
+        return {"outer_diameter": Dc, "steel_outer_diameter": D,
+                "EA": self.EA, "EIy": self.EI, "EIz": self.EI, "GJ": 2.0 * G * self.inertia,
                 "GA": cowper_shear_coefficient(D, d, nu) * G * self.area, "mass_per_length": self.mass,
                 "rotary_inertia": rotary, "material": material, **common}
 

@@ -1229,10 +1229,18 @@ class LineType(_Strict):
         "N", "Minimum breaking load (MBL) of the line: a run whose effective tension exceeds it says so "
              "(a warning with the peak, where and when, and its multiple of the MBL); omit for no check",
         default=None, gt=0.0, le=1e12)
+    steel_outer_diameter: float | None = _units(
+        "m", "Outer diameter of the steel of a coated pipe given by direct section properties (outer_diameter "
+             "is then the coated one): bending strains are taken at it (rfesim.lay_results); default "
+             "outer_diameter", default=None, gt=0.0, le=100.0)
     damping: StructuralDamping | None = None
 
     @model_validator(mode="after")
     def _section(self):
+        if self.steel_outer_diameter is not None and self.outer_diameter is not None \
+                and self.steel_outer_diameter > self.outer_diameter:
+            raise FieldError("steel_outer_diameter", f"{self.steel_outer_diameter} m is larger than outer_diameter "
+                                                     f"{self.outer_diameter} m: the steel lies inside the coating")
         pipe = self.wall_thickness is not None
         if not pipe and self.EA is None and (self.youngs_modulus is not None or self.density is not None):
             raise FieldError("wall_thickness", "a pipe geometry needs wall_thickness (with outer_diameter, "
