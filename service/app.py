@@ -535,14 +535,16 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         import csv
         import io
 
-        from rfesim.sweep import _cell
+        # numbers in full precision (repr), as the CSV of rfesim sweep: the console's 6 digits
+        # made two load cases 2.0000001 and 2.0000004 read back as the same row
+        from rfesim.sweep import _csv_cell
 
         answer = _sweep_answer(sweep_or_404(sweep_id))
         buf = io.StringIO()
         writer = csv.writer(buf)
         writer.writerow(answer["columns"])
         for row in answer["rows"]:
-            writer.writerow([_cell(row.get(c)) for c in answer["columns"]])
+            writer.writerow([_csv_cell(row.get(c)) for c in answer["columns"]])
         return Response(buf.getvalue(), media_type="text/csv",
                         headers={"Content-Disposition": f'attachment; filename="sweep-{sweep_id}.csv"'})
 
