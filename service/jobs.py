@@ -67,8 +67,11 @@ class JobManager:
         if self.recovered[0] or self.recovered[1]:
             log.warning("after the restart: %d jobs re-queued, %d failed (interrupted too often)",
                         len(self.recovered[0]), len(self.recovered[1]))
-        for job_id in self.recovered[0]:
-            self._clean_job_dir(job_id)
+        # before the executor starts: no worker of this service writes into a job folder yet,
+        # so every temporary file found is a leftover (a worker killed mid-write, a service
+        # stopped or killed while a job wrote its results: that job is now queued, failed or
+        # cancelled, not only among the re-queued ones)
+        self._clean_all_job_dirs()
         self.executor.start()
         self._thread = threading.Thread(target=self._run, name="rfesim-job-manager", daemon=True)
         self._thread.start()
@@ -83,10 +86,33 @@ class JobManager:
         self.store.requeue_running("re-queued: the service stopped while it was running", None, refund=True)
 
     def _clean_job_dir(self, job_id: str) -> None:
-        """Remove temporary files a killed worker may have left (complete results stay)."""
-        folder = self.job_dir(job_id)
-        for tmp in folder.glob(".*.tmp"):
-            tmp.unlink(missing_ok=True)
+        """Remove temporary files a killed worker may have left (complete results stay).
+        Only for a job no worker runs: at start, before the executor, and at its outcome."""
+        self._clean_folder(self.job_dir(job_id))
+
+    @staticmethod
+    def _clean_folder(folder: Path) -> None:
+        try:
+            stray = list(folder.glob(".*.tmp"))
+        except OSError:
+            return
+        for tmp in stray:
+            try:
+                size = tmp.stat().st_size
+                tmp.unlink()
+            except OSError:
+                continue
+            log.info("removed the stray temporary file %s (%d bytes)", tmp, size)
+
+    def _clean_all_job_dirs(self) -> None:
+        """At start: the stray temporary files of every job folder (a partial results file
+        of 10-100 MB stayed for ever when its worker was killed while writing it)."""
+        try:
+            folders = [p for p in (self.data_dir / "jobs").iterdir() if p.is_dir()]
+        except OSError:
+            return
+        for folder in folders:
+            self._clean_folder(folder)
 
     # ------------------------------------------------------------------ from the routes
     def notify(self) -> None:
@@ -217,6 +243,10 @@ class JobManager:
             self._writing.pop(job_id, None)
             self._flushed.pop(job_id, None)
             self._running_message.pop(job_id, None)
+            # the job's worker has ended with it (reported its outcome, or died or was killed:
+            # e.g. mid-write, after RFESIM_CANCEL_WRITE_GRACE): nothing writes in its folder any
+            # more, so a temporary file there is a partial results file that no rename will claim
+            self._clean_job_dir(job_id)
             status = out.get("status", "failed")
             if status not in ("done", "failed", "cancelled"):
                 status = "failed"

@@ -5,13 +5,15 @@ service tests: ``service.executor.worker_module`` replaced by
 name: the tests' folder is on the path it inherits). The warm-up's file is not slowed."""
 from __future__ import annotations
 
+import os
+import secrets
 import time
 from pathlib import Path
 
 from service import worker
 
 
-def process_main(conn, warmup: bool = True, *, delay: float = 0.0) -> None:
+def process_main(conn, warmup: bool = True, *, delay: float = 0.0, partial: int = 0) -> None:
     worker.set_thread_environment()                 # before rfesim (numba) is imported
     from rfesim.results import Results
 
@@ -19,7 +21,13 @@ def process_main(conn, warmup: bool = True, *, delay: float = 0.0) -> None:
 
     def slow_to_netcdf(self, path):
         if Path(path).name == "results.nc":
+            tmp = None
+            if partial:
+                tmp = Path(path).with_name(f".results.nc.{secrets.token_hex(6)}.tmp")
+                tmp.write_bytes(b"\x89HDF" + bytes(partial))
             time.sleep(delay)
+            if tmp is not None:
+                os.unlink(tmp)
         return original(self, path)
 
     Results.to_netcdf = slow_to_netcdf

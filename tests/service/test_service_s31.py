@@ -1,13 +1,27 @@
 """Defects of the service found by an audit: the sweep CSV rounded every number to 6
 significant digits, partial results files of killed workers stayed in the job folders for
-ever."""
+ever, ..."""
 from __future__ import annotations
 
+import contextlib
 import csv
+import functools
 import io
+import os
+import signal
 import time
+import types
+import warnings
 
-from service_helpers import riser
+import slow_write_worker
+from service import executor as executor_module
+from service.app import create_app
+from service.settings import Settings
+from service_helpers import alive, long_job, riser
+
+with warnings.catch_warnings():      # starlette's note on its httpx client, which these tests do not mind
+    warnings.simplefilter("ignore")
+    from fastapi.testclient import TestClient
 
 
 def _wait_sweep(client, sweep_id: str, timeout: float = 120.0) -> dict:
@@ -44,3 +58,92 @@ def test_the_sweep_csv_has_the_numbers_of_the_json_table_in_full_precision(api):
                 assert float(cell) == value, (column, cell, value)     # read back exactly
                 numbers += 1
     assert numbers >= 12
+
+
+# --------------------------------------------------------------------------- 2. stray partial results files
+
+@contextlib.contextmanager
+def _hang_write_service(monkeypatch, tmp_path, **settings):
+    """A service with one local worker that writes a partial results file (1 MB) and hangs."""
+    monkeypatch.setattr(executor_module, "worker_module", types.SimpleNamespace(
+        process_main=functools.partial(slow_write_worker.process_main, delay=3600.0, partial=1 << 20)))
+    app = create_app(Settings(data_dir=tmp_path / "data", workers=1, warmup=False, cancel_grace=0.5,
+                              submit_model_check=False, **settings))
+    with TestClient(app) as client:
+        yield client
+
+
+def _poll(client, job_id: str, predicate, timeout: float = 120.0) -> dict:
+    deadline = time.monotonic() + timeout
+    while True:
+        job = client.get(f"/jobs/{job_id}").json()
+        if predicate(job):
+            return job
+        assert time.monotonic() < deadline, job
+        time.sleep(0.05)
+
+
+def _over(job: dict) -> bool:
+    return job["status"] in ("done", "failed", "cancelled")
+
+
+def _partial_files(folder) -> list[str]:
+    return sorted(p.name for p in folder.glob(".*.tmp"))
+
+
+def test_the_partial_file_of_a_worker_killed_while_writing_is_removed(monkeypatch, tmp_path):
+    with _hang_write_service(monkeypatch, tmp_path) as client:
+        r = client.post("/jobs", json=riser())
+        assert r.status_code == 202, r.text
+        job_id = r.json()["id"]
+        folder = tmp_path / "data" / "jobs" / job_id
+        job = _poll(client, job_id, lambda j: _over(j) or "writing the results" in j["message"])
+        assert job["status"] == "running", job
+        deadline = time.monotonic() + 10.0
+        while not _partial_files(folder) and time.monotonic() < deadline:
+            time.sleep(0.02)
+        assert len(_partial_files(folder)) == 1
+        os.kill(job["worker_pid"], signal.SIGKILL)
+        job = _poll(client, job_id, _over)
+        assert job["status"] == "failed" and "was killed by SIGKILL" in job["message"], job
+        assert _partial_files(folder) == [] and not (folder / "results.nc").exists()
+
+
+def test_the_partial_file_of_a_write_killed_after_the_write_grace_is_removed(monkeypatch, tmp_path):
+    with _hang_write_service(monkeypatch, tmp_path, cancel_write_grace=1.0) as client:
+        r = client.post("/jobs", json=long_job())
+        assert r.status_code == 202, r.text
+        job_id = r.json()["id"]
+        folder = tmp_path / "data" / "jobs" / job_id
+        job = _poll(client, job_id, lambda j: _over(j) or (j["simulated_time"] or 0.0) >= 0.2)
+        assert job["status"] == "running", job
+        assert client.delete(f"/jobs/{job_id}").status_code == 202
+        job = _poll(client, job_id, lambda j: _over(j) or j["message"].startswith("cancel requested: writing"))
+        assert job["status"] == "running", job
+        pid = job["worker_pid"]
+        assert len(_partial_files(folder)) == 1
+        job = _poll(client, job_id, _over, timeout=30.0)
+        assert job["status"] == "cancelled" and "the results are lost" in job["message"], job
+        assert not alive(pid)
+        assert _partial_files(folder) == []
+
+
+def test_at_start_the_partial_files_of_every_job_folder_are_removed(tmp_path):
+    settings = Settings(data_dir=tmp_path / "data", workers=1, warmup=False, submit_model_check=False)
+    with TestClient(create_app(settings)) as client:
+        r = client.post("/jobs", json=riser())
+        assert r.status_code == 202, r.text
+        job_id = r.json()["id"]
+        assert _poll(client, job_id, _over)["status"] == "done"
+    folder = tmp_path / "data" / "jobs" / job_id
+    results = (folder / "results.nc").read_bytes()
+    # what a worker killed while the service stopped (a done job rerun, a cancelled one) leaves
+    (folder / ".results.nc.0123456789ab.tmp").write_bytes(b"\x89HDF" + bytes(1000))
+    other = tmp_path / "data" / "jobs" / "a-job-that-was-cancelled"
+    other.mkdir()
+    (other / ".results.nc.ba9876543210.tmp").write_bytes(b"\x89HDF")
+    with TestClient(create_app(settings)) as client:
+        assert client.get(f"/jobs/{job_id}").json()["status"] == "done"
+        assert client.get(f"/jobs/{job_id}/results.nc").content == results
+    assert _partial_files(folder) == [] and (folder / "results.nc").read_bytes() == results
+    assert os.listdir(other) == []
