@@ -8,11 +8,20 @@ path-like key, which must name a file inside ``<data_dir>/files`` once resolved
 submitted by name: the data files that example itself names (``scenarios/data/...``,
 resolved against the bundled scenarios folder) are passed in ``allowed`` and accepted,
 those exact files and nothing else.
+
+A job runs on the data files as they were when it was submitted: :func:`snapshot_data_files`
+copies each file a scenario names, at submit and before it is checked, to
+``<data_dir>/inputs/<sha256 of its content>/<its name>`` (written once, never changed) and
+the stored scenario names the copy. Those copies are readable by the path guard too, so a
+job's stored scenario (``GET /jobs/{id}/scenario``) can be submitted again.
 """
 from __future__ import annotations
 
+import copy
+import hashlib
 import os
 import re
+import secrets
 from pathlib import Path
 from typing import Any, Collection
 
@@ -31,12 +40,18 @@ def files_dir(data_dir: Path) -> Path:
     return Path(data_dir).resolve() / "files"
 
 
+def inputs_dir(data_dir: Path) -> Path:
+    """Where the service keeps the copies of the data files jobs were submitted with."""
+    return Path(data_dir).resolve() / "inputs"
+
+
 def resolve_data_path(value: str, data_dir: Path, allowed: Collection[Path] = ()) -> Path:
     """The absolute path of a scenario's file reference, or UnsafePath.
 
     Relative paths are taken from ``<data_dir>/files``; the result, with symbolic links
     resolved, must lie inside that folder or be one of the ``allowed`` files (resolved
-    absolute paths: the data files of a bundled example).
+    absolute paths: the data files of a bundled example), or be a copy made at a submit
+    (``<data_dir>/inputs``, :func:`snapshot_data_files`).
     """
     if not isinstance(value, str) or not value.strip():
         raise UnsafePath("must be a non-empty file name")
@@ -52,7 +67,7 @@ def resolve_data_path(value: str, data_dir: Path, allowed: Collection[Path] = ()
         resolved = Path(os.path.realpath(candidate))
     except (OSError, ValueError) as exc:
         raise UnsafePath(f"is not a usable path ({exc})") from None
-    if resolved in allowed:
+    if resolved in allowed or inputs_dir(data_dir) in resolved.parents:
         return resolved
     if resolved != base and base not in resolved.parents:
         raise UnsafePath(f"must name a file inside the service's data directory ({base}), "
@@ -91,6 +106,77 @@ def check_scenario_paths(data: Any, data_dir: Path, _prefix: str = "",
         else:
             errors += check_scenario_paths(value, data_dir, path, allowed)
     return errors
+
+
+def snapshot_data_files(data: Any, data_dir: Path, copies: dict[str, str] | None = None) -> Any:
+    """``data`` (a raw scenario whose ``file`` values are absolute: checked by
+    :func:`check_scenario_paths`, made absolute by ``resolve_data_files``) with every ``file``
+    value replaced by a copy of that file as it is now (a copy of ``data`` when anything
+    changes; the input is never modified).
+
+    A queued job read its RAO table or motion CSV only when a worker ran it: a file replaced
+    meanwhile changed the job's results (172.6 kN instead of 118.0 kN of top tension for the
+    same submitted body), and the submit's checks had been made on the old file. The copy is
+    ``<data_dir>/inputs/<sha256 of the content>/<file name>``: the file is read once, its
+    bytes hashed and written (a temporary file then a rename, so a copy is complete or
+    absent), and an identical content is kept once, however many jobs or load cases name it.
+    The submit checks the scenario with the copies, so what is checked is what runs.
+    ``copies`` (file value -> copy) makes the load cases of one sweep read each file once.
+    A file that cannot be read is left as it is: loading the scenario names the field and
+    the reason."""
+    from rfesim.scenario.files import FILE_KEYS
+
+    copies = {} if copies is None else copies
+    refs: list[tuple] = []
+    _file_refs(data, FILE_KEYS, refs)
+    if not refs:
+        return data
+    out = copy.deepcopy(data)
+    for ref in refs:
+        cur = out
+        for k in ref[:-1]:
+            cur = cur[k]
+        value = cur[ref[-1]]
+        if value not in copies:
+            copies[value] = _copy_of(value, data_dir)
+        cur[ref[-1]] = copies[value]
+    return out
+
+
+def _file_refs(data: Any, keys, out: list, path: tuple = ()) -> None:
+    if isinstance(data, dict):
+        for key, value in data.items():
+            if key in keys and isinstance(value, str) and os.path.isabs(value):
+                out.append(path + (key,))
+            else:
+                _file_refs(value, keys, out, path + (key,))
+    elif isinstance(data, list):
+        for i, value in enumerate(data):
+            _file_refs(value, keys, out, path + (i,))
+
+
+def _copy_of(value: str, data_dir: Path) -> str:
+    """The path of the copy of the file ``value`` (absolute) in ``<data_dir>/inputs``, or
+    ``value`` itself when it cannot be read."""
+    try:
+        with open(value, "rb") as f:
+            content = f.read()
+    except (OSError, ValueError):
+        return value
+    name = os.path.basename(value) or "data"
+    folder = inputs_dir(data_dir) / hashlib.sha256(content).hexdigest()
+    target = folder / name
+    if target.is_file():
+        return str(target)
+    folder.mkdir(parents=True, exist_ok=True)
+    tmp = folder / f".{name}.{secrets.token_hex(6)}.tmp"
+    try:
+        tmp.write_bytes(content)
+        os.replace(tmp, target)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+    return str(target)
 
 
 def find_scenarios_dir(configured: Path | None = None) -> Path | None:

@@ -21,7 +21,7 @@ from concurrent.futures import TimeoutError as FutureTimeout
 from pathlib import Path
 from typing import Any
 
-from .paths import SAFE_NAME, check_scenario_paths, files_dir
+from .paths import SAFE_NAME, check_scenario_paths, files_dir, snapshot_data_files
 
 WRAPPER_KEYS = ("scenario", "overrides")
 
@@ -255,8 +255,10 @@ def prepare_job(data: Any, settings, scenarios_dir: Path | None, model_check: "M
         if path_errors:
             raise Invalid([(_loc(f), r) for f, r in path_errors])
         # relative data files are the service's <data_dir>/files, never its working directory:
-        # store them absolute so the worker reads the same files
+        # made absolute, then copied as they are now (the job runs on the files it was
+        # submitted with, not on what a later upload put in their place), and checked as copied
         scenario = resolve_data_files(scenario, files_dir(settings.resolved_data_dir()))
+        scenario = snapshot_data_files(scenario, settings.resolved_data_dir())
         sc = load_scenario(scenario, base_dir=files_dir(settings.resolved_data_dir()))
     except ScenarioError as exc:
         raise _scenario_errors(exc) from None
@@ -324,6 +326,7 @@ def prepare_sweep(data: Any, settings, scenarios_dir: Path | None,
     # structure -> (load case, its case indices): the Scenario objects are not kept (one can hold
     # megabytes, its RAO tables), the build loads its first case again
     builds: dict[Any, tuple[str, list[int]]] = {}
+    copies: dict[str, str] = {}          # each data file read and copied once for all the cases
     for i, values in enumerate(points):
         where = ", ".join(f"{k}={json.dumps(v)}" for k, v in values.items())
         try:
@@ -332,6 +335,7 @@ def prepare_sweep(data: Any, settings, scenarios_dir: Path | None,
             if path_errors:
                 raise Invalid([(_loc(f), f"{r} (load case {where})") for f, r in path_errors])
             case = resolve_data_files(case, files_dir(settings.resolved_data_dir()))
+            case = snapshot_data_files(case, settings.resolved_data_dir(), copies)
             sc = load_scenario(case, base_dir=files_dir(settings.resolved_data_dir()))
         except ScenarioError as exc:
             raise _scenario_errors(exc, f" (load case {where})") from None

@@ -1,9 +1,10 @@
 """Defects of the service found by an audit: the sweep CSV rounded every number to 6
 significant digits, partial results files of killed workers stayed in the job folders for
-ever, ..."""
+ever, a queued job read its data files when it ran (not as they were at submit), ..."""
 from __future__ import annotations
 
 import contextlib
+import copy
 import csv
 import functools
 import io
@@ -147,3 +148,62 @@ def test_at_start_the_partial_files_of_every_job_folder_are_removed(tmp_path):
         assert client.get(f"/jobs/{job_id}/results.nc").content == results
     assert _partial_files(folder) == [] and (folder / "results.nc").read_bytes() == results
     assert os.listdir(other) == []
+
+
+# --------------------------------------------------------------------------- 3. data files as submitted
+
+def _motion_csv(heave: float) -> str:
+    """A heave of ``heave`` m amplitude, period 8 s, for 0-4 s: t, surge, sway, heave, roll, pitch, yaw."""
+    import math
+
+    rows = [f"{t:.2f},0,0,{heave * math.sin(2 * math.pi * t / 8.0):.6f},0,0,0"
+            for t in (0.1 * i for i in range(41))]
+    return "t,surge,sway,heave,roll,pitch,yaw\n" + "\n".join(rows) + "\n"
+
+
+def test_a_queued_job_runs_on_the_data_files_as_they_were_at_submit(tmp_path):
+    data = tmp_path / "data"
+    (data / "files").mkdir(parents=True)
+    motion = data / "files" / "motion.csv"
+    original, replaced = _motion_csv(3.0), _motion_csv(9.0)
+    motion.write_text(original)
+    scenario = copy.deepcopy(riser())
+    scenario["vessels"]["ship"]["motion"] = {"kind": "csv", "file": "motion.csv"}
+    settings = Settings(data_dir=data, workers=1, warmup=False, submit_model_check=False, cancel_grace=30.0)
+    with TestClient(create_app(settings)) as client:
+        def submit(path: str, body) -> dict:
+            r = client.post(path, json=body)
+            assert r.status_code == 202, r.text
+            return r.json()
+
+        first = _poll(client, submit("/jobs", scenario)["id"], _over)
+        assert first["status"] == "done", first
+        # the one worker busy: the next ones wait in the queue while the file is replaced
+        busy = submit("/jobs", long_job())["id"]
+        _poll(client, busy, lambda j: _over(j) or (j["simulated_time"] or 0.0) > 0.0)
+        queued = submit("/jobs", scenario)["id"]
+        sweep = submit("/sweeps", {"scenario": scenario,
+                                   "vary": {"vessels.ship.motion.interpolation": ["cubic", "linear"]}})
+        assert client.get(f"/jobs/{queued}").json()["status"] == "queued"
+        motion.write_text(replaced)                     # in place: same file, new content
+        after = submit("/jobs", scenario)["id"]
+        assert client.delete(f"/jobs/{busy}").status_code == 202
+        jobs = {k: _poll(client, j, _over) for k, j in
+                [("queued", queued), ("after", after), ("cubic", sweep["jobs"][0]), ("linear", sweep["jobs"][1])]}
+        assert all(j["status"] == "done" for j in jobs.values()), jobs
+        # what was submitted before the replacement runs on the file as it was then
+        assert jobs["queued"]["summary"] == first["summary"]
+        assert jobs["cubic"]["summary"] == first["summary"]
+        # ... and the replacement does change the results of a job submitted after it
+        assert jobs["after"]["summary"]["max_top_tension"] != first["summary"]["max_top_tension"]
+        # the stored scenario names the file the job read: a copy, as submitted
+        stored = client.get(f"/jobs/{queued}/scenario").json()["vessels"]["ship"]["motion"]["file"]
+        assert stored.startswith(str(data.resolve() / "inputs")) and stored.endswith("/motion.csv")
+        assert open(stored).read() == original
+        stored = client.get(f"/jobs/{after}/scenario").json()["vessels"]["ship"]["motion"]["file"]
+        assert open(stored).read() == replaced
+        # and can be posted again as it is (the path guard accepts the copies)
+        again = _poll(client, submit("/jobs", client.get(f"/jobs/{queued}/scenario").json())["id"], _over)
+        assert again["summary"] == first["summary"]
+    # one copy per content, however many jobs and load cases name it
+    assert sorted(p.name for p in (data / "inputs").glob("*/*")) == ["motion.csv", "motion.csv"]

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import os
 from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -154,7 +155,10 @@ def test_relative_data_files_come_from_the_data_directory_not_the_working_direct
     scenario = riser()
     scenario["vessels"]["ship"]["motion"] = {"kind": "csv", "file": "motion.csv"}
     stored, sc = validate.prepare_job(scenario, settings, None)
-    assert stored["vessels"]["ship"]["motion"]["file"] == str((files / "motion.csv").resolve())
+    # the job reads the copy made at submit of <data_dir>/files/motion.csv
+    stored_file = Path(stored["vessels"]["ship"]["motion"]["file"])
+    assert stored_file.parent.parent == (tmp_path / "data" / "inputs").resolve()
+    assert stored_file.read_bytes() == (files / "motion.csv").read_bytes()
     assert sc.vessels["ship"].motion.rows()[-1, 3] == pytest.approx(0.5)
     scenario["vessels"]["ship"]["motion"]["file"] = "secret.csv"
     with pytest.raises(validate.Invalid) as err:
