@@ -443,11 +443,17 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     @app.get("/jobs/{job_id}/results", tags=["results"], responses=_responses(401, 404, 409, 413, 422),
              summary="Results as JSON, with channel selection and decimation")
     def get_results(job_id: str,
-                    channels: str | None = Query(None, max_length=4000, description="Comma-separated channels, "
-                                                 "e.g. lines/riser/tension,lines/riser/position (default: all)"),
+                    channels: list[str] | None = Query(None, description=(
+                        "Channels, comma-separated (lines/riser/tension,lines/riser/position) or the "
+                        "parameter repeated (channels=lines/riser/tension&channels=lines/riser/position), "
+                        "or both (default: all)")),
                     every: int = Query(1, ge=1, le=10**9, description="Keep every n-th output time")):
+        # a list: ?channels=a&channels=b is how HTTP clients send a list (httpx params={"channels":
+        # [a, b]}); one string kept only the last of them, silently
+        if channels and sum(len(c) for c in channels) > 4000:
+            raise validate.Invalid([(["query", "channels"], "at most 4000 characters of channel names in all")])
         path = results_file(job_id)
-        names = [c.strip() for c in channels.split(",") if c.strip()] if channels else None
+        names = [n.strip() for c in channels for n in c.split(",") if n.strip()] if channels else None
         try:
             plan = results_json.plan_results(path, names, every, settings.max_result_values)
         except results_json.UnknownChannels as exc:

@@ -207,3 +207,25 @@ def test_a_queued_job_runs_on_the_data_files_as_they_were_at_submit(tmp_path):
         assert again["summary"] == first["summary"]
     # one copy per content, however many jobs and load cases name it
     assert sorted(p.name for p in (data / "inputs").glob("*/*")) == ["motion.csv", "motion.csv"]
+
+
+# --------------------------------------------------------------------------- 4. repeated channels
+
+def test_channels_may_be_repeated_comma_separated_or_both(api):
+    job = api.wait(api.submit(riser()))
+    assert job["status"] == "done", job
+    url = f"/jobs/{job['id']}/results"
+    a, b, c = "lines/riser/position", "lines/riser/tension", "lines/riser/bend_moment"
+    r = api.client.get(url, params={"channels": [a, b], "every": 5})      # ?channels=a&channels=b
+    assert r.status_code == 200, r.text
+    assert list(r.json()["channels"]) == [a, b]
+    r = api.client.get(url, params={"channels": [f"{a},{b}", c], "every": 5})
+    assert r.status_code == 200, r.text
+    assert list(r.json()["channels"]) == [a, b, c]
+    assert list(api.client.get(url, params={"channels": f"{b},{a}"}).json()["channels"]) == [b, a]
+    # an unknown one among repeated ones: named
+    r = api.client.get(url, params={"channels": [a, "lines/riser/nope"]})
+    assert r.status_code == 422 and r.json()["detail"][0]["loc"] == ["query", "channels"]
+    assert "lines/riser/nope" in r.json()["detail"][0]["msg"]
+    r = api.client.get(url, params={"channels": ["x" * 2500, "y" * 2500]})
+    assert r.status_code == 422 and r.json()["detail"][0]["loc"] == ["query", "channels"], r.text
