@@ -311,6 +311,17 @@ def prepare_sweep(data: Any, settings, scenarios_dir: Path | None,
             errors.append((["vary", path], "must be a non-empty list of values"))
     if errors:
         raise Invalid(errors)
+    # a path both overridden and varied: the varied values replaced the override, silently (and
+    # an override inside a varied path, lines.pipe.end_b.position under a varied lines.pipe.end_b,
+    # was lost the same way)
+    for path in vary:
+        lost = [o for o in overrides if o == path or o.startswith(path + ".")]
+        if lost:
+            errors.append((["vary", path], f"also given in overrides ({', '.join(repr(o) for o in lost)}): the "
+                                           f"varied values would replace the override; give the path in one of "
+                                           f"them"))
+    if errors:
+        raise Invalid(errors)
     to_json(vary, ["vary"])
     ncases = math.prod(len(v) for v in vary.values())
     limit = settings.max_queued_jobs

@@ -229,3 +229,44 @@ def test_channels_may_be_repeated_comma_separated_or_both(api):
     assert "lines/riser/nope" in r.json()["detail"][0]["msg"]
     r = api.client.get(url, params={"channels": ["x" * 2500, "y" * 2500]})
     assert r.status_code == 422 and r.json()["detail"][0]["loc"] == ["query", "channels"], r.text
+
+
+# --------------------------------------------------------------------------- 5a. a path overridden and varied
+
+def test_a_path_both_overridden_and_varied_is_refused(tmp_path):
+    from service import validate
+
+    settings = Settings(data_dir=tmp_path / "data")
+    path = "vessels.ship.motion.heave.amplitude"
+    body = {"scenario": riser(), "overrides": {path: 0.1, "analysis.dynamics.duration": 0.5},
+            "vary": {path: [0.2, 0.4]}}
+    try:
+        validate.prepare_sweep(body, settings, None)
+    except validate.Invalid as exc:
+        errors = exc.errors
+    else:
+        raise AssertionError("the sweep was accepted: the varied values replace the override")
+    assert errors == [(["vary", path], f"also given in overrides ('{path}'): the varied values would replace the "
+                                       f"override; give the path in one of them")]
+    # an override inside a varied path is lost the same way
+    body = {"scenario": riser(), "overrides": {"vessels.ship.motion.heave.period": 6.0},
+            "vary": {"vessels.ship.motion.heave": [{"amplitude": 0.2, "period": 8.0}]}}
+    try:
+        validate.prepare_sweep(body, settings, None)
+    except validate.Invalid as exc:
+        assert exc.errors[0][0] == ["vary", "vessels.ship.motion.heave"]
+        assert "'vessels.ship.motion.heave.period'" in exc.errors[0][1]
+    else:
+        raise AssertionError("accepted")
+    # a varied path inside an overridden one is a combination: accepted
+    body = {"scenario": riser(), "overrides": {"vessels.ship.motion.heave": {"amplitude": 0.1, "period": 6.0}},
+            "vary": {"vessels.ship.motion.heave.amplitude": [0.2, 0.4]}}
+    _, cases, _ = validate.prepare_sweep(body, settings, None)
+    assert [c["vessels"]["ship"]["motion"]["heave"] for _, c in cases] == [
+        {"amplitude": 0.2, "period": 6.0}, {"amplitude": 0.4, "period": 6.0}]
+
+
+def test_the_refusal_of_an_overridden_and_varied_path_is_a_422(api):
+    path = "vessels.ship.motion.heave.amplitude"
+    r = api.client.post("/sweeps", json={"scenario": riser(), "overrides": {path: 0.1}, "vary": {path: [0.2]}})
+    assert r.status_code == 422 and r.json()["detail"][0]["loc"] == ["vary", path], r.text
