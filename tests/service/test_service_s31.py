@@ -13,6 +13,7 @@ import signal
 import time
 import types
 import warnings
+from pathlib import Path
 
 import slow_write_worker
 from service import executor as executor_module
@@ -270,3 +271,22 @@ def test_the_refusal_of_an_overridden_and_varied_path_is_a_422(api):
     path = "vessels.ship.motion.heave.amplitude"
     r = api.client.post("/sweeps", json={"scenario": riser(), "overrides": {path: 0.1}, "vary": {path: [0.2]}})
     assert r.status_code == 422 and r.json()["detail"][0]["loc"] == ["vary", path], r.text
+
+
+# --------------------------------------------------------------------------- 5b. a sweep larger than the queue
+
+def test_a_sweep_larger_than_the_queue_is_a_422_as_the_docs_say(tmp_path):
+    from service import validate
+
+    settings = Settings(data_dir=tmp_path / "data", max_queued_jobs=2)
+    body = {"scenario": riser(), "vary": {"vessels.ship.motion.heave.amplitude": [0.1, 0.2, 0.3]}}
+    try:
+        validate.prepare_sweep(body, settings, None)
+    except validate.Invalid as exc:
+        assert exc.errors == [(["vary"], "3 load cases; this service takes at most 2 at once "
+                                         "(RFESIM_MAX_QUEUED_JOBS)")]
+    else:
+        raise AssertionError("accepted")
+    docs = (Path(__file__).resolve().parents[2] / "docs" / "service.md").read_text()
+    (row,) = [line for line in docs.splitlines() if line.startswith("| `RFESIM_MAX_QUEUED_JOBS`")]
+    assert "a sweep of more load cases than this at all is a 422 naming `vary`" in row
