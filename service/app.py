@@ -232,6 +232,18 @@ def _sweep_answer(sweep: dict) -> dict:
             "progress": progress, "vary": vary, "columns": columns, "rows": rows}
 
 
+def _has_output_steps(scenario_text: str | None) -> bool:
+    """Whether a stored scenario runs dynamics (output steps, where a cancel stops the run);
+    True when that cannot be told."""
+    from rfesim.scenario.schema import DynamicsSettings
+
+    try:
+        dyn = DynamicsSettings.model_validate(json.loads(scenario_text or "{}").get("analysis", {}).get("dynamics", {}))
+    except Exception:  # noqa: BLE001 - only the wording of an answer depends on it
+        return True
+    return bool(dyn.enabled and dyn.duration > 0)
+
+
 def _not_found(kind: str, ident: str) -> HTTPException:
     shown = ident if len(ident) <= 80 else ident[:77] + "..."
     return HTTPException(404, f"no {kind} {shown!r}")
@@ -387,6 +399,15 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             if t is not None:            # the run is over: its results file is being written
                 return {"id": job_id, "status": "running",
                         "message": f"cancel requested: {writing_message(t, cancelled=False)}: kept"}
+            if not _has_output_steps(app.state.store.scenario(job_id)):
+                # statics only: no output step before the end to stop at (the job ended "done")
+                return {"id": job_id, "status": "running",
+                        "message": "cancel requested: the run has no output step before its end (statics "
+                                   "only): it stops when statics ends and keeps the static solution (sooner, "
+                                   "without results, at a load step of a stepped statics"
+                                   + ("" if settings.scheduler_address else
+                                      f", or when its worker is killed after {settings.cancel_grace:g} s, "
+                                      f"RFESIM_CANCEL_GRACE") + ")"}
             return {"id": job_id, "status": "running",
                     "message": "cancel requested: the run stops at its next output step and keeps its "
                                "results up to it"}

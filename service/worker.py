@@ -372,6 +372,17 @@ def _execute(spec: dict, progress: Callable[[float, float], None], results_path:
     except Exception as exc:  # a bug: say what, keep the worker
         log.error("job %s failed:\n%s", spec.get("id"), traceback.format_exc())
         return outcome("failed", f"internal error: {type(exc).__name__}: {exc}")
+    if len(res.time) <= 1:
+        # a run with no output step (statics only): a cancel that came while statics solved had no
+        # step to stop at, and the job ended "done" although DELETE had answered that it stops;
+        # it stops here, at its one output (the static solution), which it keeps
+        try:
+            progress(1.0, float(res.time[-1]) if len(res.time) else 0.0)
+        except Cancelled as exc:
+            if isinstance(exc, ParentGone):
+                raise
+            return outcome("cancelled", "cancelled during statics (a run with no output step before its end); "
+                                        "the static solution is kept", res)
     return outcome("done", res.message, res, progress=1.0)
 
 

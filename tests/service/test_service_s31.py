@@ -290,3 +290,32 @@ def test_a_sweep_larger_than_the_queue_is_a_422_as_the_docs_say(tmp_path):
     docs = (Path(__file__).resolve().parents[2] / "docs" / "service.md").read_text()
     (row,) = [line for line in docs.splitlines() if line.startswith("| `RFESIM_MAX_QUEUED_JOBS`")]
     assert "a sweep of more load cases than this at all is a 422 naming `vary`" in row
+
+
+# --------------------------------------------------------------------------- 5c. cancelling a statics-only job
+
+def test_a_statics_only_job_cancelled_while_solving_ends_cancelled_with_the_static_solution(tmp_path):
+    settings = Settings(data_dir=tmp_path / "data", workers=1, warmup=False, submit_model_check=False,
+                        cancel_grace=60.0)
+    # statics of 10 000 elements: a few seconds without a progress call (no load steps)
+    body = {"scenario": "catenary_riser", "overrides": {"lines.riser.elements": 10000,
+                                                        "analysis.dynamics.duration": 0}}
+    with TestClient(create_app(settings)) as client:
+        r = client.post("/jobs", json=body)
+        assert r.status_code == 202, r.text
+        job_id = r.json()["id"]
+        job = _poll(client, job_id, lambda j: _over(j) or j["worker_pid"] is not None)
+        assert job["status"] == "running", job
+        time.sleep(0.3)
+        r = client.delete(f"/jobs/{job_id}")
+        assert r.status_code == 202 and r.json()["status"] == "running", r.text
+        assert r.json()["message"] == (
+            "cancel requested: the run has no output step before its end (statics only): it stops when statics "
+            "ends and keeps the static solution (sooner, without results, at a load step of a stepped statics, "
+            "or when its worker is killed after 60 s, RFESIM_CANCEL_GRACE)")
+        job = _poll(client, job_id, _over)
+        assert job["status"] == "cancelled", job
+        assert job["message"] == ("cancelled during statics (a run with no output step before its end); the "
+                                  "static solution is kept")
+        assert job["has_results"] and job["summary"]["max_top_tension"] > 0, job
+        assert client.get(f"/jobs/{job_id}/results.nc").status_code == 200
