@@ -74,8 +74,9 @@ class JobStatus(BaseModel):
     worker: str | None = Field(None, description="Where the job runs or ran")
     worker_pid: int | None = Field(None, description="Process id of a local worker")
     wall_time: float | None = Field(None, description="Wall time of the run in the worker [s]")
-    summary: dict[str, float | None] | None = Field(None, description="Max top tension, max/min tension, "
-                                                    "max bend moment, touchdown range, DAF (SI units)")
+    summary: dict[str, float | str | None] | None = Field(
+        None, description="Max top tension, max/min tension, max bend moment, touchdown range, DAF (SI units, "
+                          "numbers), and top_tension_at: the line and end of the max top tension ('riser end B')")
     has_results: bool = Field(False, description="A results file to fetch: that of a finished run, or what a run "
                                                  "failed or cancelled during its dynamics computed up to then")
     warnings: list[str] = Field(default_factory=list,
@@ -218,13 +219,14 @@ def _sweep_answer(sweep: dict) -> dict:
     else:
         status = "cancelled" if counts["cancelled"] else "done"
     vary = sweep["vary"]
-    columns = ["case", *vary, *SUMMARY_COLUMNS, "wall_time", "status", "message", "job_id"]
+    columns = ["case", *vary, *SUMMARY_COLUMNS, "top_tension_at", "wall_time", "status", "message", "job_id"]
     rows = []
     for j in jobs:
         values = j["case_values"] or {}
         summary = j["summary"] or {}
         rows.append({"case": j["case_index"], **{p: values.get(p) for p in vary},
-                     **{c: summary.get(c) for c in SUMMARY_COLUMNS}, "wall_time": j["wall_time"],
+                     **{c: summary.get(c) for c in SUMMARY_COLUMNS},
+                     "top_tension_at": summary.get("top_tension_at"), "wall_time": j["wall_time"],
                      "status": j["status"], "message": j["message"], "job_id": j["id"],
                      "progress": float(j["progress"] or 0.0)})
     progress = sum(1.0 if j["status"] in TERMINAL else float(j["progress"] or 0.0) for j in jobs) / max(1, n)

@@ -318,7 +318,7 @@ def execute(spec: dict, progress: Callable[[float, float], None], results_path: 
 def _execute(spec: dict, progress: Callable[[float, float], None], results_path: Path,
              writing: Callable[[float], None] | None) -> dict[str, Any]:
     import rfesim
-    from rfesim.sweep import summarize
+    from rfesim.sweep import _summary
 
     wall0 = time.perf_counter()
     last = {"fraction": 0.0, "t": None}
@@ -341,7 +341,10 @@ def _execute(spec: dict, progress: Callable[[float, float], None], results_path:
                            message=f"{message}; the results could not be written: {exc}")
             else:
                 out["has_results"] = True
-            out["summary"] = summarize(res)
+            # the summary columns and, beside them as in rfesim sweep's table, where the max top
+            # tension is ("riser end B")
+            summary, where = _summary(res)
+            out["summary"] = {**summary, "top_tension_at": where}
             out["sim_time"] = float(res.time[-1])
         out.update(kw)
         out["wall_time"] = time.perf_counter() - wall0

@@ -1,6 +1,8 @@
 """Defects of the service found by an audit: the sweep CSV rounded every number to 6
 significant digits, partial results files of killed workers stayed in the job folders for
-ever, a queued job read its data files when it ran (not as they were at submit), ..."""
+ever, a queued job read its data files when it ran (not as they were at submit), repeated
+`channels` kept only the last, and smaller ones (a path overridden and varied, cancelling
+statics, top_tension_at)."""
 from __future__ import annotations
 
 import contextlib
@@ -319,3 +321,21 @@ def test_a_statics_only_job_cancelled_while_solving_ends_cancelled_with_the_stat
                                   "static solution is kept")
         assert job["has_results"] and job["summary"]["max_top_tension"] > 0, job
         assert client.get(f"/jobs/{job_id}/results.nc").status_code == 200
+
+
+# --------------------------------------------------------------------------- 5d. top_tension_at
+
+def test_job_summary_and_sweep_table_say_where_the_max_top_tension_is(api):
+    job = api.wait(api.submit(riser()))
+    assert job["status"] == "done", job
+    # the riser's end B is on the ship: its top tension (rfesim sweep's table says the same)
+    assert job["summary"]["top_tension_at"] == "riser end B"
+    assert isinstance(job["summary"]["max_top_tension"], float)
+    r = api.client.post("/sweeps", json={"scenario": riser(), "vary": {"vessels.ship.motion.heave.amplitude": [0.2]}})
+    assert r.status_code == 202, r.text
+    table = _wait_sweep(api.client, r.json()["id"])
+    columns = table["columns"]
+    assert columns[columns.index("daf") + 1] == "top_tension_at"
+    assert table["rows"][0]["top_tension_at"] == "riser end B"
+    header, row = list(csv.reader(io.StringIO(api.client.get(f"/sweeps/{table['id']}/table.csv").text)))
+    assert row[header.index("top_tension_at")] == "riser end B"
