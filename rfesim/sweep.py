@@ -404,6 +404,18 @@ def check_vary_paths(base: dict, vary: dict[str, list]) -> None:
         raise ScenarioError(errors)
 
 
+def replaced_overrides(vary: dict, overrides: dict | None) -> list[tuple[str, str]]:
+    """``(varied path, reason)`` for every override a varied path would replace: the varied
+    values are applied after the overrides, so a varied path at or above an override's
+    (``analysis.dynamics.duration`` or ``analysis.dynamics`` varied, ``analysis.dynamics.duration``
+    overridden) silently replaced it in every load case. A varied path below an override's
+    is fine: the varied value goes inside the override. Used by ``rfesim sweep`` and the
+    service's ``POST /sweeps``."""
+    return [(str(v), f"would replace the override '{o}' in every load case: vary '{o}' itself, or leave it "
+                     f"out of the overrides") for v in vary for o in (overrides or {})
+            if tuple(str(o).split("."))[:len(str(v).split("."))] == tuple(str(v).split("."))]
+
+
 def build_cases(scenario, vary: dict[str, list], overrides: dict | None = None) -> list[tuple[dict, dict]]:
     """Validate every load case; ``[(case values, scenario dict), ...]``.
 
@@ -419,11 +431,7 @@ def build_cases(scenario, vary: dict[str, list], overrides: dict | None = None) 
     base = _base_dict(scenario)
     folder = _scenario_folder(scenario)
     check_vary_paths(base, vary)
-    # the varied values are applied after the overrides: a varied path at or above an
-    # override's would silently replace it in every load case
-    lost = [(str(v), f"would replace the override '{o}' in every load case: vary '{o}' itself, or leave it "
-                     f"out of the overrides") for v in vary for o in (overrides or {})
-            if tuple(str(o).split("."))[:len(str(v).split("."))] == tuple(str(v).split("."))]
+    lost = replaced_overrides(vary, overrides)
     if lost:
         raise ScenarioError(lost)
     cases = []

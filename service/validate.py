@@ -313,13 +313,10 @@ def prepare_sweep(data: Any, settings, scenarios_dir: Path | None,
         raise Invalid(errors)
     # a path both overridden and varied: the varied values replaced the override, silently (and
     # an override inside a varied path, lines.pipe.end_b.position under a varied lines.pipe.end_b,
-    # was lost the same way)
-    for path in vary:
-        lost = [o for o in overrides if o == path or o.startswith(path + ".")]
-        if lost:
-            errors.append((["vary", path], f"also given in overrides ({', '.join(repr(o) for o in lost)}): the "
-                                           f"varied values would replace the override; give the path in one of "
-                                           f"them"))
+    # was lost the same way); refused as rfesim sweep refuses it
+    from rfesim.sweep import replaced_overrides
+
+    errors = [(["vary", path], reason) for path, reason in replaced_overrides(vary, overrides)]
     if errors:
         raise Invalid(errors)
     to_json(vary, ["vary"])
