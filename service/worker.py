@@ -158,8 +158,21 @@ def _watch(worker: int, parent_pid: int, sentinel, interval: float, forked: bool
                 return                                 # the worker ended: so does its watcher
     except Exception:  # noqa: BLE001 - cannot watch: the pipe and the progress checks remain
         return
+    if forked and os.getppid() != worker:
+        # the worker died first (killed by the service after its cancel grace, or crashed) and
+        # the service, cleaning up after it, closed the sentinel: nothing to stop or to say (it
+        # said "the service is gone" of a healthy service, and SIGKILLed a dead pid)
+        return
     try:
-        sys.stderr.write(f"rfesim worker {worker}: the service (pid {parent_pid}) is gone; stopping it\n")
+        os.kill(parent_pid, 0)
+        gone = False
+    except ProcessLookupError:
+        gone = True
+    except OSError:
+        gone = False
+    why = "is gone" if gone else "let go of it"
+    try:
+        sys.stderr.write(f"rfesim worker {worker}: the service (pid {parent_pid}) {why}; stopping it\n")
         sys.stderr.flush()
     except Exception:  # noqa: BLE001
         pass
@@ -272,6 +285,34 @@ class _WarningLog(logging.Handler):
             pass
 
 
+WARMUP_PREFIX = "rfesim-warmup-"      # + the worker's pid + "-": the warm-up's temporary folder
+
+
+def _remove_stale_warmups() -> None:
+    """Remove the warm-up folders of workers that are gone (a worker killed while warming up
+    leaves its folder: TemporaryDirectory's clean-up never runs), known by the pid in their
+    name; the folders of live workers, and any other folder, are left alone."""
+    import shutil
+
+    root = Path(tempfile.gettempdir())
+    try:
+        folders = list(root.glob(f"{WARMUP_PREFIX}*-*"))
+    except OSError:
+        return
+    for folder in folders:
+        pid_text = folder.name[len(WARMUP_PREFIX):].split("-", 1)[0]
+        if not pid_text.isdigit() or int(pid_text) == os.getpid():
+            continue
+        try:
+            os.kill(int(pid_text), 0)
+            continue                                   # its worker is alive
+        except ProcessLookupError:
+            pass
+        except OSError:
+            continue                                   # alive, another user's
+        shutil.rmtree(folder, ignore_errors=True)
+
+
 def warm_up() -> float:
     """Run the warm-up scenario (loads numba's cache, imports the netCDF writer); returns its
     wall time in s."""
@@ -283,7 +324,8 @@ def warm_up() -> float:
     try:
         res = rfesim.simulate(WARMUP_SCENARIO)
         summarize(res)
-        with tempfile.TemporaryDirectory(prefix="rfesim-warmup-") as tmp:
+        _remove_stale_warmups()
+        with tempfile.TemporaryDirectory(prefix=f"{WARMUP_PREFIX}{os.getpid()}-") as tmp:
             res.to_netcdf(Path(tmp) / "warmup.nc")            # imports h5netcdf / h5py now
     except Exception:  # a warm-up that fails must not stop the worker: the job will say what is wrong
         log.warning("worker warm-up failed:\n%s", traceback.format_exc())
