@@ -128,7 +128,7 @@ def _free_yaw(system: System, ref: Reference) -> list:
     A-frame portal, whose statics has a second equilibrium with the legs swung over, reached
     that one at 171 deg when its payload's yaw was damped too)."""
     km = system.km
-    hung = getattr(system, "hung_bodies", None) or ()
+    hung = system.hung_bodies
     out = []
     for info in getattr(system.model, "bodies", None) or []:
         if info.name in hung and np.all(km.sde_stiffness[info.sde, 3:] == 0.0):

@@ -38,6 +38,7 @@ class System:
         self.T, self.Fsde, self.Msde = z(n, 6, 6), z(n, 3), z(n, 3)
         from ..model.winches import make_controllers
         self.controllers = make_controllers(self)     # winches: hooks around every dynamics step
+        self.hung_bodies: set[str] = set()   # bodies statics turned to hang (rfesim.solvers.statics.hang_bodies)
 
     # ------------------------------------------------------------------ history
     def history(self) -> tuple:
