@@ -506,13 +506,16 @@ def _breaking_load_message(sc: Scenario, results) -> str:
 
 
 def _dynamic_warnings(model, results, sc=None) -> str:
-    """A duration the output interval does not divide, the RAO vessels whose table leaves
+    """A duration the output interval does not divide, the table and csv vessel motions that
+    end before the run does or start after it (rfesim.scenario.schema.motion_table_warnings),
+    the RAO vessels whose table leaves
     out a noticeable part of the sea (rfesim.sea.rao.rao_range_warnings) and the lines whose tension in the run went past
     their fem shear limit (rfesim.solvers.buckling.dynamic_shear_warnings; ``model`` None:
     a scene of other formulations), logged and as text for the message."""
+    from .scenario.schema import motion_table_warnings
     from .sea.rao import rao_range_warnings
     from .solvers.dynamics import output_interval_warning
-    warnings = (rao_range_warnings(sc) if sc is not None else []) + (
+    warnings = (motion_table_warnings(sc) + rao_range_warnings(sc) if sc is not None else []) + (
         dynamic_shear_warnings(model, results) if model is not None else []) + (
         breaking_load_warnings(sc, results) if sc is not None else [])
     for w in warnings:

@@ -115,14 +115,15 @@ class HarmonicVessel(VesselMotion):
 
 
 class TableVessel(VesselMotion):
-    """Interpolated table (cubic spline: continuous velocity and acceleration; or linear).
+    """Interpolated table (cubic spline: continuous velocity and acceleration; or linear),
+    its times shifted by the spec's start_time (the table's time at the run's t = 0).
     Outside the table the first/last row is held."""
 
     def __init__(self, position, heading_deg, spec):
         super().__init__(position, heading_deg)
         self.ramp_duration = spec.ramp_duration
         data = np.asarray(spec.rows, dtype=float)
-        self.time = data[:, 0]
+        self.time = data[:, 0] - float(getattr(spec, "start_time", 0.0))    # run time of each row
         values = data[:, 1:].copy()
         values[:, 3:] = np.radians(values[:, 3:])
         self.values = values

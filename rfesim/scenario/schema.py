@@ -447,7 +447,9 @@ class Current(_Strict):
     direction_deg: float = _units("deg", f"Direction the current flows TOWARD, {_TOWARD}", default=0.0)
     time_factor: list[FactorRow] | None = _units(
         "s, 1", "Optional rows [t, factor] multiplying the profile, times strictly increasing, linear in t, "
-                "constant beyond the ends; a factor times the fastest speed of the profile at most 1e4 m/s",
+                "constant beyond the ends; a factor times the fastest speed of the profile at most 1e4 m/s. "
+                "The water's acceleration includes the current's own dU/dt (the slope of the row's segment) "
+                "in the Morison inertia force: ramp it over seconds, not in one step",
         default=None, min_length=1)
 
     @model_validator(mode="after")
@@ -817,6 +819,8 @@ class Environment(_Strict):
                 stokes5(waves.height, waves.period, h, self.gravity)
             except ValueError as e:
                 raise FieldError("water.waves.height", str(e)) from None
+        elif waves.kind == "time-series":
+            self._check_record(waves, h)
         elif waves.kind in ("jonswap", "pierson-moskowitz"):
             steepness = 2.0 * math.pi * waves.hs / (self.gravity * waves.tp ** 2)
             limit = sea_state_steepness_limit(waves.tp)
@@ -824,6 +828,32 @@ class Environment(_Strict):
                 raise FieldError("water.waves.hs",
                                  f"{waves.hs} m at tp = {waves.tp} s is steeper (2*pi*hs/(g*tp^2) = {steepness:.4g}) "
                                  f"than a sea state can be (DNV-RP-C205 limit {limit:.4g}): lower hs or raise tp")
+
+    def _check_record(self, waves, h: float | None) -> None:
+        """A wave elevation record: its elevation within the water depth and each of its
+        Fourier components below Miche's breaking steepness H/L = tanh(kh)/7 (a record in
+        millimetres, say, passes every other check and moves the water at km/s)."""
+        import numpy as np
+        from ..sea.waves import wave_components
+        eta = np.array([r[1] for r in waves.rows], dtype=float)
+        peak = int(np.argmax(np.abs(eta)))
+        units = "check the units (metres) and the record"
+        if h is not None and abs(eta[peak]) >= h:
+            raise FieldError(f"water.waves.rows.{peak}",
+                             f"elevation {eta[peak]:.6g} m is as large as the water depth {h:.6g} m: {units}")
+        comp = wave_components(waves, h, self.gravity)
+        if comp.amplitude.size == 0:
+            return
+        depth = math.inf if h is None else h
+        steep = 2.0 * comp.amplitude * comp.wavenumber / (2.0 * math.pi)
+        limit = np.tanh(comp.wavenumber * depth) / 7.0
+        j = int(np.argmax(steep / limit))
+        if steep[j] > limit[j]:
+            raise FieldError("water.waves.rows",
+                             f"the record's component of period {2.0 * math.pi / comp.omega[j]:.4g} s has a height of "
+                             f"{2.0 * comp.amplitude[j]:.4g} m (H/L = {steep[j]:.4g}), steeper than the breaking limit "
+                             f"H/L = tanh(kh)/7 = {limit[j]:.4g}: {units}, or drop the short components with "
+                             f"omega_max")
 
     def seabed_z(self) -> float | None:
         """The z of the seabed plane, or None without a seabed."""
@@ -888,6 +918,13 @@ class HarmonicMotion(_Strict):
                                   default=0.0, ge=0.0)
 
 
+START_TIME_DOC = ("Time of the table (file) at which the run starts: the vessel is at the row of time "
+                  "start_time + t at the run's time t (a recorded file with times 1000 to 1100 s: 1000). Before "
+                  "the first row and after the last the vessel is held still at that row: a table that starts "
+                  "after the run's start or ends before its duration is warned about, one outside the run is "
+                  "refused")
+
+
 class TableMotion(_Strict):
     """A table of time vs the six displacements [t, surge, sway, heave, roll, pitch, yaw]."""
 
@@ -897,6 +934,7 @@ class TableMotion(_Strict):
                                      "(at least 4 rows for cubic interpolation)", min_length=2)
     interpolation: Literal["cubic", "linear"] = "cubic"
     ramp_duration: float = _units("s", "Ramp-in time of the motion", default=0.0, ge=0.0)
+    start_time: float = _units("s", START_TIME_DOC, default=0.0, ge=-1.0e9, le=1.0e9)
 
     @model_validator(mode="after")
     def _times_increase(self):
@@ -1021,6 +1059,7 @@ class CsvMotion(_Strict):
     file: str = Field(..., description="The CSV file; relative paths are taken from the scenario file's folder")
     interpolation: Literal["cubic", "linear"] = "cubic"
     ramp_duration: float = _units("s", "Ramp-in time of the motion", default=0.0, ge=0.0)
+    start_time: float = _units("s", START_TIME_DOC, default=0.0, ge=-1.0e9, le=1.0e9)
     _rows: Any = PrivateAttr(default=None)
 
     @model_validator(mode="after")
@@ -1039,6 +1078,48 @@ class CsvMotion(_Strict):
     def rows(self):
         """(n, 7) array: t, surge, sway, heave (m), roll, pitch, yaw (deg)."""
         return self._rows
+
+
+def motion_table_span(motion) -> tuple[float, float] | None:
+    """The run times (s) of the first and last rows of a ``table`` or ``csv`` vessel motion
+    (its times less start_time), or None for other motions."""
+    if motion.kind == "table":
+        times = [motion.rows[0][0], motion.rows[-1][0]]
+    elif motion.kind == "csv":
+        rows = motion.rows()
+        times = [float(rows[0, 0]), float(rows[-1, 0])]
+    else:
+        return None
+    return times[0] - motion.start_time, times[1] - motion.start_time
+
+
+def motion_table_warnings(sc) -> list[str]:
+    """The ``table`` and ``csv`` vessel motions that do not cover the whole run: before the
+    first row and after the last the vessel is held still at that row (after the last, the
+    vessel stops dead: a shock in the lines it carries). One warning per vessel and end,
+    naming the field; [] without dynamics."""
+    dyn = sc.analysis.dynamics
+    if not (dyn.enabled and dyn.duration > 0.0):
+        return []
+    out = []
+    for name, vessel in sc.vessels.items():
+        span = motion_table_span(vessel.motion)
+        if span is None:
+            continue
+        first, last = span
+        field = f"vessels.{name}.motion." + ("file" if vessel.motion.kind == "csv" else "rows")
+        what = "file" if vessel.motion.kind == "csv" else "table"
+        if first > 0.0:
+            out.append(f"vessel '{name}' ({field}): the motion {what} starts at t = {first:.6g} s of the run "
+                       f"(its time {first + vessel.motion.start_time:.6g} s, start_time "
+                       f"{vessel.motion.start_time:.6g} s); before it the vessel stands still at the first row "
+                       f"and then starts with the table's velocity at once")
+        if last < float(dyn.duration):
+            out.append(f"vessel '{name}' ({field}): the motion {what} ends at t = {last:.6g} s of the run "
+                       f"(its time {last + vessel.motion.start_time:.6g} s), before the run's duration "
+                       f"{float(dyn.duration):.6g} s; after it the vessel stops dead at the last row (a shock "
+                       f"in the lines it carries): give rows up to the end of the run or a shorter duration")
+    return out
 
 
 VesselMotion = Annotated[Union[FixedMotion, HarmonicMotion, TableMotion, RaoMotion, CsvMotion],
@@ -1972,6 +2053,35 @@ class Scenario(_Strict):
     @model_validator(mode="after")
     def _formulations(self):
         check_formulations(self)
+        return self
+
+    @model_validator(mode="after")
+    def _motion_tables_meet_the_run(self):
+        # only a run: statics alone takes the vessel where the table has it at t = 0
+        dyn = self.analysis.dynamics
+        duration = float(dyn.duration) if dyn.enabled else 0.0
+        for name, vessel in self.vessels.items():
+            span = motion_table_span(vessel.motion) if duration > 0.0 else None
+            if span is None:
+                continue
+            first, last = span
+            field = f"vessels.{name}.motion.start_time"
+            what = "file" if vessel.motion.kind == "csv" else "table"
+            if last <= 0.0:
+                raise FieldError(field, f"the motion {what} ends before the run starts: its rows run from "
+                                        f"{first + vessel.motion.start_time:.6g} to "
+                                        f"{last + vessel.motion.start_time:.6g} s and the run starts at its time "
+                                        f"start_time = {vessel.motion.start_time:.6g} s, so the vessel would "
+                                        f"stand still at its last row (set start_time to the table's time of "
+                                        f"the run's start)")
+            if first >= duration:
+                raise FieldError(field, f"the motion {what} starts after the run ends: its rows run from "
+                                        f"{first + vessel.motion.start_time:.6g} to "
+                                        f"{last + vessel.motion.start_time:.6g} s, the run covers its times "
+                                        f"{vessel.motion.start_time:.6g} to "
+                                        f"{vessel.motion.start_time + duration:.6g} s, so the vessel would "
+                                        f"stand still at its first row (set start_time to the table's time of "
+                                        f"the run's start)")
         return self
 
     @model_validator(mode="after")

@@ -1,6 +1,6 @@
 """Vessel motion from a CSV time series of the six displacements.
 
-Format: comma-separated (or whitespace-separated) columns t [s], surge, sway, heave [m],
+Format: comma-, semicolon- or whitespace-separated columns t [s], surge, sway, heave [m],
 roll, pitch, yaw [deg] (the same as the ``table`` motion); blank lines and lines starting
 with ``#`` are skipped; an optional first row of names (``t`` or ``time``, then the six
 degrees of freedom in any order, units in brackets allowed: ``heave [m]``) says which
@@ -22,9 +22,20 @@ UNITS = ("s", "m", "m", "m", "deg", "deg", "deg")
 
 
 def _cells(line: str) -> list[str]:
-    if "," in line:
-        return [c.strip() for c in line.split(",")]
-    return line.split()
+    """The cells of a line: comma-, semicolon- or whitespace-separated; empty cells at the
+    end of the line (a trailing separator, as spreadsheets write) are dropped."""
+    if ";" in line:
+        if "," in line:
+            raise ValueError("semicolon-separated with commas in the numbers (a decimal comma, as a spreadsheet "
+                             "in some locales writes): write the numbers with a decimal point")
+        cells = [c.strip() for c in line.split(";")]
+    elif "," in line:
+        cells = [c.strip() for c in line.split(",")]
+    else:
+        return line.split()
+    while cells and not cells[-1]:
+        cells.pop()
+    return cells
 
 
 def _column_name(cell: str) -> str:
@@ -48,7 +59,10 @@ def read_motion_csv(path) -> np.ndarray:
         line = raw.strip()
         if not line or line.startswith("#"):
             continue
-        cells = _cells(line)
+        try:
+            cells = _cells(line)
+        except ValueError as exc:
+            raise ValueError(f"{path}, line {lineno}: {exc}") from None
         try:
             values = [float(c) for c in cells]
         except ValueError:
@@ -116,5 +130,6 @@ def csv_vessel(vessel):
     """The :class:`rfesim.vessel.TableVessel` of a vessel with a ``csv`` motion."""
     from ..vessel import TableVessel
     m = vessel.motion
-    spec = SimpleNamespace(rows=m.rows(), interpolation=m.interpolation, ramp_duration=m.ramp_duration)
+    spec = SimpleNamespace(rows=m.rows(), interpolation=m.interpolation, ramp_duration=m.ramp_duration,
+                           start_time=m.start_time)
     return TableVessel(vessel.position, vessel.heading_deg, spec)

@@ -365,7 +365,7 @@ def test_values_up_to_the_unit_bounds_pass(overrides):
 def test_table_rows_a_microsecond_apart_pass(t):
     # 10.000001 - 10 is 9.9999999925e-07 in floating point: within rounding of 1e-6 s
     rows = [[t, 0, 0, 0, 0, 0, 0], [t + 1e-6, 1, 0, 0, 0, 0, 0], [t + 1, 1, 0, 0, 0, 0, 0]]
-    sc = load("catenary_riser", {"vessels.fpso.motion": {**LINEAR, "rows": rows}})
+    sc = load("catenary_riser", {"vessels.fpso.motion": {**LINEAR, "rows": rows, "start_time": t}})
     assert sc.vessels["fpso"].motion.rows[1][0] == t + 1e-6
 
 
