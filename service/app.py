@@ -271,7 +271,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         (data_dir / "jobs").mkdir(parents=True, exist_ok=True)
         (data_dir / "files").mkdir(parents=True, exist_ok=True)
         store = Store(data_dir / "jobs.sqlite")
-        manager = JobManager(store, make_executor(settings), data_dir, max_attempts=settings.max_attempts)
+        manager = JobManager(store, make_executor(settings), data_dir, max_attempts=settings.max_attempts,
+                             shutdown_write_grace=settings.shutdown_write_grace)
         await run_in_threadpool(manager.start)
         app.state.store, app.state.manager = store, manager
         try:

@@ -10,7 +10,9 @@ The job manager (``service.jobs``) talks to one executor from its one thread:
                                                   # | ("compiling", id, bool) | ("writing", id, t)
                                                   # | ("outcome", id, outcome dict)
     executor.wake()                               # from any thread: make wait() return now
-    executor.shutdown()
+    executor.shutdown(write_grace) -> [event, ...]  # the events that came during the stop: the
+                                                  # outcome of a job whose results file was being
+                                                  # written, given up to write_grace s
 
 :class:`ProcessExecutor` (the default) keeps ``workers`` long-lived processes (spawn
 start method), each with its own duplex pipe, one job at a time. A small supervisor
@@ -90,7 +92,8 @@ class JobExecutor:
 
     def wake(self) -> None: ...
 
-    def shutdown(self) -> None: ...
+    def shutdown(self, write_grace: float = 0.0) -> list[tuple]:
+        return []
 
     def status(self) -> dict[str, Any]:
         return {"kind": self.kind}
@@ -115,6 +118,8 @@ class _Worker:
 
 class ProcessExecutor(JobExecutor):
     kind = "local processes"
+
+    STOP_GRACE = 3.0      # s a worker has to exit at the service's stop (one that writes results: more)
 
     def __init__(self, workers: int = 1, *, warmup: bool = True, cancel_grace: float = 10.0,
                  cancel_write_grace: float = 600.0, stagger_timeout: float = 120.0):
@@ -339,7 +344,19 @@ class ProcessExecutor(JobExecutor):
         except (EOFError, OSError):
             pass                       # the sentinel says why
 
-    def shutdown(self) -> None:
+    def shutdown(self, write_grace: float = 0.0) -> list[tuple]:
+        """Stop every worker and return the events that came meanwhile (an ``outcome`` of a
+        job whose results were being written, the ``writing`` notes).
+
+        Each worker is told to stop: a worker computing a run stops at its next output step
+        without writing anything (its job is handed back to the queue by the manager), an idle
+        one exits. Either has ``STOP_GRACE`` s and is then killed. A worker whose run is over
+        and that writes its results file (it said "writing", before or during the stop) has
+        ``write_grace`` s from the start of the stop (never less than ``STOP_GRACE``) to write
+        it and report the job's outcome, and is killed after that (its job is re-queued: the
+        partial file is removed at the next start). Before, every worker had 3 s and nothing
+        it reported was read: a finished run whose file took longer was killed, and one whose
+        file was written in time was re-queued anyway, its complete results recomputed."""
         self._closed = True
         workers = [w for w in self.workers if w is not None and not w.dead]
         for w in workers:
@@ -347,20 +364,50 @@ class ProcessExecutor(JobExecutor):
                 w.conn.send(("stop",))
             except (OSError, EOFError):
                 pass
-        deadline = time.monotonic() + 3.0
-        for w in workers:
-            w.process.join(timeout=max(0.0, deadline - time.monotonic()))
-            if w.process.is_alive():
+        start = time.monotonic()
+        stop_due = start + self.STOP_GRACE
+        write_due = start + max(self.STOP_GRACE, float(write_grace))
+        pending = list(workers)
+        while pending:
+            now = time.monotonic()
+            for w in list(pending):
+                if now <= (write_due if w.writing_at is not None else stop_due):
+                    continue
+                if w.writing_at is not None:
+                    log.warning("job %s: its results up to t = %.6g s were not written within %.3g s of the "
+                                "service's stop (RFESIM_SHUTDOWN_WRITE_GRACE): killing worker pid %s; the job "
+                                "is re-queued", w.job_id, w.writing_t, write_due - start, w.pid)
                 self._kill(w)
-            try:
-                w.conn.close()
-            except OSError:
-                pass
+                self._close_worker(w)
+                pending.remove(w)
+            if not pending:
+                break
+            due = min(write_due if w.writing_at is not None else stop_due for w in pending)
+            objects: list[Any] = [w.conn for w in pending] + [w.process.sentinel for w in pending]
+            ready = set(mp_connection.wait(objects, max(0.0, due - time.monotonic())))
+            for w in list(pending):
+                if w.conn in ready:
+                    self._drain(w)
+                if w.process.sentinel in ready:
+                    self._drain(w)
+                    w.process.join(timeout=1)
+                    self._close_worker(w)
+                    pending.remove(w)
         for fd in (self._wake_r, self._wake_w):
             try:
                 os.close(fd)
             except OSError:
                 pass
+        events, self._events = self._events, []
+        return events
+
+    def _close_worker(self, w: _Worker) -> None:
+        """A worker gone at the stop: no outcome made up for its job (it is re-queued)."""
+        w.dead = True
+        try:
+            w.conn.close()
+        except OSError:
+            pass
 
     def status(self) -> dict[str, Any]:
         workers = [w for w in self.workers if w is not None and not w.dead]
@@ -389,6 +436,7 @@ class DaskExecutor(JobExecutor):
         self._running: dict[str, tuple[Any, Path]] = {}
         self._cancel_events: dict[str, str] = {}     # job id -> its distributed.Event (this hand-out's)
         self._cancelled: set[str] = set()
+        self._writing: set[str] = set()              # jobs whose task said it writes its results
         self._threads = (0, 0.0)
         self._last_poll = 0.0
 
@@ -482,6 +530,7 @@ class DaskExecutor(JobExecutor):
                 try:
                     if item[1] == "writing":
                         writing.append(("writing", item[0], float(item[2])))
+                        self._writing.add(item[0])
                     else:
                         latest[item[0]] = (float(item[1]), float(item[2]))
                 except (TypeError, ValueError):
@@ -491,6 +540,7 @@ class DaskExecutor(JobExecutor):
     def _collect(self, job_id: str) -> dict:
         fut, path = self._running.pop(job_id)
         cancel_event = self._cancel_events.pop(job_id)
+        self._writing.discard(job_id)
         if job_id in self._cancelled:               # drop the flag from the scheduler
             self._cancelled.discard(job_id)
             try:
@@ -523,9 +573,24 @@ class DaskExecutor(JobExecutor):
                            message=f"{out.get('message', '')}; the results could not be written: {exc}")
         return out
 
-    def shutdown(self) -> None:
+    def shutdown(self, write_grace: float = 0.0) -> list[tuple]:
+        """Cancel the running tasks, but first wait (at most ``write_grace`` s) for those that
+        said they write their results (their run is over) and return their outcomes."""
         if self.client is None:
-            return
+            return []
+        events = self._poll_progress()
+        deadline = time.monotonic() + write_grace
+        while True:
+            writing = [job_id for job_id in self._running if job_id in self._writing]
+            if not writing:
+                break
+            for job_id in writing:
+                if self._running[job_id][0].done():
+                    events.append(("outcome", job_id, self._collect(job_id)))
+            if time.monotonic() >= deadline:
+                break
+            time.sleep(min(0.2, max(0.0, deadline - time.monotonic())))
+            events += self._poll_progress()
         for job_id in list(self._running):
             self.cancel(job_id)
         try:
@@ -536,6 +601,7 @@ class DaskExecutor(JobExecutor):
             self.client.close(timeout=5)
         except Exception:
             pass
+        return events
 
     def status(self) -> dict[str, Any]:
         return {"kind": self.kind, "scheduler": self.address, "total": self._threads[0],

@@ -7,8 +7,10 @@ and written to the database at most once a second per job; status changes are wr
 at once.
 
 At start, jobs left ``running`` by a stopped (or killed) service are re-queued, or
-failed after ``max_attempts`` interruptions. At a clean stop, running jobs are handed
-back to the queue the same way.
+failed after ``max_attempts`` interruptions. At a clean stop, a job whose run is over and
+whose worker writes its results file is given ``shutdown_write_grace`` s to finish the
+write and is recorded with its outcome (done, with its results); the jobs still computing
+are handed back to the queue the same way.
 """
 from __future__ import annotations
 
@@ -36,11 +38,13 @@ def writing_message(t: float, cancelled: bool) -> str:
 
 
 class JobManager:
-    def __init__(self, store: Store, executor: JobExecutor, data_dir: Path, *, max_attempts: int = 3):
+    def __init__(self, store: Store, executor: JobExecutor, data_dir: Path, *, max_attempts: int = 3,
+                 shutdown_write_grace: float = 600.0):
         self.store = store
         self.executor = executor
         self.data_dir = Path(data_dir)
         self.max_attempts = max_attempts
+        self.shutdown_write_grace = float(shutdown_write_grace)
         self.live: dict[str, tuple[float, float]] = {}       # job id -> (fraction, simulated time)
         self._running_message: dict[str, str] = {}           # job id -> "running on ..." (its worker)
         self._writing: dict[str, float] = {}                 # job id -> t (s): its results file is being written
@@ -81,9 +85,27 @@ class JobManager:
         self.executor.wake()
         if self._thread is not None:
             self._thread.join(timeout=10)
-        self.executor.shutdown()
+        # cancels asked for after the loop's last step reach their workers before the stop, so
+        # such a run stops at its next output step and writes its results, as after any cancel
+        self._forward_cancels()
+        # a run that is over and writing its results file finishes the write (at most
+        # shutdown_write_grace s) and its outcome is recorded: it was re-queued and computed
+        # again from the start, hours of work for a long run
+        for event in self.executor.shutdown(self.shutdown_write_grace) or []:
+            try:
+                self._handle(event)
+            except Exception:                       # the others are still recorded
+                log.exception("job manager stop: %r", event[:2])
         self._flush(force=True)
         self.store.requeue_running("re-queued: the service stopped while it was running", None, refund=True)
+
+    def _forward_cancels(self) -> None:
+        while True:
+            try:
+                job_id = self._cancels.get_nowait()
+            except queue.Empty:
+                return
+            self.executor.cancel(job_id)
 
     def _clean_job_dir(self, job_id: str) -> None:
         """Remove temporary files a killed worker may have left (complete results stay).
@@ -180,12 +202,7 @@ class JobManager:
     def _step(self) -> None:
         for event in self.executor.wait(0.5):
             self._handle(event)
-        while True:
-            try:
-                job_id = self._cancels.get_nowait()
-            except queue.Empty:
-                break
-            self.executor.cancel(job_id)
+        self._forward_cancels()
         self._flush()
         if self._stop.is_set():
             return

@@ -55,6 +55,14 @@ class Settings(BaseSettings):
                                                   "run's file can take longer than cancel_grace); a worker still "
                                                   "writing after that is killed and replaced, and the job has no "
                                                   "results. Never shortens cancel_grace")
+    shutdown_write_grace: float = Field(600.0, ge=0.0,
+                                        description="Seconds a clean stop of the service (SIGTERM) waits for a "
+                                                    "worker writing the results file of a run that is over, "
+                                                    "counted from the stop (never less than the 3 s every worker "
+                                                    "has to exit); the job is then recorded done with its "
+                                                    "results. A worker still writing after that is killed and "
+                                                    "its job re-queued. Jobs still computing are re-queued at "
+                                                    "once")
     warmup: bool = Field(True, description="Workers run a tiny scenario at start to load the numba cache")
     submit_model_check: bool = Field(True, description="Build each submitted scenario's model (POST /jobs, and once "
                                                        "per distinct model in POST /sweeps), as `rfesim check` does: "
