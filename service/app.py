@@ -104,6 +104,15 @@ class CancelAnswer(BaseModel):
     message: str
 
 
+class PurgeAnswer(BaseModel):
+    id: str = Field(description="The job or sweep purged")
+    jobs: list[str] = Field(description="The jobs removed (a sweep's: every load case)")
+    freed_bytes: int = Field(description="Bytes of files removed: job folders and input copies")
+    input_copies_removed: int = Field(description="Copies of input files (<data>/inputs) that no other job named")
+    input_copies_kept: int = Field(description="Copies of input files kept: other jobs name them")
+    message: str
+
+
 class ScenarioInfo(BaseModel):
     name: str = Field(description="Name to use in GET /scenarios/{name} and in {\"scenario\": name}")
     title: str
@@ -348,15 +357,17 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         def work():
             data = validate.parse_body(body, request.headers.get("content-type"))
             warnings: list[str] = []
-            scenario, sc = validate.prepare_job(data, settings, scenarios_dir, model_check=model_check,
-                                                warnings=warnings)
-            job_id = secrets.token_urlsafe(16)
-            text = validate.to_json(scenario, ["body"])
-            try:
-                app.state.store.insert_jobs([{"id": job_id, "name": sc.name, "scenario": text,
-                                              "warnings": warnings}], settings.max_queued_jobs)
-            except QueueFull as exc:
-                raise HTTPException(429, str(exc), headers={"Retry-After": "30"}) from None
+            # from the copies of its input files to its stored record: no purge removes a copy meanwhile
+            with manager().inputs.shared():
+                scenario, sc = validate.prepare_job(data, settings, scenarios_dir, model_check=model_check,
+                                                    warnings=warnings)
+                job_id = secrets.token_urlsafe(16)
+                text = validate.to_json(scenario, ["body"])
+                try:
+                    app.state.store.insert_jobs([{"id": job_id, "name": sc.name, "scenario": text,
+                                                  "warnings": warnings}], settings.max_queued_jobs)
+                except QueueFull as exc:
+                    raise HTTPException(429, str(exc), headers={"Retry-After": "30"}) from None
             folder = manager().job_dir(job_id)
             folder.mkdir(parents=True, exist_ok=True)
             (folder / "scenario.json").write_text(text, encoding="utf-8")
@@ -388,10 +399,39 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         text = app.state.store.scenario(job_id)
         return Response(text, media_type="application/json")
 
+    def purged(ident: str, kind: str, job_ids: list[str], sweep_id: str | None = None) -> JSONResponse:
+        try:
+            out = manager().purge(job_ids, sweep_id)
+        except OSError as exc:
+            raise _conflict(f"the files of {kind} {ident} could not all be removed ({exc}); its record is "
+                            f"kept: purge it again") from None
+        if out is None:                  # purged meanwhile by another request
+            raise _not_found(kind, ident)
+        files = (f"{out['input_copies_removed']} input file copies removed"
+                 + (f", {out['input_copies_kept']} kept (other jobs name them)" if out["input_copies_kept"] else ""))
+        what = f"{len(job_ids)} load cases" if sweep_id else "its folder"
+        return JSONResponse({"id": ident, **out, "message": f"{kind} {ident} purged: its record, {what} and "
+                                                            f"{files}; {out['freed_bytes']} bytes freed"})
+
+    purge_query = Query(False, description="Delete the job (or sweep) instead of cancelling it: one that is over "
+                                           "(done, failed, cancelled) is removed with its folder and results and "
+                                           "the copies of its input files that no other job names (200); 409 "
+                                           "while it is queued or running (cancel it first)")
+
     @app.delete("/jobs/{job_id}", response_model=CancelAnswer, status_code=202, tags=["jobs"],
-                responses=_responses(401, 404, 409), summary="Cancel a queued or running job")
-    def cancel_job(job_id: str):
+                responses={**_responses(401, 404, 409),
+                           200: {"model": PurgeAnswer, "description": "purge=true: the job and its files removed"}},
+                summary="Cancel a queued or running job (purge=true: delete a job that is over, with its files)")
+    def cancel_job(job_id: str, purge: bool = purge_query):
         job = job_or_404(job_id)
+        if purge:
+            if job["status"] not in TERMINAL:
+                raise _conflict(f"job {job_id} is {job['status']}: cancel it first (DELETE /jobs/{job_id}), then "
+                                f"purge it once it is over")
+            if job["sweep_id"]:
+                raise _conflict(f"job {job_id} is load case {job['case_index']} of sweep {job['sweep_id']}: purge "
+                                f"the whole sweep (DELETE /sweeps/{job['sweep_id']}?purge=true)")
+            return purged(job_id, "job", [job_id])
         if job["status"] in TERMINAL:
             raise _conflict(f"job {job_id} is already {job['status']}: nothing to cancel")
         status = manager().cancel(job_id)
@@ -516,19 +556,21 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             data = validate.parse_body(body, request.headers.get("content-type"))
             case_warnings: list[list[str]] = []
             notes: list[str] = []
-            vary, cases, name = validate.prepare_sweep(data, settings, scenarios_dir, warnings=case_warnings,
-                                                       model_check=model_check, notes=notes)
-            sweep_id = secrets.token_urlsafe(16)
-            jobs = []
-            for i, ((values, case), warnings) in enumerate(zip(cases, case_warnings)):
-                text = validate.to_json(case, ["scenario"])
-                jobs.append({"id": secrets.token_urlsafe(16), "name": f"{name} [case {i}]", "scenario": text,
-                             "sweep_id": sweep_id, "case_index": i, "case_values": values, "warnings": warnings})
-            try:
-                app.state.store.insert_jobs(jobs, settings.max_queued_jobs,
-                                            sweep={"id": sweep_id, "name": name, "vary": vary})
-            except QueueFull as exc:
-                raise HTTPException(429, str(exc), headers={"Retry-After": "30"}) from None
+            with manager().inputs.shared():          # as POST /jobs: the input copies against a purge
+                vary, cases, name = validate.prepare_sweep(data, settings, scenarios_dir, warnings=case_warnings,
+                                                           model_check=model_check, notes=notes)
+                sweep_id = secrets.token_urlsafe(16)
+                jobs = []
+                for i, ((values, case), warnings) in enumerate(zip(cases, case_warnings)):
+                    text = validate.to_json(case, ["scenario"])
+                    jobs.append({"id": secrets.token_urlsafe(16), "name": f"{name} [case {i}]", "scenario": text,
+                                 "sweep_id": sweep_id, "case_index": i, "case_values": values,
+                                 "warnings": warnings})
+                try:
+                    app.state.store.insert_jobs(jobs, settings.max_queued_jobs,
+                                                sweep={"id": sweep_id, "name": name, "vary": vary})
+                except QueueFull as exc:
+                    raise HTTPException(429, str(exc), headers={"Retry-After": "30"}) from None
             manager().notify()
             return sweep_id, [j["id"] for j in jobs], validate.sweep_warnings(
                 [(values, w) for (values, _), w in zip(cases, case_warnings)]) + notes
@@ -579,9 +621,20 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                         headers={"Content-Disposition": f'attachment; filename="sweep-{sweep_id}.csv"'})
 
     @app.delete("/sweeps/{sweep_id}", response_model=SweepStatus, status_code=202, tags=["sweeps"],
-                responses=_responses(401, 404), summary="Cancel every queued or running case of a sweep")
-    def cancel_sweep(sweep_id: str):
+                responses={**_responses(401, 404, 409),
+                           200: {"model": PurgeAnswer, "description": "purge=true: the sweep, its load cases' jobs "
+                                                                      "and their files removed"}},
+                summary="Cancel every queued or running case of a sweep (purge=true: delete a sweep that is over, "
+                        "with its cases and their files)")
+    def cancel_sweep(sweep_id: str, purge: bool = purge_query):
         sweep = sweep_or_404(sweep_id)
+        if purge:
+            busy = [j for j in sweep["jobs"] if j["status"] not in TERMINAL]
+            if busy:
+                raise _conflict(f"sweep {sweep_id} has {len(busy)} of {len(sweep['jobs'])} load cases queued or "
+                                f"running: cancel it first (DELETE /sweeps/{sweep_id}), then purge it once they "
+                                f"are over")
+            return purged(sweep_id, "sweep", [j["id"] for j in sweep["jobs"]], sweep_id)
         for j in sweep["jobs"]:
             if j["status"] not in TERMINAL:
                 manager().cancel(j["id"])

@@ -16,13 +16,16 @@ from __future__ import annotations
 
 import json
 import logging
+import os
 import queue
 import shutil
 import threading
 import time
+from contextlib import contextmanager
 from pathlib import Path
 
 from .executor import JobExecutor
+from .paths import copy_reference, input_copies_in, inputs_dir
 from .store import Store
 from .worker import COMPILING_NOTE, merge_warnings
 
@@ -35,6 +38,60 @@ def writing_message(t: float, cancelled: bool) -> str:
     """A running job's message while its results file is written (up to the output time ``t``, s)."""
     text = f"writing the results up to t = {t:.6g} s"
     return f"cancel requested: {text}" if cancelled else text
+
+
+class InputsLock:
+    """Submits (shared: they make or reuse copies in ``<data>/inputs`` and store scenarios
+    naming them) against a purge (exclusive: it removes the copies no stored scenario names),
+    so a copy a submit has just reused is not removed before its job is stored. A waiting
+    purge goes first: new submits wait for it (milliseconds), not the other way round."""
+
+    def __init__(self) -> None:
+        self._cond = threading.Condition()
+        self._shared = 0
+        self._exclusive = False
+        self._waiting = 0
+
+    @contextmanager
+    def shared(self):
+        with self._cond:
+            while self._exclusive or self._waiting:
+                self._cond.wait()
+            self._shared += 1
+        try:
+            yield
+        finally:
+            with self._cond:
+                self._shared -= 1
+                self._cond.notify_all()
+
+    @contextmanager
+    def exclusive(self):
+        with self._cond:
+            self._waiting += 1
+            try:
+                while self._exclusive or self._shared:
+                    self._cond.wait()
+            finally:
+                self._waiting -= 1
+            self._exclusive = True
+        try:
+            yield
+        finally:
+            with self._cond:
+                self._exclusive = False
+                self._cond.notify_all()
+
+
+def _tree_size(folder: Path) -> int:
+    total = 0
+    for root, _dirs, files in os.walk(folder):
+        for name in files:
+            try:
+                total += os.lstat(os.path.join(root, name)).st_size
+            except OSError:
+                pass
+    return total
 
 
 class JobManager:
@@ -53,6 +110,7 @@ class JobManager:
         self._cancels: queue.SimpleQueue = queue.SimpleQueue()
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
+        self.inputs = InputsLock()                             # submits vs. purges (input copies)
         self.started_at = time.time()
         self.recovered: tuple[list[str], list[str]] = ([], [])
         self.loop_errors = 0
@@ -76,6 +134,9 @@ class JobManager:
         # stopped or killed while a job wrote its results: that job is now queued, failed or
         # cancelled, not only among the re-queued ones)
         self._clean_all_job_dirs()
+        # no submit runs yet either: a copy no job names is a leftover (a purge interrupted
+        # between a job's record and its copies, a submit refused with a 422)
+        self._clean_inputs()
         self.executor.start()
         self._thread = threading.Thread(target=self._run, name="rfesim-job-manager", daemon=True)
         self._thread.start()
@@ -135,6 +196,85 @@ class JobManager:
             return
         for folder in folders:
             self._clean_folder(folder)
+
+    def _clean_inputs(self) -> None:
+        """At start: remove the input copies no job's stored scenario names, and the
+        temporary files of copies being written when the service stopped."""
+        removed = freed = 0
+        try:
+            folders = [p for p in inputs_dir(self.data_dir).iterdir() if p.is_dir()]
+        except OSError:
+            return
+        for folder in folders:
+            try:
+                files = [p for p in folder.iterdir() if p.is_file()]
+            except OSError:
+                continue
+            for path in files:
+                stray = path.name.startswith(".") and path.name.endswith(".tmp")
+                if not stray and self.store.names(copy_reference(path)):
+                    continue
+                try:
+                    size = path.stat().st_size
+                    path.unlink()
+                except OSError:
+                    continue
+                removed += 1
+                freed += size
+            try:
+                folder.rmdir()                 # only when empty
+            except OSError:
+                pass
+        if removed:
+            log.info("removed %d input copies that no job names (%d bytes)", removed, freed)
+
+    def purge(self, job_ids: list[str], sweep_id: str | None = None) -> dict | None:
+        """Remove jobs that are over (done, failed, cancelled) with their files: their folders,
+        then their records (and the sweep's row), then the input copies no other job names.
+        None when one of them is not over any more (nothing removed from the database).
+        Raises OSError when a folder cannot be removed (the records are kept: retry).
+
+        Folders go before records: a purge interrupted in between leaves a record whose files
+        are gone (purge it again), never a results file no record knows of; an input copy left
+        by an interruption after the records is removed at the next start."""
+        with self.inputs.exclusive():
+            copies: set[Path] = set()
+            for job_id in job_ids:
+                try:
+                    copies |= input_copies_in(json.loads(self.store.scenario(job_id) or "null"), self.data_dir)
+                except ValueError:
+                    pass
+            freed = 0
+            for job_id in job_ids:
+                folder = self.job_dir(job_id)
+                if folder.is_dir():
+                    freed += _tree_size(folder)
+                    shutil.rmtree(folder)
+            if not self.store.delete_jobs(job_ids, sweep_id):
+                return None
+            removed = kept = 0
+            for path in sorted(copies):
+                if self.store.names(copy_reference(path)):
+                    kept += 1
+                    continue
+                try:
+                    size = path.stat().st_size
+                    path.unlink()
+                except FileNotFoundError:
+                    continue
+                except OSError as exc:
+                    log.warning("purge: could not remove the input copy %s: %s", path, exc)
+                    continue
+                removed += 1
+                freed += size
+                try:
+                    path.parent.rmdir()
+                except OSError:
+                    pass
+        log.info("purged %d jobs%s: %d bytes freed, %d input copies removed, %d kept (named by other jobs)",
+                 len(job_ids), f" (sweep {sweep_id})" if sweep_id else "", freed, removed, kept)
+        return {"jobs": list(job_ids), "freed_bytes": freed, "input_copies_removed": removed,
+                "input_copies_kept": kept}
 
     # ------------------------------------------------------------------ from the routes
     def notify(self) -> None:

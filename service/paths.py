@@ -13,12 +13,15 @@ A job runs on the data files as they were when it was submitted: :func:`snapshot
 copies each file a scenario names, at submit and before it is checked, to
 ``<data_dir>/inputs/<sha256 of its content>/<its name>`` (written once, never changed) and
 the stored scenario names the copy. Those copies are readable by the path guard too, so a
-job's stored scenario (``GET /jobs/{id}/scenario``) can be submitted again.
+job's stored scenario (``GET /jobs/{id}/scenario``) can be submitted again. A copy stays
+while a job's stored scenario names it: :func:`input_copies_in` and :func:`copy_reference`
+let the service remove the others (a purged job's, ``service.jobs.JobManager.purge``).
 """
 from __future__ import annotations
 
 import copy
 import hashlib
+import json
 import os
 import re
 import secrets
@@ -29,6 +32,8 @@ from typing import Any, Collection
 PATH_KEY = re.compile(r"(^|_)(file|files|path|paths|filename|filenames|dir|directory|folder|url|uri)$", re.I)
 URL = re.compile(r"^[a-zA-Z][a-zA-Z0-9+.-]*://")
 SAFE_NAME = re.compile(r"^[A-Za-z0-9_-]{1,100}$")
+# a copy made at a submit: .../inputs/<sha256 of the content>/<file name>
+INPUT_COPY = re.compile(r"[\\/]inputs[\\/]([0-9a-f]{64})[\\/]([^\\/]+)$")
 
 
 class UnsafePath(ValueError):
@@ -177,6 +182,34 @@ def _copy_of(value: str, data_dir: Path) -> str:
         tmp.unlink(missing_ok=True)
         raise
     return str(target)
+
+
+def input_copies_in(data: Any, data_dir: Path) -> set[Path]:
+    """The copies in ``<data_dir>/inputs`` that a stored scenario names: every string value
+    ending ``inputs/<sha256>/<name>``, as the file of that name in this data directory's
+    ``inputs`` folder (also when the data directory was moved since the submit)."""
+    out: set[Path] = set()
+    stack = [data]
+    while stack:
+        item = stack.pop()
+        if isinstance(item, dict):
+            stack.extend(item.values())
+        elif isinstance(item, list):
+            stack.extend(item)
+        elif isinstance(item, str):
+            m = INPUT_COPY.search(item)
+            if m and m.group(2) not in (".", ".."):
+                out.add(inputs_dir(data_dir) / m.group(1) / m.group(2))
+    return out
+
+
+def copy_reference(copy_path: Path) -> str:
+    """What a stored scenario (compact JSON, ``json.dumps``) that names the copy
+    ``copy_path`` contains, whatever the data directory's path: ``<sha256>/<name>"``
+    spelled as in JSON text, with the string's closing quote (so ``m.csv`` is not found in
+    ``m.csv2``)."""
+    copy_path = Path(copy_path)
+    return json.dumps(os.path.join(copy_path.parent.name, copy_path.name))[1:]
 
 
 def find_scenarios_dir(configured: Path | None = None) -> Path | None:

@@ -213,6 +213,33 @@ class Store:
         self._write("UPDATE jobs SET status='queued', attempts=MAX(0, attempts-1), started=NULL WHERE id=? "
                     "AND status='running'", (job_id,))
 
+    def names(self, text: str) -> bool:
+        """Whether some job's stored scenario contains ``text`` (a copy of an input file)."""
+        return self._connect().execute("SELECT 1 FROM jobs WHERE instr(scenario, ?) > 0 LIMIT 1",
+                                       (text,)).fetchone() is not None
+
+    def delete_jobs(self, job_ids: list[str], sweep_id: str | None = None) -> bool:
+        """Delete the records of jobs that are over (and the row of the sweep ``sweep_id``) in
+        one transaction; False, deleting nothing, when one of them is gone or not over."""
+        marks = ", ".join("?" * len(job_ids))
+        with self._write_lock:
+            con = self._connect()
+            con.execute("BEGIN IMMEDIATE")
+            try:
+                if job_ids:
+                    cur = con.execute(f"DELETE FROM jobs WHERE id IN ({marks}) AND status IN ('done', 'failed', "
+                                      f"'cancelled')", tuple(job_ids))
+                    if cur.rowcount != len(set(job_ids)):
+                        con.execute("ROLLBACK")
+                        return False
+                if sweep_id is not None:
+                    con.execute("DELETE FROM sweeps WHERE id=?", (sweep_id,))
+                con.execute("COMMIT")
+            except BaseException:
+                con.execute("ROLLBACK")
+                raise
+        return True
+
     def running_ids(self) -> list[str]:
         return [r[0] for r in self._connect().execute("SELECT id FROM jobs WHERE status='running'").fetchall()]
 
