@@ -497,9 +497,38 @@ def breaking_load_warnings(sc: Scenario, results) -> list[str]:
     return out
 
 
+PRETENSION_SLACK = 0.2      # share of its pretension an elastic tugger may lose or gain in statics unwarned
+
+
+def tugger_pretension_warnings(sc: Scenario, results) -> list[str]:
+    """One message per elastic tugger with a pretension whose tension at the first time of
+    ``results`` (the static equilibrium, when statics ran) differs from it by more than
+    PRETENSION_SLACK of it: the pretension sets the unstretched length at the scenario's
+    initial positions, and statics moves the body (a 10 kN tugger on a stiff line held 469 N
+    after the body settled 0.095 m)."""
+    out = []
+    if not sc.analysis.statics.enabled:
+        return out
+    for name, tug in (sc.tuggers or {}).items():
+        mode = tug.mode
+        if mode.kind != "elastic" or not mode.pretension > 0.0 or name not in results.tuggers:
+            continue
+        tension = np.asarray(results.tugger(name).tension, float)
+        if tension.size == 0 or not np.isfinite(tension[0]):
+            continue
+        held = float(tension[0])
+        if abs(held - mode.pretension) > PRETENSION_SLACK * mode.pretension:
+            out.append(f"tugger '{name}' (tuggers.{name}.mode.pretension) holds {held / 1e3:.4g} kN at static "
+                       f"equilibrium, not its pretension {mode.pretension / 1e3:.4g} kN: the pretension sets the "
+                       f"line's unstretched length at the scenario's initial positions, and statics moved the "
+                       f"body; start the body where it hangs with the tugger pulling, or give the line's length")
+    return out
+
+
 def _breaking_load_message(sc: Scenario, results) -> str:
-    """The breaking-load warnings of a statics result, logged and as text for its message."""
-    warnings = breaking_load_warnings(sc, results)
+    """The breaking-load and tugger-pretension warnings of a statics result, logged and as
+    text for its message."""
+    warnings = breaking_load_warnings(sc, results) + tugger_pretension_warnings(sc, results)
     for w in warnings:
         log.warning("statics: %s", w)
     return "".join(f"{STATICS_WARNING}{w}" for w in warnings)
@@ -517,7 +546,7 @@ def _dynamic_warnings(model, results, sc=None) -> str:
     from .solvers.dynamics import output_interval_warning
     warnings = (motion_table_warnings(sc) + rao_range_warnings(sc) if sc is not None else []) + (
         dynamic_shear_warnings(model, results) if model is not None else []) + (
-        breaking_load_warnings(sc, results) if sc is not None else [])
+        breaking_load_warnings(sc, results) + tugger_pretension_warnings(sc, results) if sc is not None else [])
     for w in warnings:
         log.warning("dynamics: %s", w)
     # a duration the output interval does not divide: logged when the run was scheduled
