@@ -459,7 +459,7 @@ def simulate(scenario, *, progress=None):
     log.info("%s", describe_run(counters, float(state.t)))
     try:
         res = rec.results(status=0, message=message, counters=dict(counters), **meta)
-        res.message += _dynamic_warnings(model, res, sc)
+        res.message += _dynamic_warnings(model, res, sc, rec)
     except KeyboardInterrupt as exc:
         # Ctrl-C after the last step, while the results were put together: the run is complete,
         # and they go with the interruption as those of a run stopped early do (the command
@@ -534,19 +534,26 @@ def _breaking_load_message(sc: Scenario, results) -> str:
     return "".join(f"{STATICS_WARNING}{w}" for w in warnings)
 
 
-def _dynamic_warnings(model, results, sc=None) -> str:
+def _dynamic_warnings(model, results, sc=None, recorder=None) -> str:
     """A duration the output interval does not divide, the table and csv vessel motions that
     end before the run does or start after it (rfesim.scenario.schema.motion_table_warnings),
     the RAO vessels whose table leaves
     out a noticeable part of the sea (rfesim.sea.rao.rao_range_warnings) and the lines whose tension in the run went past
     their fem shear limit (rfesim.solvers.buckling.dynamic_shear_warnings; ``model`` None:
-    a scene of other formulations), logged and as text for the message."""
+    a scene of other formulations), logged and as text for the message; with the run's
+    ``recorder`` (a run that finished) also the growth of a closed scene's energy below the
+    stop (rfesim.solvers.dynamics.EnergyCheck) and more than a tenth of the steps halved."""
     from .scenario.schema import motion_table_warnings
     from .sea.rao import rao_range_warnings
-    from .solvers.dynamics import output_interval_warning
+    from .solvers.dynamics import halving_warning, output_interval_warning
     warnings = (motion_table_warnings(sc) + rao_range_warnings(sc) if sc is not None else []) + (
         dynamic_shear_warnings(model, results) if model is not None else []) + (
         breaking_load_warnings(sc, results) + tugger_pretension_warnings(sc, results) if sc is not None else [])
+    if recorder is not None:
+        check = getattr(recorder, "energy_check", None)
+        duration = float(results.time[-1] - results.time[0]) if len(results.time) else 0.0
+        warnings += [w for w in (check.warning() if check is not None else None,
+                                 halving_warning(results.counters or {}, duration)) if w]
     for w in warnings:
         log.warning("dynamics: %s", w)
     # a duration the output interval does not divide: logged when the run was scheduled

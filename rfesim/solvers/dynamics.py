@@ -820,6 +820,122 @@ def _check_motor_rates(km, out_dt: float) -> None:
                                   f"turn less than 90 deg in one (give at most {0.5 * math.pi / rate:.3g} s)")])
 
 
+def energy_inputs(system: System) -> list[str]:
+    """What puts energy into a scene, or takes it out through a term that
+    ``rfesim.model.energy.mechanical_energy`` does not count (rfesim.api.describe_model lists
+    a scene's terms): an empty list for a closed scene - gravity, elastic and tension-only
+    SDEs (damped or not, joins and closing joins), rigid bodies and constant dead point
+    forces on fixed or pinned supports - whose energy no integrator may raise."""
+    km, model = system.km, system.model
+    out = [name for flag, name in (
+        ("has_water", "water"), ("has_sea", "waves / current"), ("has_morison", "Morison loads"),
+        ("has_seabed", "seabed"), ("has_rollers", "rollers"), ("has_tensioners", "tensioners"),
+        ("has_reels", "reels"), ("has_plastic", "elasto-plastic SDEs"), ("has_deck", "deck contact"),
+        ("has_tuggers", "tugger lines"), ("has_reeving", "reeving"), ("has_drives", "drives"),
+        ("has_motors", "servo motors")) if bool(getattr(km, flag, False))]
+    if getattr(model, "winches", None) or getattr(system, "controllers", None):
+        out.append("winches")
+    if model.has_moving_attachments:
+        out.append("moving vessels")
+    if km.load_rfe.shape[0] and ((km.load_local != 0).any() or (km.load_moment != 0.0).any()):
+        out.append("follower loads or moments")
+    return out
+
+
+# growth of the mechanical energy over its scale (EnergyCheck) reported in the results' message,
+# and that stops the run as diverged. Measured: the rope snap of audit F1 stays within 3e-5
+# through its physical phase, then blows up (1 % at 0.147 s, 12 % at 0.174 s, 28 % at 0.177 s,
+# 88 % at 0.24 s with the tension at MN); legitimate closed runs of the tests reach 4.5 %
+# (the nearly rigid portal at rho_inf 1, tests/validation/test_closing_joins.py), 3.6 % (a rod
+# looping over its pin at rho_inf 1 for 100 s), 0.4 % (the hinged bar), 1.6e-4 (bench B9):
+# a stop at 25 % is 5.6 times the worst of them, a warning at 10 % twice it.
+ENERGY_WARN = 0.10
+ENERGY_STOP = 0.25
+ENERGY_HINT = ("damp the ropes and lines (their damping_ratio, e.g. 0.05), lower "
+               "analysis.dynamics.integrator.rho_inf (e.g. 0.5) or shorten the time step")
+
+
+class EnergyCheck:
+    """Growth of the mechanical energy of a closed scene (``energy_inputs`` empty), checked
+    at output times: generalized-alpha with rho_inf <= 1 cannot create energy, nor may a
+    stable RK step, so energy E(t) - E(0) growing past a fraction of the scene's energy
+    scale is a numerical blow-up (docs/theory.md, section 3). The scale is frame-free: the
+    largest kinetic + elastic energy seen plus the range of the gravity potential (and the
+    dead loads' work) seen; a round-off floor of 1e-9 of the absolute potential (sum of
+    |m g z| and |F . x|) keeps a scene at rest from tripping it."""
+
+    def __init__(self, system: System, state: State):
+        from ..model.energy import mechanical_energy
+        self.energy = mechanical_energy
+        self.system = system
+        self.on = not energy_inputs(system)
+        self.worst = 0.0            # largest growth / (scale + floor) seen
+        self.worst_t = 0.0
+        self.worst_dE = 0.0
+        self.worst_scale = 0.0
+        self.history = []           # (t, E - E0, scale, floor) at each check
+        if not self.on:
+            return
+        e = mechanical_energy(system, state)
+        self.e0 = e.total
+        self.kin_el = e.kinetic + e.elastic
+        self.pot_lo = self.pot_hi = e.gravity + e.work
+        ws, km = system.ws, system.km
+        self.floor = 1e-9 * (abs(km.gravity) * float((km.rfe_mass * np.abs(ws.r[:, 2])).sum())
+                             + abs(e.work) + 1e-3 * e.kinetic + 1e-3 * e.elastic) + 1e-12
+
+    def __call__(self, state: State) -> bool:
+        """Check the state (an output time); True when the growth is past ENERGY_STOP."""
+        if not self.on:
+            return False
+        e = self.energy(self.system, state)
+        pot = e.gravity + e.work
+        self.kin_el = max(self.kin_el, e.kinetic + e.elastic)
+        self.pot_lo, self.pot_hi = min(self.pot_lo, pot), max(self.pot_hi, pot)
+        scale = self.kin_el + (self.pot_hi - self.pot_lo)
+        growth = e.total - self.e0
+        if not math.isfinite(growth):
+            growth, ratio = math.inf, math.inf
+        else:
+            ratio = max(0.0, growth - self.floor) / max(scale, self.floor)
+        self.history.append((float(state.t), growth, scale, self.floor))
+        if ratio > self.worst:
+            self.worst, self.worst_t, self.worst_dE, self.worst_scale = ratio, float(state.t), growth, scale
+        return ratio > ENERGY_STOP
+
+    def where(self) -> str | None:
+        """The RFE with the largest kinetic energy at the state last checked (ws holds its
+        evaluation): where a blow-up shows first."""
+        km, ws = self.system.km, self.system.ws
+        kin = km.rfe_mass * (ws.v ** 2).sum(axis=1) + (km.rfe_inertia * ws.wb ** 2).sum(axis=1)
+        kin[km.rfe_kind == 2] = 0.0
+        kin[~np.isfinite(kin)] = np.inf
+        return self.system.model.describe_rfe(int(np.argmax(kin))) if kin.size else None
+
+    def describe(self) -> str:
+        return (f"the mechanical energy of this closed scene (no waves, current, vessels, drives, winches or "
+                f"payout) grew by {self.worst_dE:.4g} J by t = {self.worst_t:.6g} s, {100 * self.worst:.3g} % of "
+                f"its scale {self.worst_scale:.4g} J (the largest kinetic + elastic energy plus the range of the "
+                f"gravity potential seen), where an exact solve keeps it or loses it to damping: numerical error "
+                f"(generalized-alpha with rho_inf <= 1 and a stable RK step create no energy) - {ENERGY_HINT}")
+
+    def warning(self) -> str | None:
+        return self.describe() if self.on and self.worst > ENERGY_WARN else None
+
+
+def halving_warning(counters: dict, duration: float) -> str | None:
+    """More than a tenth of the generalized-alpha steps taken in substeps (Newton failed at
+    the full step): the step is too long for what the scene does."""
+    h = float(counters.get("time_step") or 0.0)
+    n = int(round(duration / h)) if h > 0.0 else 0
+    halved = int(counters.get("step_halvings", 0))
+    if n <= 0 or halved <= 0.1 * n:
+        return None
+    return (f"{halved} of the {n} time steps ({100.0 * halved / n:.3g} %) failed Newton's iteration at the full step "
+            f"and were retried in substeps: the results may be inaccurate - shorten "
+            f"analysis.dynamics.integrator.time_step, damp the lines or lower analysis.dynamics.integrator.rho_inf")
+
+
 def _whole_intervals(T: float, dt: float) -> int:
     """Number of intervals dt that cover the duration T (at least one for T > 0), the last
     one ending at or after T; a quotient within rounding of a whole number counts as whole."""
@@ -1104,6 +1220,8 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
         ends = system.payout_ends = payout_ends(system)
     stats = np.zeros(4, np.int64)
     fail = np.zeros(3)
+    # closed scenes: the energy at the start, checked for growth at output times (EnergyCheck)
+    energy = recorder.energy_check = EnergyCheck(system, st)
 
     def make_results(**kw):
         counters["wall_time"] = _time.perf_counter() - wall0
@@ -1125,14 +1243,25 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
             raise SolverError(msg, time=st.t, quantity="payout beyond the line held",
                               results=make_results(status=1, message=msg))
 
+    def check_energy(st):
+        """Stop with the results so far once the energy of a closed scene has grown past
+        ENERGY_STOP of its scale (EnergyCheck); the workspace is left evaluated at ``st``."""
+        if energy.on and energy(st):
+            hint = energy.describe() + (f"; {rk4_hint}" if rk4_hint else "")
+            where = energy.where()
+            msg = f"energy growth at t = {st.t:.6g} s" + (f" in {where}" if where else "") + f"; {hint}"
+            raise SolverError("the run diverged", time=st.t, element=where, quantity="energy growth", hint=hint,
+                              results=make_results(status=1, message=msg))
+
     def output(st) -> bool:
-        """At an output time: record the state, stop on a rope slipped too far or a line run
-        out of its tensioner or reel, rebase the servo motors' joints (True when one was: a
-        factorised Jacobian is then stale), report progress."""
+        """At an output time: record the state, stop on a rope slipped too far, a line run
+        out of its tensioner or reel or the energy of a closed scene grown, rebase the servo
+        motors' joints (True when one was: a factorised Jacobian is then stale), report progress."""
         recorder.record(st, st.qdd)
         check_slip()
         check_payout()
         rebased = bool(km.has_motors and rebase_motors(km, ws))
+        check_energy(st)
         report(st.t)
         return rebased
 
@@ -1259,6 +1388,7 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
                             # intervals get dearer
                             per = (_time.perf_counter() - tw) / max(nd, 1)
                             chunk = max(1, min(2 * chunk, 4096, int(0.1 / per) if per > 0.0 else 4096))
+                            check_energy(st)        # at the chunk's last output time
                             report(st.t)
                             continue
                         # the failed interval (state, history and counters rolled back) is redone below
