@@ -851,7 +851,8 @@ def energy_inputs(system: System) -> list[str]:
 # a stop at 25 % is 5.6 times the worst of them, a warning at 10 % twice it.
 ENERGY_WARN = 0.10
 ENERGY_STOP = 0.25
-ENERGY_HINT = ("damp the ropes and lines (their damping_ratio, e.g. 0.05), lower "
+ENERGY_HINT = ("damp the ropes and lines (line_types.<type>.damping.axial_ratio, or the damping_ratio of a crane's "
+               "rope or a pipelay pipe, e.g. 0.05), lower "
                "analysis.dynamics.integrator.rho_inf (e.g. 0.5) or shorten the time step")
 
 
