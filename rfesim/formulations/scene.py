@@ -52,6 +52,7 @@ from .chain import (
 from .classical import ClassicalLink, linear_modes
 from .links import BeamProperties, RigidLink
 from .modified import ModifiedLink
+from .transforms import SPHERICAL
 
 
 log = logging.getLogger("rfesim")
@@ -606,6 +607,67 @@ def default_step(scene, states, rates, dyn) -> tuple[float, str]:
     return step, "no non-zero natural frequency: duration / 1000 (limited by the joint rates)"
 
 
+SINGULAR_NEAR = 0.05      # |cos phi_y| of a spherical joint within ~2.9 deg of the ZYX singularity
+SINGULAR_RATE = 10.0      # joint rates above this multiple of the rates away from it: not kept
+
+
+def _spherical_joints(unit):
+    """[(name, coordinate indices (phi_x, phi_y, phi_z))] of the integrated spherical joints
+    of a chain unit: the chain joints by their scenario name, a pinned line's end_a pin."""
+    model = unit.model
+    free = set(int(i) for i in model.free)
+    out = []
+    for info in model.links.values():
+        idx = np.asarray(info.joint_coords, int)
+        if len(idx) != 3 or int(model.kind[info.first_body]) != SPHERICAL or int(idx[1]) not in free:
+            continue
+        name = next((f"chains.{n}" for n, j in unit.joints.items() if np.array_equal(np.asarray(j, int), idx)),
+                    f"{unit.label}.end_a (pinned)")
+        out.append((name, idx))
+    return out
+
+
+def _euler_singularity(unit, times, Q, QD):
+    """Whether a chain unit that failed had just taken a spherical joint to the singularity
+    of its ZYX angles (|phi_y| = 90 deg about the joint's y axis), where the mass matrix is
+    singular and the rates of phi_x, phi_z grow without bound, whatever the time step:
+    None, or (joint name, time of its last output near or across the singularity, number
+    of outputs to keep: those before the joint rates grew beyond SINGULAR_RATE times their
+    largest value before the final approach, and not finite). "Just": within the last 2 outputs or 2 % of the
+    outputs before the failure."""
+    n = min(len(times), len(Q), len(QD))
+    if n == 0:
+        return None
+    tail = max(2, n // 50)
+    for name, idx in _spherical_joints(unit):
+        c = np.cos(Q[:n, idx[1]])
+        near = ~np.isfinite(c) | (np.abs(c) < SINGULAR_NEAR)
+        near[1:] |= np.sign(c[1:]) != np.sign(c[:-1])       # crossed between two outputs
+        hits = np.flatnonzero(near)
+        if not len(hits) or hits[-1] < n - tail:
+            continue
+        first = int(hits[hits >= n - tail][0])             # the final approach starts here
+        rate = np.abs(QD[:n][:, idx]).max(axis=1)
+        ok = (np.isfinite(rate) & ~near)[:first]
+        ref = max(1.0, float(rate[:first][ok].max())) if ok.any() else 1.0
+        bad = np.flatnonzero(~np.isfinite(rate) | (rate > SINGULAR_RATE * ref)
+                             | ~np.all(np.isfinite(Q[:n]), axis=1) | ~np.all(np.isfinite(QD[:n]), axis=1))
+        n_keep = int(bad[0]) if len(bad) else n
+        return name, float(times[hits[-1]]), max(1, n_keep)
+    return None
+
+
+def _singularity_message(label, sing, why, integrator):
+    """The SolverError message of a unit that failed at a spherical joint's singularity."""
+    name, t_near, _ = sing
+    return (f"{label}: the {integrator} failed ({why}) as the spherical joint {name} reached |phi_y| = 90 deg "
+            f"about its y axis (t = {t_near:.6g} s), the singularity of its ZYX joint angles: there the rates "
+            f"of phi_x and phi_z grow without bound, and a smaller time step or tighter tolerances do not help; "
+            f"orient the joint (its direction) so that the motion stays away from +-90 deg about the joint's "
+            f"y axis, or model the link as a pinned line in the absolute formulation (its element angles are "
+            f"re-based and never reach the singularity)")
+
+
 def _partial(sc, scene, times, hist, n_keep, message, counters):
     from .. import __version__
     hist = [(Q[:n_keep], QD[:n_keep], QDD[:n_keep]) for Q, QD, QDD in hist]
@@ -768,6 +830,11 @@ def simulate(sc, progress=None):
                 label, t_fail, why, n_keep = failure
                 msg = (f"{label}: {why}; the adaptive integrator lost accuracy (tighten "
                        f"analysis.dynamics.integrator.rtol / atol or set max_step)")
+                for unit, (Q, QD, _) in zip(scene.chains, hist):
+                    sing = _euler_singularity(unit, times[:n_keep], Q, QD) if unit.label == label else None
+                    if sing is not None:
+                        msg = _singularity_message(label, sing, why, "adaptive integrator")
+                        n_keep = min(n_keep, sing[2])
                 counters["wall_time"] = _time.perf_counter() - wall0
                 raise SolverError(msg, time=t_fail, element=label,
                                   results=_partial(sc, scene, times, hist, n_keep, f"{msg} at t = {t_fail:.6g} s",
@@ -831,6 +898,11 @@ def simulate(sc, progress=None):
                        f"analysis.dynamics.integrator.time_step")
                 counters["wall_time"] = _time.perf_counter() - wall0
                 n_keep = len(times)
+                for unit, (Q, QD, _) in zip(scene.chains, hist):
+                    sing = _euler_singularity(unit, times, Q, QD) if unit.label == label else None
+                    if sing is not None:
+                        msg = _singularity_message(label, sing, why, f"RK4 integration (time step {step:.4g} s)")
+                        n_keep = min(n_keep, sing[2])
                 raise SolverError(msg, time=t_fail, element=label,
                                   results=_partial(sc, scene, times, hist, n_keep, f"{msg} at t = {t_fail:.6g} s",
                                                    counters))
