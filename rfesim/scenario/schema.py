@@ -1923,6 +1923,10 @@ class RK4Settings(_Strict):
                            default=0.8, gt=0.0, le=1.0)
 
 
+ADAPTIVE_RTOL_FLOOR = 1e-12
+ADAPTIVE_ATOL_FLOOR = 1e-15
+
+
 class AdaptiveSettings(_Strict):
     """Explicit Dormand-Prince 5(4) with an adaptive step that keeps the estimated error of
     each step within rtol and atol."""
@@ -1930,10 +1934,16 @@ class AdaptiveSettings(_Strict):
     kind: Literal["adaptive"]
     rtol: float = _units("1", "Relative error allowed per step of the embedded Dormand-Prince pair, of each "
                               "coordinate (a position against its size plus the element length)", default=1e-6,
-                         gt=0.0, lt=1.0)
+                         ge=ADAPTIVE_RTOL_FLOOR, lt=1.0,
+                         floor="below it the error estimate is round-off (a double resolves 2.2e-16 of a number) and "
+                               "the adaptive step collapses")
     atol: float = _units("m or rad; m/s or rad/s", "Absolute error allowed per step, added to rtol's share, in the "
                                                    "unit of each coordinate: m for positions, rad for rotations, "
-                                                   "m/s and rad/s for velocities", default=1e-8, gt=0.0)
+                                                   "m/s and rad/s for velocities", default=1e-8,
+                         ge=ADAPTIVE_ATOL_FLOOR, le=1.0,
+                         floor="below it a coordinate near zero needs an error below its round-off: the step "
+                               "collapses or the run takes millions of steps (1e-20: 1.3 million steps for 0.05 s)",
+                         limit="an error of 1 m or 1 rad per step controls nothing")
     max_step: float | None = _units("s", "Largest step", default=None, gt=0.0)
     first_step: float | None = _units("s", "First step (default: estimated)", default=None, gt=0.0)
 

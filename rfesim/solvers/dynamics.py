@@ -753,11 +753,12 @@ class Counters(dict):
             self[name] = self.get(name, 0) + int(stats[k])
 
 
-def _raise(system: System, fail: np.ndarray, status: int, make_results, what: str = "", hint: str | None = None):
+def _raise(system: System, fail: np.ndarray, status: int, make_results, what: str = "", hint: str | None = None,
+           quantity: str | None = None):
     t = float(fail[0])
     elem = int(fail[1])
     where = system.model.describe_rfe(elem) if elem >= 0 else None
-    quantity = QUANTITY.get(int(fail[2]), "failure")
+    quantity = quantity or QUANTITY.get(int(fail[2]), "failure")
     if int(fail[2]) == Q_NEWTON:
         hint = _slack_hint(system)
     elif int(fail[2]) == Q_THROUGH:
@@ -1461,7 +1462,16 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
                 stats[:] = 0
                 if status != 0:
                     st.t = float(fail[0])
-                    _raise(system, fail, status, make_results, "adaptive RK: ")
+                    quantity = hint = None
+                    if int(fail[1]) < 0 and int(fail[2]) == Q_VELOCITY:
+                        # dp_advance's only failure at no element: the step collapsed (below
+                        # 1e-14 * max(1, t) s, or 50 rejections in a row), not a runaway velocity
+                        quantity = (f"the adaptive step size collapsed (below {1e-14 * max(1.0, st.t):.3g} s or "
+                                    f"rejected 50 times in a row; the step at the previous output was {hout[0]:.3g} s)")
+                        hint = (f"the error estimate cannot meet analysis.dynamics.integrator.rtol = {integ.rtol:g} "
+                                f"and atol = {integ.atol:g} (round-off) or the state is diverging: loosen rtol / atol, "
+                                f"set max_step, or use the rk4 or generalized-alpha integrator")
+                    _raise(system, fail, status, make_results, "adaptive RK: ", hint, quantity)
                 st.t = t_target
                 output(st)
     except ArithmeticError as exc:

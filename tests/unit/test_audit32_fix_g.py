@@ -58,3 +58,45 @@ def test_euler_singularity_not_blamed_far_from_it():
     Q[-1, 1] = np.pi / 2                               # at the singularity at the end
     name, t_near, n_keep = _euler_singularity(unit, t, Q, np.gradient(Q, t, axis=0))
     assert (name, t_near) == ("chains.p.j", 1.0)
+
+
+# -------------------------------------------------------------- 2. adaptive tolerances
+def _cantilever(integ):
+    import json
+    from pathlib import Path
+    sc = json.loads((Path(__file__).parents[2] / "scenarios" / "cantilever_pipe.json").read_text())
+    sc["lines"]["pipe"]["elements"] = 10
+    sc["analysis"].pop("modal", None)
+    sc["analysis"]["dynamics"].update(duration=0.05, output_interval=0.01, integrator=integ)
+    return sc
+
+
+@pytest.mark.parametrize("integ, field, words", [
+    ({"kind": "adaptive", "rtol": 1e-300}, "analysis.dynamics.integrator.rtol", "the adaptive step collapses"),
+    ({"kind": "adaptive", "atol": 1e-300}, "analysis.dynamics.integrator.atol", "round-off"),
+    ({"kind": "adaptive", "atol": 1e300}, "analysis.dynamics.integrator.atol", "controls nothing"),
+])
+def test_adaptive_tolerances_bounded(integ, field, words):
+    from rfesim.errors import ScenarioError
+    from rfesim.scenario import load_scenario
+    with pytest.raises(ScenarioError) as ei:
+        load_scenario(_cantilever(integ))
+    assert field in str(ei.value) and words in str(ei.value)
+
+
+def test_adaptive_step_collapse_message(monkeypatch):
+    """dp_advance's failure at no element (the step fell below 1e-14 s or 50 rejections in a
+    row) was reported as 'velocity not finite or runaway'."""
+    import rfesim.solvers.dynamics as dy
+    from rfesim.solvers.kernels import Q_VELOCITY
+
+    def collapsed(*args):
+        fail = args[-2]
+        fail[0], fail[1], fail[2] = 0.0, -1, Q_VELOCITY
+        return 2
+    monkeypatch.setattr(dy, "dp_advance", collapsed)
+    with pytest.raises(rfesim.SolverError) as ei:
+        rfesim.simulate(_cantilever({"kind": "adaptive", "rtol": 1e-12, "atol": 1e-15}))
+    msg = str(ei.value)
+    assert "adaptive step size collapsed" in msg and "velocity not finite" not in msg
+    assert "rtol = 1e-12" in ei.value.hint and "atol = 1e-15" in ei.value.hint

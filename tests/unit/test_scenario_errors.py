@@ -334,7 +334,7 @@ CASES = [
     ("time-step-zero", put(analysis__dynamics__integrator={"kind": "generalized-alpha", "time_step": 0.0}),
      "analysis.dynamics.integrator.time_step", "greater than 0"),
     ("rtol-zero", put(analysis__dynamics__integrator={"kind": "adaptive", "rtol": 0.0}),
-     "analysis.dynamics.integrator.rtol", "greater than 0"),
+     "analysis.dynamics.integrator.rtol", "greater than or equal to 0.000000000001"),
     ("duration-negative", put(analysis__dynamics__duration=-1.0), "analysis.dynamics.duration",
      "greater than or equal to 0"),
     ("output-interval-too-long", put(analysis__dynamics={"enabled": True, "duration": 1.0, "output_interval": 5.0}),
