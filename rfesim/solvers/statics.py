@@ -666,9 +666,16 @@ def _solve(system: System, state: State | None, tolerance: float, max_iterations
             elem = int(np.argmax(np.abs(r).max(axis=1)))
             # a tensioner or reel whose grips all slip: its capacity, not an element, is the cause
             held = capacity_hint(system, lam_fail)
+            if total_its >= max_iterations:
+                why = (f"the Newton iterations were used up ({total_its} of max_iterations {max_iterations}, "
+                       f"in {nsteps} load step{'s' if nsteps != 1 else ''}): raise analysis.statics.max_iterations, "
+                       f"or analysis.statics.load_steps for smaller load increments")
+            else:
+                why = (f"the load increment was halved below 1e-4 of the full load after {total_its} iterations: "
+                       f"Newton failed on every smaller increment")
             raise SolverError("static equilibrium not found: Newton did not converge "
-                              f"(load factor {lam_done:.4g} reached, residual {rn:.3g} x force scale {force_ref:.3g} N)"
-                              + (f"; {held[0]}" if held else ""),
+                              f"(load factor {lam_done:.4g} reached, residual {rn:.3g} x force scale {force_ref:.3g} N; "
+                              f"{why})" + (f"; {held[0]}" if held else ""),
                               time=st.t, element=model.describe_rfe(elem), quantity="static residual",
                               hint=held[1] if held else None)
     info = StaticsInfo(iterations=total_its, load_steps=nsteps, residual=rn, converged=True,

@@ -100,3 +100,25 @@ def test_adaptive_step_collapse_message(monkeypatch):
     msg = str(ei.value)
     assert "adaptive step size collapsed" in msg and "velocity not finite" not in msg
     assert "rtol = 1e-12" in ei.value.hint and "atol = 1e-15" in ei.value.hint
+
+
+# -------------------------------------------------------------- 3. statics failure: which limit
+def test_statics_failure_says_max_iterations_used_up():
+    """A cantilever rolled into a full circle by its tip moment with max_iterations 5: the
+    message said only 'Newton did not converge', for both the iteration limit and a load
+    increment halved below 1e-4."""
+    import math
+    EI, EA, L = 1e8, 1e10, 10.0
+    sc = {"environment": {"gravity": 0.0},
+          "line_types": {"b": {"EA": EA, "EIy": EI, "EIz": EI, "GJ": EI, "GA": EA, "mass_per_length": 100.0}},
+          "lines": {"b": {"type": "b", "length": L, "elements": 40, "formulation": "absolute",
+                          "end_a": {"attach": "fixed", "position": [0, 0, 0], "direction": [1, 0, 0],
+                                    "connection": "clamped"},
+                          "end_b": {"attach": "free"},
+                          "loads": [{"at": "end_b", "moment": [0, -2 * math.pi * EI / L, 0]}]}},
+          "analysis": {"statics": {"enabled": True, "max_iterations": 5, "load_steps": 1, "tolerance": 1e-8}}}
+    with pytest.raises(rfesim.SolverError) as ei:
+        rfesim.statics(sc)
+    msg = str(ei.value)
+    assert ("Newton iterations were used up (5 of max_iterations 5, in 1 load step): raise "
+            "analysis.statics.max_iterations, or analysis.statics.load_steps") in msg
