@@ -163,9 +163,13 @@ class LineResults:
 
     def range_graph(self, channel: str, t_from: float | None = None, time: np.ndarray | None = None) -> dict:
         """Range graph of an SDE or RFE channel along the line: ``{"arc_length", "min", "max",
-        "mean"}`` over time (from ``t_from`` when the run's ``time`` is given).
+        "mean"}`` over time (from ``t_from`` on: give the run's ``time`` with it, a line's
+        results have no time axis of their own; ``t_from`` alone is a ValueError).
         For a channel per point (``position``), give ``channel="position_z"`` etc.
         ValueError listing the channels it takes (:data:`RANGE_GRAPH_CHANNELS`) for another."""
+        if t_from is not None and time is None:
+            raise ValueError(f"range_graph: t_from = {t_from:g} s needs the run's time axis: "
+                             f"line.range_graph(channel, t_from={t_from:g}, time=results.time)")
         if channel not in RANGE_GRAPH_CHANNELS:
             raise ValueError(f"range_graph: '{channel}' is not a channel along the line; it takes "
                              f"{', '.join(RANGE_GRAPH_CHANNELS)}")

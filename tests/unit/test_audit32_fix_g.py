@@ -122,3 +122,19 @@ def test_statics_failure_says_max_iterations_used_up():
     msg = str(ei.value)
     assert ("Newton iterations were used up (5 of max_iterations 5, in 1 load step): raise "
             "analysis.statics.max_iterations, or analysis.statics.load_steps") in msg
+
+
+# -------------------------------------------------------------- 4. range_graph t_from
+def test_range_graph_t_from_without_time_is_refused():
+    """LineResults.range_graph("tension", t_from=15.0) ignored t_from without `time` and
+    returned the whole run (200165 N instead of 185078 N from 15 s on)."""
+    from rfesim.results import LineResults
+    nt, ns = 4, 2
+    z = np.zeros
+    line = LineResults("l", np.arange(3.0), np.array([0.5, 1.5]), z((nt, 3, 3)),
+                       np.array([[9.0, 9.0], [1.0, 2.0], [1.0, 3.0], [2.0, 1.0]]), z((nt, ns)), z((nt, ns)),
+                       z((nt, ns)), z((nt, ns)), z((nt, 3)), z((nt, 3)), z((nt, 3)), z((nt, 3)), z((nt, 3)),
+                       z((nt, 3)), z((nt, 3)))
+    with pytest.raises(ValueError, match=r"t_from = 1 s needs the run's time axis.*time=results.time"):
+        line.range_graph("tension", t_from=1.0)
+    assert line.range_graph("tension", t_from=1.0, time=np.arange(4.0))["max"].tolist() == [2.0, 3.0]
