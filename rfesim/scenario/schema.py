@@ -1036,7 +1036,9 @@ class RaoMotion(_Strict):
 
     @model_validator(mode="after")
     def _source(self):
-        if (self.raos is None) == (self.file is None):
+        if self.raos is None and self.file is None:
+            raise FieldError("raos", "give one of the RAO table inline (raos) or a file with it (file)")
+        if self.raos is not None and self.file is not None:
             raise FieldError("raos", "give the RAO table inline (raos) or a file, not both")
         if self.file is not None:
             from ..sea.rao import read_rao_file
