@@ -905,10 +905,6 @@ def compile_scenario(sc, start: str | None = None) -> Model:
                              wavenumber=sea.wavenumber[:0].copy(), phase=sea.phase[:0].copy(),
                              cos_direction=sea.cos_direction[:0].copy(), sin_direction=sea.sin_direction[:0].copy(),
                              ramp=0.0)
-    if sea.current_time.size:
-        # statics: the current as it is at t = 0, steady (no dU/dt of a time factor ramping from 0)
-        sea_still = sea_still._replace(current_time=np.zeros(1),
-                                       current_factor=np.array([np.interp(0.0, sea.current_time, sea.current_factor)]))
     # waves act through Froude-Krylov inertia even without drag or added mass
     has_morison = has_water and (sea.has_waves or any(
         li.section.drag_normal > 0 or li.section.drag_axial > 0 or li.section.added_mass_normal > 0

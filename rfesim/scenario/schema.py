@@ -448,8 +448,8 @@ class Current(_Strict):
     time_factor: list[FactorRow] | None = _units(
         "s, 1", "Optional rows [t, factor] multiplying the profile, times strictly increasing, linear in t, "
                 "constant beyond the ends; a factor times the fastest speed of the profile at most 1e4 m/s. "
-                "The water's acceleration includes the current's own dU/dt (the slope of the row's segment) "
-                "in the Morison inertia force: ramp it over seconds, not in one step",
+                "The factor is a slow modulation (a start-up ramp, a tide): the current's own dU/dt is not "
+                "part of the water acceleration (no Morison inertia from it), as in MoorDyn and most codes",
         default=None, min_length=1)
 
     @model_validator(mode="after")

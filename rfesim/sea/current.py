@@ -6,9 +6,7 @@ with s(z) the speed profile interpolated linearly between the given [z, speed] p
 and held constant beyond its ends (above the top point up to the surface, below the
 lowest down to the seabed), beta_c the direction the current flows TOWARD, from global x
 toward global y (about z), and f(t) an optional time factor interpolated linearly in a
-[t, factor] table (held constant beyond its ends; 1 without a table). Its local
-acceleration dU/dt = f'(t) s(z) (f' the slope of the factor's segment, 0 beyond the ends)
-enters the water acceleration of the Morison inertia. z is the global
+[t, factor] table (held constant beyond its ends; 1 without a table). z is the global
 (absolute) height, like every position in a scenario. The profile is not stretched with
 the waves: under a wave crest the current is that of the top point.
 """
@@ -32,19 +30,6 @@ class CurrentProfile:
         if self.time.size == 0:
             return 1.0
         return float(np.interp(t, self.time, self.factor))
-
-    def time_factor_rate(self, t: float) -> float:
-        """df/dt: the slope of the factor's segment holding t (t0 <= t < t1), 0 beyond the ends."""
-        if self.time.size < 2 or t < self.time[0] or t >= self.time[-1]:
-            return 0.0
-        j = int(np.searchsorted(self.time, t, side="right")) - 1
-        return float((self.factor[j + 1] - self.factor[j]) / (self.time[j + 1] - self.time[j]))
-
-    def acceleration(self, t: float, z) -> np.ndarray:
-        """(n, 3) m/s^2 local acceleration dU/dt = f'(t) s(z) of the current at heights z."""
-        z = np.atleast_1d(np.asarray(z, dtype=float))
-        s = np.interp(z, self.z, self.speed) * self.time_factor_rate(t)
-        return np.stack([s * math.cos(self.direction), s * math.sin(self.direction), 0.0 * s], axis=-1)
 
     def velocity(self, t: float, z) -> np.ndarray:
         """(n, 3) m/s current velocity at heights z (numpy)."""

@@ -7,9 +7,8 @@ current profile (:mod:`rfesim.sea.current`) into a :class:`SeaSpec` of arrays an
 * ``eta``: the absolute z of the free surface above the point's (x, y):
   surface_level + r(t) sum a cos(theta);
 * ``vel``: the water particle velocity, waves plus current;
-* ``acc``: the local water particle acceleration du/dt: the waves', including the
-  ramp-rate term r'(t) u, plus the current's f'(t) s(z) (the slope of its piecewise-linear
-  time factor; the current is steady in space).
+* ``acc``: the local wave particle acceleration du/dt (the current is steady in space;
+  its time factor is slow and not differentiated), including the ramp-rate term r'(t) u.
 
 Stretching of the wave kinematics (z' = height above still water of the point, eta the
 local elevation; above the instantaneous surface every method uses the value AT the
@@ -183,17 +182,6 @@ def interp_clamped(xs, ys, x):
     return ys[lo] + f * (ys[hi] - ys[lo])
 
 
-@njit(cache=True)
-def slope_clamped(xs, ys, x):
-    """The slope of :func:`interp_clamped` at ``x``: that of the segment with xs[lo] <= x <
-    xs[lo + 1]; 0 before the first and from the last point on (held constant there)."""
-    n = xs.shape[0]
-    if n < 2 or x < xs[0] or x >= xs[n - 1]:
-        return 0.0
-    lo = bracket(xs, x)
-    return (ys[lo + 1] - ys[lo]) / (xs[lo + 1] - xs[lo])
-
-
 SKIP_DEPTH = 1e-17      # a component below this fraction of the sea's velocity bound is skipped
 
 
@@ -269,10 +257,8 @@ def sea_kinematics_reach(ss, t, points, reach, use_reach, eta, vel, acc):
             r = 0.5 * (1.0 - math.cos(a * t))
             rd = 0.5 * a * math.sin(a * t)
     factor = 1.0
-    factor_rate = 0.0           # df/dt: the current's own local acceleration f'(t) s(z)
     if ss.has_current and ss.current_time.shape[0] > 0:
         factor = interp_clamped(ss.current_time, ss.current_factor, t)
-        factor_rate = slope_clamped(ss.current_time, ss.current_factor, t)
     cth = np.empty(nc)
     sth = np.empty(nc)
     # per component, packed once with the sea (sea_component_constants)
@@ -389,12 +375,9 @@ def sea_kinematics_reach(ss, t, points, reach, use_reach, eta, vel, acc):
         eta[i] = surface
         if ss.has_current:
             zcur = min(points[i, 2], surface)
-            sz = interp_clamped(ss.current_z, ss.current_speed, zcur)
-            u = factor * sz
+            u = factor * interp_clamped(ss.current_z, ss.current_speed, zcur)
             vx += u * ss.current_cos
             vy += u * ss.current_sin
-            ax += factor_rate * sz * ss.current_cos
-            ay += factor_rate * sz * ss.current_sin
         vel[i, 0] = vx
         vel[i, 1] = vy
         vel[i, 2] = vz

@@ -1,7 +1,7 @@
 """Sea and vessel inputs the shipped scenarios do not use (audit of 2026-12-06): a vessel
 motion table or CSV file that does not cover the run (start_time, warnings, errors), CSV
-files written by spreadsheets, wave records in the wrong units, and the acceleration of a
-time-varying current."""
+files written by spreadsheets, wave records in the wrong units, and what the time factor of a
+current does not do."""
 from __future__ import annotations
 
 import copy
@@ -13,9 +13,6 @@ import pytest
 
 import rfesim
 from rfesim.scenario.schema import motion_table_warnings
-from rfesim.sea.current import CurrentProfile
-from rfesim.sea.kernel import pack_sea, sea_kinematics_into
-from rfesim.sea.waves import no_waves
 from rfesim.vessel import make_vessel_motion
 from scenes import RISER
 
@@ -130,38 +127,8 @@ def test_a_record_deeper_than_the_water_is_refused():
     assert "as large as the water depth" in errors["environment.water.waves.rows.10"]
 
 
-# ----------------------------------------------------------------- current acceleration
+# ----------------------------------------------------------------- current time factor
 
-def test_a_ramping_current_accelerates_the_water():
-    z = np.array([-50.0, 0.0])
-    current = CurrentProfile(z=z, speed=np.array([0.5, 1.5]), direction=math.radians(30.0),
-                             time=np.array([0.0, 10.0, 20.0]), factor=np.array([0.0, 1.0, 1.0]))
-    spec = pack_sea(no_waves(), current, 0.0)
-    points = np.array([[0.0, 0.0, -25.0], [3.0, 1.0, 0.0]])
-    for t, rate in ((5.0, 0.1), (15.0, 0.0), (25.0, 0.0), (-1.0, 0.0)):
-        eta, vel, acc = np.zeros(2), np.zeros((2, 3)), np.zeros((2, 3))
-        sea_kinematics_into(spec, t, points, eta, vel, acc)
-        s = np.array([1.0, 1.5])
-        want = rate * s[:, None] * np.array([math.cos(math.radians(30.0)), math.sin(math.radians(30.0)), 0.0])
-        assert np.max(np.abs(acc - want)) < 1e-14, t
-
-
-def test_statics_sees_a_steady_current():
-    """statics' still water holds the current's factor at t = 0 with no dU/dt (a ramp from t = 0
-    would push every line by C_m rho A dU/dt)."""
-    from rfesim.model.compile import compile_scenario
-    data = copy.deepcopy(RISER)
-    data["environment"]["water"]["current"] = {"profile": [[-50.0, 1.0], [0.0, 1.0]],
-                                               "time_factor": [[-10.0, 0.0], [10.0, 1.0]]}
-    km = compile_scenario(rfesim.load_scenario(data)).km
-    point = np.array([[0.0, 0.0, -20.0]])
-    eta, vel, acc = np.zeros(1), np.zeros((1, 3)), np.zeros((1, 3))
-    sea_kinematics_into(km.sea_still, 0.0, point, eta, vel, acc)
-    assert vel[0, 0] == pytest.approx(0.5, abs=1e-14) and np.all(acc == 0.0)
-    sea_kinematics_into(km.sea, 0.0, point, eta, vel, acc)                   # the run's: f' = 1/20
-    assert acc[0, 0] == pytest.approx(0.05, abs=1e-14)
-
-
-def test_schema_documents_the_current_acceleration():
+def test_schema_says_the_current_time_factor_is_not_differentiated():
     text = json.dumps(rfesim.scenario.schema.Current.model_json_schema())
-    assert "dU/dt" in text
+    assert "dU/dt is not part of the water acceleration" in text
