@@ -39,6 +39,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import copy
 import csv
 import itertools
 import json
@@ -339,6 +340,21 @@ def _base_dict(scenario) -> dict:
     from .scenario.load import _read_file, parse_text
 
     if isinstance(scenario, Scenario):
+        # the input it was validated from, with the fields assigned since: its pipelay and
+        # crane templates are expanded again in every case (a varied water depth moves the
+        # laid pipe's end; the expanded sections would keep the base's geometry)
+        from .scenario.load import revalidated
+        sc = revalidated(scenario)
+        if sc._after:
+            # assignments put onto sections a template made (no template field stands for
+            # them): a case's input, with its templates, cannot carry them
+            from .errors import ScenarioError
+            raise ScenarioError([(".".join(str(k) for k in path),
+                                  "was assigned in a section a template made, which a sweep makes again in every "
+                                  "case from the template: give the template's fields (as overrides or varied "
+                                  "values) instead") for path, _ in sc._after])
+        if sc._source is not None:
+            return copy.deepcopy(sc._source)
         return scenario.model_dump(mode="json", warnings=False)
     if isinstance(scenario, dict):
         return scenario

@@ -620,7 +620,7 @@ def _rope_and_winch(out: dict, name: str, tpl, raw: dict, parent: str, tip, vnam
         end_a["reeving"] = {"lead": vname, "point": [float(c) for c in tpl.reeving]}
     _add(out, "lines", rope, {
         "type": f"{rope}_section", "length": tpl.rope.length, "elements": tpl.rope.count(),
-        "end_a": end_a, "end_b": {"attach": body, "position": attach}}, "rope")
+        "end_a": end_a, "end_b": {"attach": body, "position": attach}}, "rope", keys={"length": "rope.length"})
     for tname, tug in tpl.tuggers.items():
         vessel = tug.vessel if tug.vessel is not None else vname
         if vessel not in (out.get("vessels") or {}):

@@ -634,8 +634,10 @@ def _at(data: Any, path: tuple) -> Any:
     return data
 
 
-def validate_dict(obj: Any, _raw: Callable | None = None) -> Scenario:
-    """Validate a plain dict into a Scenario, raising ScenarioError on any problem."""
+def validate_dict(obj: Any, _raw: Callable | None = None, _after: list | None = None) -> Scenario:
+    """Validate a plain dict into a Scenario, raising ScenarioError on any problem.
+    ``_after``: ``(path, value)`` assignments put onto sections the templates made, after
+    their expansion (``revalidated``)."""
     if not isinstance(obj, dict):
         what = {type(None): "nothing (an empty document)", list: "a list", tuple: "a list", str: "a string",
                 int: "a number", float: "a number", bool: "a boolean"}.get(type(obj), type(obj).__name__)
@@ -644,8 +646,12 @@ def validate_dict(obj: Any, _raw: Callable | None = None) -> Scenario:
     raw = _raw or (lambda o: super(Scenario, Scenario).model_validate(o))
     from .pipelay import recording_origins, recording_warnings, template_path
     from .templates import expand
+    given = obj                    # kept as the source: a revalidation expands the templates again
     with recording_origins() as origins, recording_warnings() as template_warnings:
         obj = expand(obj)          # pipelay and crane templates -> ordinary sections (rfesim.scenario.templates)
+    if _after:
+        obj = copy.deepcopy(obj)
+        template_warnings += _put_after(obj, _after, origins)
 
     def user_fields(errors: list[tuple[str, str]]) -> ScenarioError:
         # an error in a section a template made names the template field the user wrote
@@ -667,7 +673,9 @@ def validate_dict(obj: Any, _raw: Callable | None = None) -> Scenario:
     if errors:
         raise user_fields(errors)
     sc._template_warnings = list(template_warnings)     # added to a run's statics warnings (rfesim.api)
-    sc._source = copy.deepcopy(obj)
+    sc._source = copy.deepcopy(given)
+    sc._origins = dict(origins)
+    sc._after = copy.deepcopy(list(_after or []))
     sc._validated_dump = _plain(sc.model_dump(mode="python", warnings=False))
     return sc
 
@@ -700,7 +708,24 @@ def _assignments(before: Any, now: Any, path: tuple = ()) -> list[tuple[tuple, A
     return [] if _same(before, now) else [(path, now)]
 
 
-_REMOVED = object()
+class _Removed:
+    """The value of a removed entry among assignments: one object, also when copied or
+    pickled (a Scenario keeps such assignments, ``_after``)."""
+
+    def __repr__(self) -> str:
+        return "<removed>"
+
+    def __reduce__(self) -> str:
+        return "_REMOVED"
+
+    def __deepcopy__(self, memo) -> "_Removed":
+        return self
+
+    def __copy__(self) -> "_Removed":
+        return self
+
+
+_REMOVED = _Removed()
 
 
 def _same(a: Any, b: Any) -> bool:
@@ -731,12 +756,135 @@ def _assign(data: dict, path: tuple, value: Any, now: dict) -> None:
         cur[path[-1]] = copy.deepcopy(value)
 
 
+def _made_section(path: str, origins: dict) -> str | None:
+    """The section a template made (``bodies.crane_payload``) that ``path`` lies in, or None."""
+    return max((p for p in origins if path == p or path.startswith(p + ".")), key=len, default=None)
+
+
+def template_route(path: str, origins: dict) -> tuple[str | None, str | None]:
+    """Where a value for ``path`` of the expanded scenario goes in the input with its
+    templates: ``(path, None)`` outside the sections the templates made; in a made section,
+    ``(template field, None)`` when the field is a copy of a template field
+    (``bodies.crane_payload.mass`` -> ``cranes.crane.payload.mass``), else ``(None, reason)``:
+    the template makes the section again at every validation, so a value set in it would
+    not hold (or would clash with the name the template makes)."""
+    best = _made_section(path, origins)
+    if best is None:
+        return path, None
+    o = origins[best]
+    rest = path[len(best) + 1:]
+    first = rest.split(".", 1)[0]
+    if first and first in o.keys:
+        return f"{o.template}.{o.keys[first]}{rest[len(first):]}", None
+    if o.copy_of is not None and first and first not in o.generated:
+        return f"{o.template}.{o.copy_of}.{rest}", None
+    where = f"{o.template}.{o.field}" if o.field else o.template
+    return None, (f"{best} is made by the template {o.template}" + (f" from its field {where}" if o.field else "")
+                  + f", again each time the scenario is validated: a value given in it would not hold; give "
+                  f"it through the template's fields ({where}.…) instead")
+
+
+def onto_templates(data: dict, overrides: dict[str, Any]) -> dict[str, Any]:
+    """``overrides`` (dotted path -> value) with the paths into entries that the ``data``'s
+    templates make (``bodies.crane_payload.mass``) put onto the template fields they copy
+    (``cranes.crane.payload.mass``); a path into a made entry that no template field stands
+    for is a ScenarioError naming it and the template field to give instead."""
+    maps = set(_named_maps())
+
+    def own(group: str) -> dict:
+        return data.get(group) if isinstance(data.get(group), dict) else {}
+
+    made = [str(p) for p in overrides if len(str(p).split(".")) >= 2 and str(p).split(".")[0] in maps
+            and str(p).split(".")[1] not in own(str(p).split(".")[0])]
+    if not made or not any(data.get(k) for k in ("pipelay", "cranes")):
+        return overrides
+    from .pipelay import recording_origins
+    from .templates import expand
+    try:
+        with recording_origins() as origins:
+            expand(data)
+    except Exception:   # noqa: BLE001 - a template that does not expand: the validation says why
+        return overrides
+    out, errors = {}, []
+    for path, value in overrides.items():
+        field, reason = template_route(str(path), origins) if str(path) in made else (path, None)
+        if reason is not None:
+            errors.append((str(path), reason))
+        else:
+            out[field] = value
+    if errors:
+        raise ScenarioError(errors)
+    return out
+
+
+def _put_after(data: dict, after: list, origins: dict) -> list[str]:
+    """Put assignments (``(path, value)``, a value ``_REMOVED`` to remove) onto the sections
+    the templates made in the expanded ``data``; the warnings that say so, naming the
+    template. A ScenarioError for a section the templates no longer make."""
+    errors, warnings = [], []
+    for path, value in after:
+        dotted = ".".join(str(k) for k in path)
+        best = _made_section(dotted, origins)
+        if best is None:
+            errors.append((dotted, "was assigned in a section a template made, which the templates no longer "
+                                   "make: assign it again on the scenario as loaded now"))
+            continue
+        cur = data
+        for key in path[:-1]:
+            if not isinstance(cur.get(key), dict):
+                cur[key] = {}
+            cur = cur[key]
+        if value is _REMOVED:
+            cur.pop(path[-1], None)
+        else:
+            cur[path[-1]] = copy.deepcopy(value)
+        o = origins[best]
+        where = f"{o.template}.{o.field}" if o.field else o.template
+        text = (f"{best} was changed after the template {o.template} made it ({dotted}): kept over what {where} "
+                f"makes, but what the template computes from it elsewhere is not made again; give the "
+                f"template's fields for a consistent scenario")
+        if text not in warnings:
+            warnings.append(text)
+    if errors:
+        raise ScenarioError(errors)
+    return warnings
+
+
+def _named_maps() -> tuple[str, ...]:
+    return tuple(name for name, f in Scenario.model_fields.items() if typing.get_origin(f.annotation) is dict)
+
+
+def _assign_template(data: dict, tpath: tuple, npath: tuple, value: Any, now: dict) -> None:
+    """Put an assignment at ``npath`` of the expanded scenario into the input at its template
+    field ``tpath`` (the two share their last parts after the template's and the made
+    section's own)."""
+    k = 0
+    while k < min(len(tpath), len(npath)) - 1 and tpath[-1 - k] == npath[-1 - k]:
+        k += 1
+    cur = data
+    for key in tpath[:len(tpath) - max(k, 1)]:
+        if not isinstance(cur.get(key), dict):
+            cur[key] = {}
+        cur = cur[key]
+    if k == 0:
+        cur[tpath[-1]] = copy.deepcopy(value)
+        return
+    dump = now
+    for key in npath[:len(npath) - k]:
+        dump = dump[key]
+    _assign(cur, tpath[len(tpath) - k:], value, dump)
+
+
 def revalidated(sc: Scenario, overrides: dict[str, Any] | None = None) -> Scenario:
     """``sc`` validated again with the fields assigned since it was validated (pydantic does
     not check an assignment: ``sc.environment.water.density = -1025`` ran, with wrong
     numbers). The assignments are put into the input it was validated from, so what a
     validator filled in or what a field's default left unset stays so (a tugger's body_point,
-    a bilinear law's hardening_ratio); unchanged and without overrides: ``sc`` itself."""
+    a bilinear law's hardening_ratio); unchanged and without overrides: ``sc`` itself.
+    The input keeps its pipelay and crane templates, so they are expanded again (a changed
+    water depth moves a laid pipe's end B); an assignment in a section a template made goes
+    onto the template field it copies (``template_route``), or where none does, onto the
+    made section after the expansion, with a warning naming the template (``_after``)."""
     now = _plain(sc.model_dump(mode="python", warnings=False))
     source, before = sc._source, sc._validated_dump
     if source is None or before is None:
@@ -746,10 +894,28 @@ def revalidated(sc: Scenario, overrides: dict[str, Any] | None = None) -> Scenar
         if not changes and not overrides:
             return sc
         data = copy.deepcopy(source)
+        origins, after = sc._origins or {}, list(sc._after or [])
         for path, value in changes:
-            _assign(data, path, value, now)
-    kept = list(sc._template_warnings or [])
-    out = load_scenario(data, overrides)
+            dotted = ".".join(str(k) for k in path)
+            if not origins or _made_section(dotted, origins) is None:
+                _assign(data, path, value, now)
+                continue
+            # in a section a pipelay or crane template made: onto the template field it
+            # copies (the templates are expanded again from the input)
+            field, reason = template_route(dotted, origins)
+            if reason is None and value is not _REMOVED:
+                _assign_template(data, tuple(field.split(".")), path, value, now)
+            else:
+                # no template field stands for it (a line type, a support the template
+                # computes): put onto the made section after the expansion, with a warning
+                after = [a for a in after if a[0] != path] + [(path, value)]
+    # the templates' warnings: made again when the input has templates (they are expanded
+    # again), else those of the first expansion are kept
+    kept = [] if source is not None and sc._origins else list(sc._template_warnings or [])
+    if source is None or before is None or not (sc._origins and after):
+        out = load_scenario(data, overrides)
+    else:        # as load_scenario(data, overrides) does with a dict, then the assignments after
+        out = validate_dict(apply_overrides(data, overrides) if overrides else data, _after=after)
     out._template_warnings = kept + [w for w in out._template_warnings if w not in kept]
     return out
 
@@ -1067,7 +1233,8 @@ def apply_overrides(data: dict, overrides: dict[str, Any] | None) -> dict:
     later path inside one, such as a sweep's varied value, must not change the caller's).
     A path into an entry of a named map that ``data`` (or its templates) does not have is a
     ScenarioError naming the path (rfesim.sweep.check_vary_paths); ``map.X`` given a whole
-    object adds entry X on purpose."""
+    object adds entry X on purpose. A path into an entry its templates make goes onto the
+    template field it copies, or is refused naming the template field (``onto_templates``)."""
     if overrides is not None and not isinstance(overrides, Mapping):
         raise ScenarioError([("", f"overrides must be a mapping of dotted field paths to values, such as "
                                   f"{{'lines.pipe.elements': 40}}, got {_show(overrides)} "
@@ -1077,6 +1244,7 @@ def apply_overrides(data: dict, overrides: dict[str, Any] | None) -> dict:
         # leave the case unchanged: refused, naming the path (as for `rfesim sweep --vary`)
         from ..sweep import check_vary_paths
         check_vary_paths(data, {str(path): [value] for path, value in overrides.items()})
+        overrides = onto_templates(data, overrides)
     out = copy.deepcopy(data)
     for path, value in (overrides or {}).items():
         set_path(out, path, copy.deepcopy(value))

@@ -368,12 +368,13 @@ def _environment(data: dict):
 
 
 def _add(out: dict, group: str, key: str, value: dict, field: str, *, origin: str | None = None,
-         copy_of: str | None = None, generated: tuple[str, ...] = ()) -> None:
+         copy_of: str | None = None, generated: tuple[str, ...] = (), keys: dict | None = None) -> None:
     """out[group][key] = value, refusing a name that is taken (the error names the template's
     ``field``). The section's origin is recorded (``record_origin``): the template field it
     stands for (``origin``, default ``field``; "" for the template as a whole) and, when
     ``value`` is a copy of the user's own entry at the template's ``copy_of``, that field, less
-    the keys ``generated`` by the expansion."""
+    the keys ``generated`` by the expansion; ``keys`` maps single keys of ``value`` to the
+    template fields they are (``elements`` -> ``elements``: a value for the made key goes there)."""
     section = out.setdefault(group, {})
     if not isinstance(section, dict):
         raise FieldError(field, f"cannot add '{key}': {group} is not a mapping")
@@ -381,7 +382,7 @@ def _add(out: dict, group: str, key: str, value: dict, field: str, *, origin: st
         raise FieldError(field, f"the name '{key}' is already used in {group}: rename the template's "
                                 f"{'line' if group == 'lines' else 'object'} (or the existing one)")
     section[key] = value
-    record_origin(f"{group}.{key}", field if origin is None else origin, copy_of, generated)
+    record_origin(f"{group}.{key}", field if origin is None else origin, copy_of, generated, keys)
 
 
 # --------------------------------------------------------------------------- origins of the expanded sections
@@ -687,7 +688,8 @@ def _expand_one(out: dict, name: str, tpl, raw_tpl: dict, env) -> None:
         "type": type_name, "length": length, "elements": n,
         "end_a": {"attach": "free", "position": geo["end_a"], "direction": geo["end_a_direction"]}
         if geo["end_a"] is not None else {"attach": "free"},
-        "end_b": {"attach": "fixed", "position": geo["end_b"], "connection": "pinned"}}, "line", origin="")
+        "end_b": {"attach": "fixed", "position": geo["end_b"], "connection": "pinned"}}, "line", origin="",
+        keys={"elements": "elements"} if tpl.element_length is None else None)
     for key, support in geo["supports"].items():
         support = dict(support, line=line)
         if support.get("attach") is None:

@@ -2047,11 +2047,17 @@ class Scenario(_Strict):
     # what the templates' expansion found worth a warning (rfesim.scenario.pipelay.template_warning),
     # each naming the template field; added to the statics warnings of a run (rfesim.api)
     _template_warnings: list = PrivateAttr(default_factory=list)
-    # the expanded input this Scenario was validated from, and its dump then (plain values):
-    # rfesim.scenario.load.revalidated compares the dump now with it and validates the input
-    # with the fields assigned since (pydantic does not check an assignment)
+    # the input this Scenario was validated from (its pipelay and cranes templates not
+    # expanded), and its dump then (plain values): rfesim.scenario.load.revalidated compares
+    # the dump now with it and validates the input with the fields assigned since (pydantic
+    # does not check an assignment), expanding the templates again; ``_origins`` maps the
+    # sections the templates made to the template fields (rfesim.scenario.pipelay.Origin)
     _source: dict | None = PrivateAttr(default=None)
     _validated_dump: dict | None = PrivateAttr(default=None)
+    _origins: dict = PrivateAttr(default_factory=dict)
+    # assignments in made sections that no template field stands for, put onto them after
+    # every expansion ((path, value) pairs; rfesim.scenario.load.revalidated)
+    _after: list = PrivateAttr(default_factory=list)
 
     def __eq__(self, other):
         # two scenarios are equal when their fields are: not by how they were made (their
