@@ -25,8 +25,9 @@ the force at the end held on board, see :func:`line_top_tension`, for a crane te
 hoist rope the tension at its sheave; the lines of a crane's structure, its pedestal, boom,
 legs, ..., are left out; the table's ``top_tension_at`` names the line and the end, e.g.
 ``riser end B``, ``lay tensioner`` or ``crane_rope sheave``),
-``max_tension`` / ``min_tension`` (N, effective tension over all SDEs and times),
-``max_bend_moment`` (N*m), ``touchdown_min`` / ``touchdown_max`` (m, range over time and
+``max_tension`` / ``min_tension`` (N, effective tension over the SDEs and times of the
+lines outside a crane's structure: a crane's hoist rope, not its pedestal or boom in
+compression), ``max_bend_moment`` (N*m, over all lines, a crane's boom and pedestal too), ``touchdown_min`` / ``touchdown_max`` (m, range over time and
 lines of the results' ``touchdown_arc_length``, the arc length from end A where seabed
 contact begins; empty when no line touches the seabed), ``daf`` (dynamic amplification:
 max top tension over the top tension at t = 0, the static one; for a crane's rope that of
@@ -143,8 +144,11 @@ def _summary(res) -> tuple[dict[str, float | None], str | None]:
     best_top, where = top[best]
     max_top = float(np.nanmax(best_top))
     out["max_top_tension"] = _finite_or_none(max_top)
-    out["max_tension"] = _finite_or_none(max(np.nanmax(lr.tension) for lr in res.lines.values()))
-    out["min_tension"] = _finite_or_none(min(np.nanmin(lr.tension) for lr in res.lines.values()))
+    # tension over the lines that carry it (ropes, pipes, risers): a crane's pedestal and boom
+    # are in compression, whose axial force would hide the rope going slack in min_tension
+    carrying = [lr for name, lr in res.lines.items() if name not in structure]
+    out["max_tension"] = _finite_or_none(max(np.nanmax(lr.tension) for lr in carrying))
+    out["min_tension"] = _finite_or_none(min(np.nanmin(lr.tension) for lr in carrying))
     out["max_bend_moment"] = _finite_or_none(max(np.nanmax(lr.bend_moment) for lr in res.lines.values()))
     out["touchdown_min"], out["touchdown_max"] = touchdown_range(res)
     static_top = float(best_top[0])

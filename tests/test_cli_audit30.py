@@ -185,6 +185,15 @@ def test_sweep_top_tension_of_a_crane_is_its_hoist_rope():
     assert row["daf"] == pytest.approx(cs["daf"], rel=1e-12)
     assert row["max_top_tension"] == pytest.approx(float(np.max(cs["rope_tension"])), rel=1e-12)
     assert 1.0 < row["daf"] < 3.0
+    # tension columns cover the rope, not the pedestal and boom in compression; the bending
+    # moment covers the structure (the boom's root moment, not the rope's nothing)
+    res = rfesim.simulate(rfesim.load_scenario(case))
+    rope = np.asarray(res.line("crane_rope").tension)
+    assert row["min_tension"] == pytest.approx(float(rope.min()), rel=1e-12) and row["min_tension"] > 0.0
+    assert row["max_tension"] == pytest.approx(float(rope.max()), rel=1e-12)
+    assert row["max_bend_moment"] == pytest.approx(
+        max(float(np.max(lr.bend_moment)) for lr in res.lines.values()), rel=1e-12)
+    assert row["max_bend_moment"] > 1e5
 
 
 # --------------------------------------------------------------------------- rfesim bench --help

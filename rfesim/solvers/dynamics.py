@@ -773,7 +773,8 @@ THROUGH_HINT = ("a slack rope carries no compression, so a payload or an element
                 "the rope can fold passes through it, and the rope then comes apart with no tension (the run "
                 "stops there; generalized-alpha first retries the step in substeps down to 1/64). It happens to a light "
                 "payload on a stiff crane whipped by a drive, or to a rope with no damping: damp the rope "
-                "(its damping_ratio, e.g. 0.05), lower analysis.dynamics.integrator.rho_inf (e.g. 0.5), "
+                "(cranes.<name>.rope.damping_ratio for a crane's rope, else line_types.<type>.damping.axial_ratio, "
+                "e.g. 0.05), lower analysis.dynamics.integrator.rho_inf (e.g. 0.5), "
                 "shorten the time step, or slow the drive")
 
 
@@ -852,8 +853,8 @@ def energy_inputs(system: System) -> list[str]:
 # a stop at 25 % is 5.6 times the worst of them, a warning at 10 % twice it.
 ENERGY_WARN = 0.10
 ENERGY_STOP = 0.25
-ENERGY_HINT = ("damp the ropes and lines (line_types.<type>.damping.axial_ratio, or the damping_ratio of a crane's "
-               "rope or a pipelay pipe, e.g. 0.05), lower "
+ENERGY_HINT = ("damp the ropes and lines (line_types.<type>.damping.axial_ratio, or cranes.<name>.rope.damping_ratio "
+               "or pipelay.<name>.pipe.damping_ratio, e.g. 0.05), lower "
                "analysis.dynamics.integrator.rho_inf (e.g. 0.5) or shorten the time step")
 
 
