@@ -65,8 +65,9 @@ def _load(path: str):
     return rfesim.load_scenario(_scenario_path(path))
 
 
-def _output_path(out: str | None, scenario: Path, default_suffix: str | None) -> Path | None:
-    """The output file: ``out``, or ``<scenario stem><suffix>`` in the current directory."""
+def _output_path(out: str | None, scenario: Path, default_suffix: str | None, results: bool = False) -> Path | None:
+    """The output file: ``out``, or ``<scenario stem><suffix>`` in the current directory;
+    ``results``: a results file (netCDF), which may replace only an earlier one."""
     if out is None:
         if default_suffix is None:
             return None
@@ -83,8 +84,32 @@ def _output_path(out: str | None, scenario: Path, default_suffix: str | None) ->
         raise CliError(f"error: the output path is a folder: {p}")
     if p.exists() and p.resolve() == scenario.resolve():
         raise CliError(f"error: the output file would overwrite the scenario: {p}")
+    if p.is_file():
+        _check_replaceable(p, results)
     check_writable(p)
     return p
+
+
+HDF5_SIGNATURE = b"\x89HDF\r\n\x1a\n"
+
+
+def _check_replaceable(p: Path, results: bool) -> None:
+    """CliError when the existing file ``p`` is not one an output may replace: a scenario
+    file (JSON or YAML: another scenario, not the run's own, is still somebody's input), or
+    for a results file (``rfesim run/statics -o``) anything but an earlier results file
+    (HDF5/netCDF)."""
+    if p.suffix.lower() in (".json", ".yaml", ".yml"):
+        raise CliError(f"error: the output file {p} exists and is a {p.suffix.lstrip('.').upper()} file "
+                       "(a scenario?): it would be replaced; give another name (results: .nc)")
+    if results:
+        try:
+            with open(p, "rb") as f:
+                head = f.read(len(HDF5_SIGNATURE))
+        except OSError:
+            return                      # check_writable says why
+        if head and head != HDF5_SIGNATURE:
+            raise CliError(f"error: the output file {p} exists and is not a results file (netCDF/HDF5): "
+                           "it would be replaced; give another name or remove it first")
 
 
 def check_writable(p: Path) -> None:
@@ -399,7 +424,7 @@ def cmd_run(args) -> int:
     import rfesim
 
     scenario = _scenario_path(args.scenario)
-    out = _output_path(args.output, scenario, ".nc")
+    out = _output_path(args.output, scenario, ".nc", results=True)
     if args.plot:
         _plot_path(args.plot, scenario, out)
     sc = rfesim.load_scenario(scenario)
@@ -489,7 +514,7 @@ def cmd_statics(args) -> int:
     import rfesim
 
     scenario = _scenario_path(args.scenario)
-    out = _output_path(args.output, scenario, None)
+    out = _output_path(args.output, scenario, None, results=True)
     sc = rfesim.load_scenario(scenario)
     _note_cold_cache()
     wall0 = time.perf_counter()

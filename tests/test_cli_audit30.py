@@ -205,3 +205,18 @@ def test_bench_help_shows_the_runner_options(capsys):
     out = capsys.readouterr().out
     assert "--only {h1,h2,scaling,startup,validation,formulations,slay,crane,build}" in out
     assert "--quick" in out and "--no-moordyn" in out
+
+
+def test_bench_outside_a_checkout_says_it_needs_one(tmp_path, monkeypatch, capsys):
+    """From an installed wheel `rfesim bench` died with "internal error: FileNotFoundError
+    .../site/scenarios/catenary_riser.json (a bug...)"; it now says it runs in a checkout."""
+    import rfesim.bench.run as bench_run
+
+    assert bench_run.checkout_problem() is None                 # this checkout has all three
+    (tmp_path / "docs").mkdir()
+    assert "has no scenarios/, no tests/" in bench_run.checkout_problem(tmp_path)
+    monkeypatch.setattr(bench_run, "ROOT", tmp_path)
+    monkeypatch.setattr(bench_run.checkout_problem, "__defaults__", (tmp_path,))
+    assert main(["bench", "--only", "build"]) == 2
+    err = capsys.readouterr().err
+    assert "runs in a source checkout" in err and "internal error" not in err

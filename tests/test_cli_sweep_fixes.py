@@ -124,6 +124,29 @@ def test_sweep_output_cannot_overwrite_the_scenario(good, capsys):
     assert good.read_bytes() == before
 
 
+def test_run_output_does_not_replace_another_scenario_or_a_foreign_file(good, tmp_path, capsys):
+    """`rfesim run a.json -o b.json` used to turn the scenario b.json into HDF5 without a word;
+    a results file replaces only an earlier results file, and no output replaces a JSON/YAML."""
+    other = tmp_path / "b.json"
+    other.write_text(good.read_text())
+    notes = tmp_path / "notes.txt"
+    notes.write_text("load case log\n")
+    assert main(["run", str(good), "-o", str(other), "--no-progress"]) == 1
+    assert "b.json exists and is a JSON file (a scenario?)" in capsys.readouterr().err
+    assert other.read_text() == good.read_text()
+    assert main(["statics", str(good), "-o", str(notes)]) == 1
+    assert "notes.txt exists and is not a results file" in capsys.readouterr().err
+    assert notes.read_text() == "load case log\n"
+    from rfesim.sweep import main as sweep_main
+    assert sweep_main([str(good), "--vary", "lines.pipe.elements=10", "-o", str(other)]) == 1
+    assert other.read_text() == good.read_text()
+    out = tmp_path / "r.nc"            # an earlier results file is replaced, as before
+    assert main(["statics", str(good), "-o", str(out)]) == 0
+    first = out.stat().st_mtime_ns
+    assert main(["statics", str(good), "-o", str(out)]) == 0
+    assert out.stat().st_mtime_ns >= first and out.read_bytes()[:8] == b"\x89HDF\r\n\x1a\n"
+
+
 # --------------------------------------------------------------------------- sweep: interruption
 
 def _statics_only(tmp_path) -> Path:

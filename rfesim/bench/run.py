@@ -384,8 +384,24 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
+def checkout_problem(root: Path = ROOT) -> str | None:
+    """Why the benchmarks cannot run from ``root`` (None when they can): they read the example
+    scenarios and the validation tests and write their reports into docs/, all in a source
+    checkout; an installed package (a wheel) has none of them."""
+    missing = [d for d in ("scenarios", "tests", "docs") if not (root / d).is_dir()]
+    if not missing:
+        return None
+    return (f"rfesim bench runs in a source checkout of rfesim: it reads scenarios/ and tests/ and writes its "
+            f"reports to docs/, and {root} has no {', no '.join(d + '/' for d in missing)} (an installed "
+            f"package); clone the repository, `pip install -e '.[dev,bench]'` there and run it from there")
+
+
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
+    problem = checkout_problem()
+    if problem is not None:
+        log(f"error: {problem}")
+        return 2
     parts = set(args.only or ["h1", "h2", "scaling", "startup", "formulations"])
     if args.validation:
         parts.add("validation")

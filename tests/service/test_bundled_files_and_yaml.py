@@ -192,3 +192,37 @@ def test_post_yaml_alias_bomb_is_answered_quickly(api):
     assert "YAML aliases" in r.json()["detail"][0]["msg"] and "at most 100000 nodes" in r.json()["detail"][0]["msg"]
     assert elapsed < 5.0
     assert api.client.get("/health").status_code == 200
+
+
+def test_a_wheel_installs_every_bundled_scenario_where_the_service_looks(tmp_path, monkeypatch):
+    """A wheel used to carry no scenarios/: GET /scenarios of a pip-installed service gave []
+    and every by-name example of docs/service.md failed. pyproject's data-files put them in
+    <prefix>/share/rfesim/scenarios (and its data/), the last place find_scenarios_dir looks;
+    every file of scenarios/ must be matched, so a new subfolder is not left out."""
+    import shutil
+    import sys
+    import tomllib
+    from pathlib import Path
+
+    import rfesim
+    from service.paths import find_scenarios_dir
+
+    root = Path(__file__).resolve().parents[2]
+    data_files = tomllib.loads((root / "pyproject.toml").read_text())["tool"]["setuptools"]["data-files"]
+    installed = {f.relative_to(root).as_posix(): target for target, patterns in data_files.items()
+                 for p in patterns for f in root.glob(p) if f.is_file()}
+    bundled = {f.relative_to(root).as_posix() for f in (root / "scenarios").rglob("*") if f.is_file()
+               and "__pycache__" not in f.parts}
+    assert bundled and set(installed) == bundled
+    prefix = tmp_path / "prefix"
+    for rel, target in installed.items():      # install them as pip does, the layout kept
+        (prefix / target).mkdir(parents=True, exist_ok=True)
+        shutil.copy(root / rel, prefix / target)
+    site = tmp_path / "site" / "rfesim"         # a package with no scenarios/ beside it
+    site.mkdir(parents=True)
+    monkeypatch.setattr(rfesim, "__file__", str(site / "__init__.py"))
+    monkeypatch.setattr(sys, "prefix", str(prefix))
+    monkeypatch.chdir(tmp_path)
+    found = find_scenarios_dir()
+    assert found == (prefix / "share" / "rfesim" / "scenarios").resolve()
+    assert (found / "column_crane.json").is_file() and (found / "data" / "barge_100m_raos.json").is_file()
