@@ -71,7 +71,7 @@ WARMUP_SCENARIO: dict[str, Any] = {
     },
     "analysis": {"statics": {"enabled": True},
                  "dynamics": {"duration": 0.1, "output_interval": 0.05,
-                              "integrator": {"kind": "generalized-alpha", "time_step": 0.05}}},
+                              "integrator": {"kind": "generalized-alpha", "time_step": 0.025}}},
 }
 
 
