@@ -13,7 +13,7 @@ from .model.compile import compile_scenario
 from .scenario import Scenario, load_scenario
 from .solvers.buckling import buckling_warnings, dynamic_shear_warnings, shear_warnings
 from .solvers.dynamics import Counters, Recorder, run_dynamics
-from .solvers.modal import ModalResults, modal_analysis
+from .solvers.modal import ModalResults, join_notes, modal_analysis, statics_disabled_note, statics_failed
 from .solvers.statics import solve_statics
 from .solvers.system import System
 
@@ -567,6 +567,9 @@ def _dynamic_warnings(model, results, sc=None, recorder=None) -> str:
 def modes(scenario, n: int | None = None) -> ModalResults:
     """Natural frequencies (Hz) and mode shapes about the static equilibrium.
 
+    The statics is solved for them also when analysis.statics.enabled is false (which only
+    skips the statics before a run's dynamics); ModalResults.message then says so.
+
     n: the number of lowest modes, a positive integer (default analysis.modal.modes, else
     10; ScenarioError naming n otherwise); above the number of moving coordinates all modes
     are given and ModalResults.message says so. Unstable modes have negative frequencies
@@ -578,7 +581,11 @@ def modes(scenario, n: int | None = None) -> ModalResults:
         from .formulations import scene
         return scene.modes(sc, nmodes)
     system = System(compile_scenario(sc))
-    state = system.model.initial
-    if sc.analysis.statics.enabled:
+    # about the static equilibrium also when analysis.statics.enabled is false (the note says so)
+    try:
         state, _ = _static_state(system, sc)
-    return modal_analysis(system, state, nmodes)
+    except SolverError as exc:
+        raise statics_failed(exc, sc) from None
+    md = modal_analysis(system, state, nmodes)
+    md.message = join_notes(statics_disabled_note(sc), md.message)
+    return md

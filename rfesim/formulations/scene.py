@@ -1106,7 +1106,7 @@ def modes(sc, n: int | None = None):
     have negative frequencies (ModalResults). shapes: (nmodes, nq) concatenated unit
     coordinates; line_shapes: point displacements, as for absolute-coordinate lines."""
     from ..solvers.modal import ModalResults, SHAPE_FLOOR, checked_mode_count, count_note, join_notes, \
-        unstable_note
+        statics_disabled_note, statics_failed, unstable_note
     from . import mixed
     nmodes = checked_mode_count(n, default=sc.analysis.modal.modes if sc.analysis.modal else 10)
     if mixed.is_mixed(sc):
@@ -1120,8 +1120,12 @@ def modes(sc, n: int | None = None):
     requested, nmodes = nmodes, min(nmodes, available)
     # the linear classical model's modes do not depend on the static state (its K is constant)
     linear_only = not scene.planars and all(u.linear_clamped for u in scene.chains)
-    if sc.analysis.statics.enabled and not linear_only:
-        states, _ = _statics_states(sc, scene)
+    if not linear_only:
+        # about the static equilibrium also when analysis.statics.enabled is false (the note says so)
+        try:
+            states, _ = _statics_states(sc, scene)
+        except SolverError as exc:
+            raise statics_failed(exc, sc) from None
     else:
         states = [u.q0 for u in scene.chains] + [u.model.q_initial for u in scene.planars]
     found = []                                   # (omega, unit index, full shape)
@@ -1171,7 +1175,8 @@ def modes(sc, n: int | None = None):
     if unstable:
         log.warning("modal analysis: %s", unstable_note(freqs))
     return ModalResults(frequencies_hz=freqs, shapes=shapes, line_shapes=line_shapes,
-                        message=join_notes(unstable_note(freqs), count_note(requested, available)),
+                        message=join_notes(statics_disabled_note(sc) if not linear_only else "",
+                                           unstable_note(freqs), count_note(requested, available)),
                         unstable=unstable)
 
 

@@ -1899,7 +1899,8 @@ class StaticsSettings(_Strict):
     """Static equilibrium (Newton with load steps), solved before dynamics and modal analysis."""
 
     enabled: bool = Field(True, description="Solve statics; false starts dynamics from the lines' initial shape "
-                                            "at rest")
+                                            "at rest (a modal analysis solves the statics all the same: its modes "
+                                            "are about the static equilibrium)")
     tolerance: float = _units("1", "Convergence: largest residual force relative to the largest applied force",
                               default=1e-8, gt=0.0, lt=1.0)
     max_iterations: int = _units("1", "Newton iterations over all load steps", default=400, ge=1, le=100000)
@@ -1989,7 +1990,7 @@ class DynamicsSettings(_Strict):
 
 class ModalSettings(_Strict):
     """Natural frequencies and mode shapes of the structure linearised about its static
-    equilibrium."""
+    equilibrium (solved for it also when analysis.statics.enabled is false)."""
 
     modes: int = _units("1", "Number of modes (lowest frequencies)", default=10, ge=1, le=10000)
 

@@ -72,6 +72,25 @@ def count_note(requested: int, available: int) -> str:
             f"{available} modes are given" if requested > available else "")
 
 
+def statics_disabled_note(sc) -> str:
+    """The note of a modal analysis whose scenario has analysis.statics.enabled false: the
+    modes are about the static equilibrium all the same, solved for them ("" with statics on)."""
+    if sc.analysis.statics.enabled:
+        return ""
+    return ("analysis.statics.enabled is false, but the modes are about the static equilibrium: the statics was "
+            "solved for the modal analysis (the initial shape of the scenario is not an equilibrium in general)")
+
+
+def statics_failed(exc: SolverError, sc) -> SolverError:
+    """The SolverError of a statics solved for a modal analysis although
+    analysis.statics.enabled is false: the failure, saying that the modes need it."""
+    if sc.analysis.statics.enabled:
+        return exc
+    return SolverError("the modal analysis needs the static equilibrium (solved although analysis.statics.enabled "
+                       "is false), and its statics failed: " + exc.message, time=exc.time, element=exc.element,
+                       quantity=exc.quantity, results=exc.results, hint=exc.hint)
+
+
 def join_notes(*notes) -> str:
     return "; ".join(x for x in notes if x)
 

@@ -1,0 +1,60 @@
+"""Modal analysis (audit 33): modes about the static equilibrium also with statics disabled,
+winches held locked named, analysis.modal solved by a run, zero modes, unsupported scenes."""
+from __future__ import annotations
+
+import copy
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import rfesim
+
+G = 9.81
+SCENARIOS = Path(__file__).resolve().parents[2] / "scenarios"
+
+# the README's double pendulum: rods of 1 kg and 1 m (mass on the axis, centre at mid-length),
+# started at 0.3 rad with statics disabled
+README_PENDULUM = {
+    "environment": {"gravity": G},
+    "chains": {"pendulum": {
+        "links": {"upper": {"rigid": True, "length": 1.0, "mass": 1.0},
+                  "lower": {"rigid": True, "length": 1.0, "mass": 1.0}},
+        "joints": {"top": {"kind": "revolute", "parent": "base", "child": "upper",
+                           "direction": [0, 0, -1], "axis": [0, 1, 0], "initial": 0.3},
+                   "middle": {"kind": "revolute", "parent": "upper", "child": "lower", "axis": [0, 1, 0]}}}},
+    "analysis": {"statics": {"enabled": False},
+                 "dynamics": {"duration": 5.0, "integrator": {"kind": "rk4", "time_step": 0.002}}},
+}
+
+
+def _pendulum_closed_form():
+    """Lagrange about the hanging equilibrium: M = [[4/3, 1/2], [1/2, 1/3]], K = diag(1.5 g, 0.5 g)."""
+    import scipy.linalg as sla
+    M = np.array([[4 / 3, 1 / 2], [1 / 2, 1 / 3]])
+    K = np.diag([1.5 * G, 0.5 * G])
+    return np.sqrt(sla.eigh(K, M, eigvals_only=True)) / (2 * math.pi)
+
+
+def test_readme_pendulum_modes_about_equilibrium_with_statics_disabled():
+    """Was 0.41692 / 1.11827 Hz (about the 0.3 rad start); the equilibrium's 0.42655 / 1.14411 Hz."""
+    md = rfesim.modes(copy.deepcopy(README_PENDULUM), n=2)
+    assert md.frequencies_hz == pytest.approx(_pendulum_closed_form(), rel=1e-6)
+    assert md.frequencies_hz == pytest.approx([0.42655, 1.14411], abs=1e-5)
+    assert "analysis.statics.enabled is false" in md.message and "static equilibrium" in md.message
+    on = copy.deepcopy(README_PENDULUM)
+    on["analysis"]["statics"]["enabled"] = True
+    md_on = rfesim.modes(on, n=2)
+    assert md_on.frequencies_hz == pytest.approx(md.frequencies_hz, rel=1e-9)
+    assert "statics.enabled" not in md_on.message
+
+
+def test_column_crane_modes_with_statics_disabled():
+    """Was six zero modes about the unloaded start; the equilibrium's 0.0861 / 0.0865 / 0.459 / 0.459 Hz."""
+    sc = rfesim.load_scenario(SCENARIOS / "column_crane.json")
+    sc.analysis.statics.enabled = False
+    md = rfesim.modes(sc, n=6)
+    f = np.asarray(md.frequencies_hz)
+    assert f[2:] == pytest.approx([0.0861, 0.0865, 0.4592, 0.4592], abs=2e-4)
+    assert "analysis.statics.enabled is false" in md.message
