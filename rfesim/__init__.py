@@ -49,10 +49,10 @@ def _kernel_cache_guard() -> None:
 
 _kernel_cache_guard()
 
-from .errors import CancelledError, RfesimError, ScenarioError, SolverError  # noqa: E402
+from .errors import CancelledError, RfesimError, ScenarioError, SolverError, UnsupportedError  # noqa: E402
 from .scenario import Scenario, load_scenario  # noqa: E402
 from .results import Results, open_results  # noqa: E402
 from .api import modes, simulate, statics  # noqa: E402
 
 __all__ = ["Scenario", "load_scenario", "statics", "simulate", "modes", "Results", "open_results",
-           "ScenarioError", "SolverError", "CancelledError", "RfesimError", "__version__"]
+           "ScenarioError", "SolverError", "UnsupportedError", "CancelledError", "RfesimError", "__version__"]

@@ -10,7 +10,7 @@
     rfesim schema [--json | --markdown] [-o FILE]      # the scenario's JSON Schema, or its field reference
 
 Exit codes: 0 success; 1 bad input (scenario error, missing file); 2 usage error or a
-missing optional component; 3 the solver failed (partial results are still written);
+missing optional component (an analysis not provided for the scene: rfesim.UnsupportedError); 3 the solver failed (partial results are still written);
 130 interrupted (Ctrl-C, or SIGTERM during `run` and `sweep`: `run` writes the results
 recorded so far, status 2, and its plot, and a further Ctrl-C or SIGTERM does not stop that
 write; `sweep` keeps the rows of the finished cases in its CSV).
@@ -492,7 +492,13 @@ def _interrupted(exc: KeyboardInterrupt, out: Path | None, plot: str | None = No
 
 
 def _solver_failure(exc, out: Path | None, plot: str | None = None) -> int:
-    """Report a SolverError; write (and plot) the results computed before it, if any."""
+    """Report a SolverError; write (and plot) the results computed before it, if any. An
+    analysis not provided for the scene (rfesim.errors.UnsupportedError) is a missing
+    component: exit 2, not 3."""
+    from .errors import UnsupportedError
+    if isinstance(exc, UnsupportedError):
+        _err(f"error: {exc}")
+        return EXIT_USAGE
     _err(f"solver error: {exc}")
     res = getattr(exc, "results", None)
     if res is not None and len(res.time):
@@ -551,11 +557,16 @@ def cmd_modes(args) -> int:
         md = rfesim.modes(sc, n=args.n)
     except rfesim.SolverError as exc:
         return _solver_failure(exc, None)
+    from .solvers.modal import RIGID_BODY_FRACTION
+
     freqs = np.asarray(md.frequencies_hz, dtype=float)
+    # a frequency at round-off of the stiffness scale is a rigid-body mode: 0, as the negative
+    # round-off rfesim.modes gives 0 already (a pinned riser's spin computed 7.8e-7 Hz)
+    rigid = np.asarray(getattr(md, "rigid_body", freqs == 0.0), bool)
     rows = []
-    for k, f in enumerate(freqs, start=1):
-        period = f"{1.0 / f:.6g}" if f > 0 else ("inf" if f == 0 else "unstable")
-        rows.append([str(k), f"{f:.6g}", period])
+    for k, (f, zero) in enumerate(zip(freqs, rigid), start=1):
+        period = "inf" if zero else f"{1.0 / f:.6g}" if f > 0 else "unstable"
+        rows.append([str(k), "0" if zero else f"{f:.6g}", period])
     print(f"{sc.name}: {len(freqs)} modes")
     for line in _table(["mode", "frequency [Hz]", "period [s]"], rows):
         print(line)
@@ -563,6 +574,12 @@ def cmd_modes(args) -> int:
     for note in (getattr(md, "message", "") or "").split("; "):
         if note and not note.startswith("the static state is unstable"):
             _err(f"note: {note}")
+    shown = [k for k, (f, zero) in enumerate(zip(freqs, rigid), start=1) if zero and f != 0.0]
+    if shown:
+        _err(f"note: mode{'s' if len(shown) > 1 else ''} {', '.join(map(str, shown))} printed as 0 (rigid-body): "
+             f"below {RIGID_BODY_FRACTION:g} of the stiffness-scale frequency {md.scale_hz:.4g} Hz "
+             f"(ModalResults.rigid_body; md.frequencies_hz keeps the computed "
+             f"{', '.join(f'{freqs[k - 1]:.3g}' for k in shown)} Hz)")
     return EXIT_OK
 
 

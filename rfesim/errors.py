@@ -64,6 +64,13 @@ class SolverError(RfesimError, RuntimeError):
         super().__init__(text)
 
 
+class UnsupportedError(SolverError, NotImplementedError):
+    """An analysis this installation does not provide for the scene (the modal analysis of a
+    scene mixing chains with absolute-coordinate lines): not a failure of the solver. A
+    SolverError for callers that catch those; the command line exits with 2 (a missing
+    component), not 3."""
+
+
 class CancelledError(RfesimError):
     """Raised when a progress callback asks a run to stop (it raised an exception, the
     ``__cause__`` of this one).

@@ -1110,8 +1110,9 @@ def modes(sc, n: int | None = None):
     from . import mixed
     nmodes = checked_mode_count(n, default=sc.analysis.modal.modes if sc.analysis.modal else 10)
     if mixed.is_mixed(sc):
-        raise SolverError("modal analysis of a scene mixing chains with absolute-coordinate lines is not "
-                          "supported yet (statics and dynamics are)")
+        from ..errors import UnsupportedError
+        raise UnsupportedError("modal analysis of a scene mixing chains with absolute-coordinate lines is not "
+                               "supported yet (statics and dynamics are)")
     scene = compile_scene(sc)
     units = scene.chains + scene.planars
     available = sum(_free_count(u) for u in units)
@@ -1129,6 +1130,7 @@ def modes(sc, n: int | None = None):
     else:
         states = [u.q0 for u in scene.chains] + [u.model.q_initial for u in scene.planars]
     found = []                                   # (omega, unit index, full shape)
+    omega_max = 0.0                              # the largest |omega| computed: the scale of ModalResults.scale_hz
     for k, (unit, q) in enumerate(zip(scene.chains, states)):
         if not len(unit.model.free):
             continue
@@ -1137,6 +1139,7 @@ def modes(sc, n: int | None = None):
             w, shapes = linear_modes(link, nmodes)
         else:
             w, shapes = chain_modes(unit.model, q)
+        omega_max = max(omega_max, float(np.abs(w).max()) if len(w) else 0.0)
         for i in range(min(nmodes, len(w))):
             found.append((float(w[i]), k, shapes[:, i]))
     for k, (u, q) in enumerate(zip(scene.planars, states[len(scene.chains):]), start=len(scene.chains)):
@@ -1144,6 +1147,7 @@ def modes(sc, n: int | None = None):
             continue
         md = pl.planar_modes(u.model, q, count=nmodes)
         for f, s in zip(md.frequencies_hz, md.shapes):
+            omega_max = max(omega_max, 2 * math.pi * abs(float(f)))
             found.append((2 * math.pi * float(f), k, s))
     found.sort(key=lambda x: x[0])
     found = found[:nmodes]
@@ -1177,7 +1181,7 @@ def modes(sc, n: int | None = None):
     return ModalResults(frequencies_hz=freqs, shapes=shapes, line_shapes=line_shapes,
                         message=join_notes(statics_disabled_note(sc) if not linear_only else "",
                                            unstable_note(freqs), count_note(requested, available)),
-                        unstable=unstable)
+                        unstable=unstable, scale_hz=omega_max / (2 * math.pi))
 
 
 def _as_list(p):

@@ -24,6 +24,11 @@ log = logging.getLogger("rfesim")
 
 SHAPE_FLOOR = 1e-4        # line_shapes: displacements below this x (a unit coordinate's length scale) are zero
 ZERO_EIGENVALUE = 1e-15   # a negative omega^2 above -this x the stiffness scale is a zero mode's round-off
+# a frequency below this fraction of the stiffness-scale frequency (ModalResults.scale_hz) is a
+# rigid-body (zero) mode's round-off in print (`rfesim modes`): omega^2 within 1e-16 of the scale;
+# measured positive round-off 1.1e-17 (the spin of the pinned catenary riser, 7.8e-7 Hz) and 3e-20
+# (the column crane's slew), real first modes at 7e-9 (catenary riser) and 4e-11 (column crane)
+RIGID_BODY_FRACTION = 1e-8
 
 
 def signed_omega(w2, scale: float) -> np.ndarray:
@@ -123,6 +128,14 @@ class ModalResults:
     asymmetry: float = 0.0                 # |K - K^T| / |K| before symmetrisation
     message: str = ""                      # warnings: unstable modes, fewer modes than requested
     unstable: int = 0                      # number of negative-stiffness modes
+    scale_hz: float = 0.0                  # sqrt(stiffness scale) / (2 pi): max K_ii / M_ii, or the largest omega^2
+
+    @property
+    def rigid_body(self) -> np.ndarray:
+        """(nmodes,) bool: the modes whose |frequency| is below RIGID_BODY_FRACTION (1e-8) of
+        scale_hz, the round-off of a rigid-body (zero) mode; `rfesim modes` prints them as 0."""
+        f = np.abs(np.asarray(self.frequencies_hz, float))
+        return (f <= RIGID_BODY_FRACTION * float(self.scale_hz)) | (f == 0.0)
 
     @property
     def periods_s(self) -> np.ndarray:
@@ -193,7 +206,8 @@ def modal_analysis(system: System, state: State, nmodes: int) -> ModalResults:
         order = np.argsort(w2)
         w2, vec = w2[order], vec[:, order]
     stiff = np.abs(Ks.diagonal()) / np.maximum(np.abs(Ms.diagonal()), 1e-300)
-    freq = signed_omega(w2, float(stiff.max()) if stiff.size else 0.0) / (2.0 * np.pi)
+    omega2_scale = float(stiff.max()) if stiff.size else 0.0
+    freq = signed_omega(w2, omega2_scale) / (2.0 * np.pi)
     shapes = np.zeros((nmodes, n * 6))
     shapes[:, active] = vec.T
     norms = np.abs(shapes).max(axis=1)
@@ -237,4 +251,5 @@ def modal_analysis(system: System, state: State, nmodes: int) -> ModalResults:
     if unstable:
         log.warning("modal analysis: %s", unstable_note(freq))
     return ModalResults(frequencies_hz=freq, shapes=shapes, line_shapes=line_shapes, asymmetry=asym,
-                        message=message, unstable=unstable)
+                        message=message, unstable=unstable,
+                        scale_hz=float(np.sqrt(max(omega2_scale, 0.0)) / (2.0 * np.pi)))

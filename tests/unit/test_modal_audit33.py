@@ -58,3 +58,42 @@ def test_column_crane_modes_with_statics_disabled():
     f = np.asarray(md.frequencies_hz)
     assert f[2:] == pytest.approx([0.0861, 0.0865, 0.4592, 0.4592], abs=2e-4)
     assert "analysis.statics.enabled is false" in md.message
+
+
+def test_cli_prints_rigid_body_round_off_as_zero(capsys):
+    """The pinned catenary riser's spin computed 7.77e-7 Hz and printed so (period 1.29e6 s)
+    while the negative round-off of other zero modes prints 0: now 0 / inf with a note, the
+    first real mode 0.019874 Hz as before."""
+    from rfesim.cli import main
+    assert main(["modes", str(SCENARIOS / "catenary_riser.json"), "-n", "2"]) == 0
+    out, err = capsys.readouterr()
+    rows = [line.split() for line in out.splitlines()[2:]]
+    assert rows[0] == ["1", "0", "inf"]
+    assert rows[1][0] == "2" and float(rows[1][1]) == pytest.approx(0.0198741, rel=1e-5)
+    assert "mode 1 printed as 0 (rigid-body): below 1e-08 of the stiffness-scale frequency" in err
+    md = rfesim.modes(SCENARIOS / "catenary_riser.json", n=2)
+    assert md.rigid_body.tolist() == [True, False]
+    assert 0.0 < md.frequencies_hz[0] < 1e-8 * md.scale_hz
+
+
+def test_cli_mixed_scene_modes_is_a_missing_component(tmp_path, capsys):
+    """Modal analysis of a chain with an absolute line hanging from it is not provided: exit 2
+    (a missing component), was 3 (a solver failure); the API still raises a SolverError."""
+    import json
+
+    from rfesim.cli import main
+    data = copy.deepcopy(README_PENDULUM)
+    data["analysis"] = {"statics": {"enabled": True},
+                        "dynamics": {"duration": 1.0, "integrator": {"kind": "generalized-alpha", "time_step": 0.01}}}
+    data["line_types"] = {"rope": {"EA": 1e6, "EIy": 1e-2, "GJ": 1e-2, "mass_per_length": 1.0}}
+    data["lines"] = {"hoist": {"type": "rope", "length": 5.0, "elements": 5, "end_a": {"attach": "pendulum.lower"},
+                               "end_b": {"attach": "free"}}}
+    path = tmp_path / "mixed.json"
+    path.write_text(json.dumps(data))
+    assert main(["modes", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert "error: modal analysis of a scene mixing chains with absolute-coordinate lines is not supported" in err
+    with pytest.raises(rfesim.UnsupportedError):
+        rfesim.modes(data)
+    with pytest.raises(rfesim.SolverError):
+        rfesim.modes(data)
