@@ -388,7 +388,10 @@ def statics(scenario, *, progress=None):
 
 
 def simulate(scenario, *, progress=None):
-    """Statics (if enabled) then dynamics (if enabled and duration > 0) -> Results.
+    """Statics (if enabled) then dynamics (if enabled and duration > 0) -> Results; with
+    analysis.modal also the modes about the static equilibrium in ``results.modes`` (a
+    ModalResults, as ``modes`` gives them; None and a note in the message when the modal
+    analysis failed or is not provided for the scene).
 
     ``progress(fraction, time)`` is called as the run advances; if it raises, the run stops
     with ``rfesim.CancelledError``, whose ``results`` hold what the dynamics recorded up to
@@ -419,7 +422,7 @@ def simulate(scenario, *, progress=None):
             log.info("%s", describe_run(res.counters, float(res.time[-1])))
         else:
             res.message += _breaking_load_message(sc, res)
-        return res
+        return _with_modes(sc, res)
     model = _compiled(sc)
     system = System(model)
     an = sc.analysis
@@ -437,7 +440,7 @@ def simulate(scenario, *, progress=None):
         res = rec.results(status=0, message=_with_warnings("statics only", info), counters=dict(counters),
                           kind="statics", **meta)
         res.message += _breaking_load_message(sc, res)
-        return res
+        return _with_modes(sc, res)
     try:
         state, rec, counters = run_dynamics(system, state, dyn, progress=progress, counters=counters)
     except SolverError as exc:
@@ -467,6 +470,34 @@ def simulate(scenario, *, progress=None):
         if getattr(exc, "results", None) is None:
             exc.results = rec.results(status=0, message=message, counters=dict(counters), **meta)
         raise
+    return _with_modes(sc, res)
+
+
+MODAL_NOTE = "; modal analysis: "   # what precedes the modal analysis' summary in a results' message
+
+
+def _with_modes(sc: Scenario, res):
+    """A run's Results with the modes of analysis.modal (when given) about the static
+    equilibrium, as ``modes`` computes them (results.modes, a ModalResults; the statics
+    solved for them also when analysis.statics.enabled is false), and a note in the message.
+    A modal analysis that fails or is not provided for the scene leaves results.modes None
+    and says why in the message: the run's own results stand."""
+    if sc.analysis.modal is None:
+        return res
+    wall0 = _time.perf_counter()
+    try:
+        md = modes(sc)
+    except SolverError as exc:
+        log.warning("modal analysis: not done: %s", exc)
+        res.message += f"{MODAL_NOTE}not done (analysis.modal): {exc}"
+        return res
+    res.modes = md
+    f = np.asarray(md.frequencies_hz, float)
+    lowest = f[~md.rigid_body] if f.size else f
+    first = f", lowest {lowest[0]:.6g} Hz" if lowest.size else ""
+    res.message += (f"{MODAL_NOTE}{f.size} modes about the static equilibrium{first} (results.modes; /modes in the results file)"
+                    + (f": {md.message}" if md.message else ""))
+    res.counters["modal_wall_time"] = _time.perf_counter() - wall0
     return res
 
 

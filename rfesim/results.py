@@ -54,7 +54,15 @@ CHANNELS: dict[str, tuple[str, str]] = {
     "vessel_position": ("m", "Position of the vessel origin (global)"),
     "vessel_rotation": ("deg", "Vessel roll, pitch, yaw of its motion (ZYX angles about its heading's axes: "
                                "R = R_heading Rz(yaw) Ry(pitch) Rx(roll); heading_deg is not included)"),
-    "frequency": ("Hz", "Natural frequency"),
+    "frequency": ("Hz", "Natural frequency about the static equilibrium (negative: an unstable mode, its growth "
+                        "rate over 2 pi)"),
+    "period": ("s", "Natural period 1 / frequency (inf: a zero mode; NaN: an unstable mode)"),
+    "mode": ("1", "Mode number, from 1, by ascending frequency"),
+    "mode_shape": ("1", "Displacement of the line points (end A, every SDE, end B) in the mode (global), scaled "
+                        "so that the largest over all lines is 1"),
+    "mode_coordinates": ("1", "The mode in the formulation's own coordinates (absolute lines: 6 per RFE, "
+                              "translations and rotation increments; other formulations and chains: their joint "
+                              "coordinates), flattened, scaled to a largest of 1"),
     "roller_reaction": ("N", "Normal contact force of the line on each roller"),
     "roller_force": ("N", "Force of the line on each roller, normal and friction (global)"),
     "roller_position": ("m", "Centre of each roller's contact line in the frame of the support's attachment"),
@@ -371,6 +379,7 @@ class Results:
     scenario_json: str = ""
     version: str = ""
     kind: str = "dynamics"            # "statics" | "dynamics"
+    modes: object = None              # ModalResults of analysis.modal (rfesim.solvers.modal), or None
 
     @property
     def success(self) -> bool:
@@ -589,6 +598,8 @@ def _write_netcdf(res: Results, path: str) -> None:
                     v = g.create_variable(ch, ("time", "coord"), data=data)
                     v.attrs["units"] = units
                     v.attrs["long_name"] = JOINT_LONG_NAMES[ch]
+        if res.modes is not None:
+            _write_modes(f, res.modes)
         if res.vessels:
             vg = f.create_group("vessels")
             for name, vr in res.vessels.items():
@@ -598,6 +609,51 @@ def _write_netcdf(res: Results, path: str) -> None:
                 _var(g, "xyz", ("xyz",), [0, 1, 2], dtype=np.int32)
                 _var(g, "position", ("time", "xyz"), vr.position, "vessel_position")
                 _var(g, "rotation", ("time", "xyz"), vr.rotation, "vessel_rotation")
+
+
+def _write_modes(f, md) -> None:
+    """The group /modes of a ModalResults: frequency and period along ``mode``, the mode
+    shapes in the formulation's coordinates (``coordinates``, flattened; attribute
+    ``coordinate_shape`` their shape per mode), the line shapes in /modes/lines/<name>
+    (``shape``: mode, point, xyz); attributes message, unstable, asymmetry, scale_hz."""
+    freq = np.asarray(md.frequencies_hz, float)
+    n = freq.size
+    g = f.create_group("modes")
+    shapes = np.asarray(md.shapes, float)
+    g.dimensions = {"mode": n, "coordinate": int(np.prod(shapes.shape[1:])) if shapes.size else 0, "xyz": 3}
+    g.attrs["message"] = md.message
+    g.attrs["unstable"] = int(md.unstable)
+    g.attrs["asymmetry"] = float(md.asymmetry)
+    g.attrs["scale_hz"] = float(getattr(md, "scale_hz", 0.0))
+    g.attrs["coordinate_shape"] = json.dumps([int(x) for x in shapes.shape[1:]])
+    _var(g, "mode", ("mode",), np.arange(1, n + 1), dtype=np.int32)
+    _var(g, "xyz", ("xyz",), [0, 1, 2], dtype=np.int32)
+    _var(g, "frequency", ("mode",), freq)
+    _var(g, "period", ("mode",), md.periods_s)
+    _var(g, "coordinates", ("mode", "coordinate"), shapes.reshape(n, -1), "mode_coordinates")
+    lg = g.create_group("lines")
+    for name, ls in (md.line_shapes or {}).items():
+        ls = np.asarray(ls, float)
+        h = lg.create_group(name)
+        h.dimensions = {"mode": n, "point": ls.shape[1], "xyz": 3}
+        _var(h, "shape", ("mode", "point", "xyz"), ls, "mode_shape")
+
+
+def _read_modes(g):
+    """The ModalResults of a /modes group (``_write_modes``)."""
+    from .solvers.modal import ModalResults
+
+    def _s(x):
+        return x.decode() if isinstance(x, bytes) else str(x)
+
+    per_mode = tuple(json.loads(_s(g.attrs.get("coordinate_shape", "[]"))))
+    freq = g["frequency"][()]
+    coords = g["coordinates"][()] if "coordinates" in g else np.zeros((freq.size, 0))
+    return ModalResults(frequencies_hz=freq, shapes=coords.reshape((freq.size,) + per_mode),
+                        line_shapes={name: h["shape"][()] for name, h in g.get("lines", {}).items()},
+                        asymmetry=float(_scalar(g.attrs.get("asymmetry", 0.0))), message=_s(g.attrs.get("message", "")),
+                        unstable=int(_scalar(g.attrs.get("unstable", 0))),
+                        scale_hz=float(_scalar(g.attrs.get("scale_hz", 0.0))))
 
 
 def open_results(path: str | os.PathLike) -> Results:
@@ -656,8 +712,10 @@ def open_results(path: str | os.PathLike) -> Results:
                 time = g["time"][()]
             joints[name] = JointResults(name=name, coordinate=g["coordinate"][()], rate=g["rate"][()],
                                         kind=_s(g.attrs.get("kind", "")))
+        modes = _read_modes(f["modes"]) if "modes" in f else None
         return Results(time=time, lines=lines, vessels=vessels, supports=supports, bodies=bodies,
                        tensioners=tensioners, reels=reels, winches=winches, tuggers=tuggers, joints=joints,
+                       modes=modes,
                        status=int(_scalar(attrs.get("status", 0))),
                        message=_s(attrs.get("message", "")), counters=json.loads(_s(attrs.get("counters", "{}"))),
                        scenario_json=_s(attrs.get("scenario", "")), version=_s(attrs.get("rfesim_version", "")),

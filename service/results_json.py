@@ -1,7 +1,9 @@
 """Results files as JSON: channel selection and decimation, read straight from HDF5.
 
 A channel is ``<group>/<object>/<variable>`` as in the file: ``lines/riser/tension``,
-``lines/riser/position``, ``vessels/fpso/rotation``. Variables along time are
+``lines/riser/position``, ``vessels/fpso/rotation``; a variable of a group itself is
+``<group>/<variable>``: ``modes/frequency``, ``modes/period`` (the modal analysis of
+``analysis.modal``). Variables along time are
 decimated with ``every`` (every n-th output time, the first one included); the others
 (``arc_length``, ``sde_arc_length``) are returned whole.
 
@@ -18,7 +20,7 @@ from typing import Any, Iterator
 
 import numpy as np
 
-SKIP = ("time", "xyz")
+SKIP = ("time", "xyz", "mode")
 FIRST_GROUPS = ("lines", "vessels", "bodies")
 
 # values json-encoded at a time when an answer is streamed (about 1 MB of text), so the web
@@ -70,6 +72,11 @@ def channel_index(f) -> dict[str, Any]:
         if not isinstance(g, h5py.Group):
             continue
         for obj_name, obj in g.items():
+            if isinstance(obj, h5py.Dataset):
+                # a variable of the group itself (/modes: frequency, period along the modes)
+                if obj_name not in SKIP and "units" in obj.attrs:
+                    out[f"{group}/{obj_name}"] = obj
+                continue
             if not isinstance(obj, h5py.Group):
                 continue
             for var, ds in obj.items():

@@ -1990,7 +1990,10 @@ class DynamicsSettings(_Strict):
 
 class ModalSettings(_Strict):
     """Natural frequencies and mode shapes of the structure linearised about its static
-    equilibrium (solved for it also when analysis.statics.enabled is false)."""
+    equilibrium (solved for it also when analysis.statics.enabled is false): computed by
+    `rfesim modes` / rfesim.modes, and by a run (`rfesim run`, rfesim.simulate, the HTTP
+    service) after its statics and dynamics, into results.modes and the group /modes of the
+    results file."""
 
     modes: int = _units("1", "Number of modes (lowest frequencies)", default=10, ge=1, le=10000)
 

@@ -97,3 +97,75 @@ def test_cli_mixed_scene_modes_is_a_missing_component(tmp_path, capsys):
         rfesim.modes(data)
     with pytest.raises(rfesim.SolverError):
         rfesim.modes(data)
+
+
+# a 10 m cantilever of 10 elements clamped at end A, no gravity: statics only, with analysis.modal
+CANTILEVER = {
+    "name": "modal cantilever",
+    "environment": {"gravity": 0.0},
+    "line_types": {"beam": {"EA": 1.0e8, "EIy": 1.0e5, "mass_per_length": 50.0}},
+    "lines": {"pipe": {"type": "beam", "length": 10.0, "elements": 10,
+                       "end_a": {"attach": "fixed", "position": [0.0, 0.0, 0.0], "direction": [1.0, 0.0, 0.0],
+                                 "connection": "clamped"},
+                       "end_b": {"attach": "free"}}},
+    "analysis": {"statics": {"enabled": True}, "dynamics": {"enabled": False}, "modal": {"modes": 3}},
+}
+
+
+def test_simulate_solves_analysis_modal_and_the_file_keeps_it(tmp_path):
+    """analysis.modal was never solved by a run ('statics only', no modes in the results or the
+    file); now results.modes as rfesim.modes gives them, and /modes round-trips."""
+    import h5py
+
+    from service.results_json import list_channels
+    res = rfesim.simulate(copy.deepcopy(CANTILEVER))
+    md = rfesim.modes(copy.deepcopy(CANTILEVER))
+    assert res.modes is not None and len(res.modes.frequencies_hz) == 3
+    assert res.modes.frequencies_hz == pytest.approx(md.frequencies_hz, rel=1e-9)
+    assert "modal analysis: 3 modes about the static equilibrium" in res.message
+    path = tmp_path / "r.nc"
+    res.to_netcdf(path)
+    with h5py.File(path, "r") as f:
+        assert f["modes/frequency"].attrs["units"] in (b"Hz", "Hz")
+        assert f["modes/period"].attrs["units"] in (b"s", "s")
+        assert f["modes/lines/pipe/shape"].shape == (3, 12, 3)
+    back = rfesim.open_results(path)
+    assert back.modes.frequencies_hz == pytest.approx(res.modes.frequencies_hz, rel=0, abs=0)
+    assert back.modes.shapes.shape == res.modes.shapes.shape == (3, 11, 6)      # 11 RFEs
+    assert np.array_equal(back.modes.shapes, res.modes.shapes)
+    assert np.array_equal(back.modes.line_shapes["pipe"], res.modes.line_shapes["pipe"])
+    assert back.modes.scale_hz == res.modes.scale_hz
+    channels = list_channels(path)
+    assert "modes/frequency" in channels and "modes/period" in channels
+    # without analysis.modal: no modes, no group
+    plain = copy.deepcopy(CANTILEVER)
+    del plain["analysis"]["modal"]
+    res2 = rfesim.simulate(plain)
+    assert res2.modes is None and "modal" not in res2.message
+    res2.to_netcdf(tmp_path / "p.nc")
+    assert rfesim.open_results(tmp_path / "p.nc").modes is None
+
+
+def test_simulate_modal_of_a_chain_with_statics_disabled_and_dynamics():
+    """The README pendulum (statics disabled, 5 s of dynamics) with analysis.modal: the run's
+    results.modes are the equilibrium's 0.42655 / 1.14411 Hz."""
+    data = copy.deepcopy(README_PENDULUM)
+    data["analysis"]["dynamics"]["duration"] = 0.1
+    data["analysis"]["modal"] = {"modes": 2}
+    res = rfesim.simulate(data)
+    assert res.kind == "dynamics" and res.time[-1] == pytest.approx(0.1)
+    assert res.modes.frequencies_hz == pytest.approx(_pendulum_closed_form(), rel=1e-6)
+    assert "analysis.statics.enabled is false" in res.message
+
+
+def test_simulate_modal_not_provided_keeps_the_run():
+    """A mixed chain + absolute-line scene: the run's results stand, results.modes is None and
+    the message says the modal analysis was not done and why."""
+    data = copy.deepcopy(README_PENDULUM)
+    data["analysis"] = {"statics": {"enabled": True}, "dynamics": {"enabled": False}, "modal": {"modes": 2}}
+    data["line_types"] = {"rope": {"EA": 1e6, "EIy": 1e-2, "GJ": 1e-2, "mass_per_length": 1.0}}
+    data["lines"] = {"hoist": {"type": "rope", "length": 5.0, "elements": 5, "end_a": {"attach": "pendulum.lower"},
+                               "end_b": {"attach": "free"}}}
+    res = rfesim.simulate(data)
+    assert res.modes is None
+    assert "modal analysis: not done (analysis.modal): modal analysis of a scene mixing chains" in res.message
