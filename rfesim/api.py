@@ -13,7 +13,8 @@ from .model.compile import compile_scenario
 from .scenario import Scenario, load_scenario
 from .solvers.buckling import buckling_warnings, dynamic_shear_warnings, shear_warnings
 from .solvers.dynamics import Counters, Recorder, run_dynamics
-from .solvers.modal import ModalResults, join_notes, modal_analysis, statics_disabled_note, statics_failed
+from .solvers.modal import (ModalResults, join_notes, locked_note, modal_analysis, statics_disabled_note,
+                            statics_failed)
 from .solvers.statics import solve_statics
 from .solvers.system import System
 
@@ -618,5 +619,5 @@ def modes(scenario, n: int | None = None) -> ModalResults:
     except SolverError as exc:
         raise statics_failed(exc, sc) from None
     md = modal_analysis(system, state, nmodes)
-    md.message = join_notes(statics_disabled_note(sc), md.message)
+    md.message = join_notes(statics_disabled_note(sc), locked_note(sc), md.message)
     return md

@@ -86,6 +86,43 @@ def statics_disabled_note(sc) -> str:
             "solved for the modal analysis (the initial shape of the scenario is not an equilibrium in general)")
 
 
+def locked_payouts(sc) -> list[str]:
+    """The winches and payouts (tensioners, reels) of a scenario whose mode lets them pay out
+    in the time domain, but which the modal analysis holds locked (its K is the static Jacobian
+    at fixed payouts): a constant-tension winch, a drum winch without a brake, a heave
+    compensation on a sheave that can move (its end A neither fixed nor on a vessel, whose
+    prescribed motion stands still in the modal analysis), a constant-tension tensioner or reel.
+    One description each."""
+    out = []
+    for name, w in (sc.winches or {}).items():
+        why = []
+        if w.mode.kind == "tension":
+            why.append("mode tension: it pays out at the set tension")
+        elif w.mode.kind == "drum" and not w.mode.brake_torque > 0.0:
+            why.append("mode drum without a brake: the drum turns under the rope tension")
+        line = (sc.lines or {}).get(w.line)
+        if w.heave_compensation is not None and line is not None and \
+                line.end_a.attach != "fixed" and line.end_a.attach not in (sc.vessels or {}):
+            why.append("heave_compensation: it pays out with the sheave's motion")
+        if why:
+            out.append(f"winch '{name}' ({'; '.join(why)})")
+    for name, sup in (sc.supports or {}).items():
+        payout = getattr(sup, "payout", None)
+        if getattr(payout, "kind", None) == "constant-tension":
+            out.append(f"{sup.kind} '{name}' (payout constant-tension: it pays out at the set tension)")
+    return out
+
+
+def locked_note(sc) -> str:
+    """The note of a modal analysis on ``locked_payouts`` ("" when there is none)."""
+    held = locked_payouts(sc)
+    if not held:
+        return ""
+    return (f"the modal analysis holds every winch and payout locked at its static length, so these modes are "
+            f"those with {', '.join(held)} held (a payout free under a set tension adds a zero-stiffness "
+            f"coordinate and removes the rope's bounce mode; docs/theory.md, modal analysis)")
+
+
 def statics_failed(exc: SolverError, sc) -> SolverError:
     """The SolverError of a statics solved for a modal analysis although
     analysis.statics.enabled is false: the failure, saying that the modes need it."""

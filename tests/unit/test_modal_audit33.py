@@ -169,3 +169,33 @@ def test_simulate_modal_not_provided_keeps_the_run():
     res = rfesim.simulate(data)
     assert res.modes is None
     assert "modal analysis: not done (analysis.modal): modal analysis of a scene mixing chains" in res.message
+
+
+def _winch_scene(mode, heave=None):
+    """A 10 t payload on a 20 m rope (EA = 1e8 N, EA/l = 5e6 N/m) from a fixed sheave, winch 'w'."""
+    data = {"environment": {"gravity": G},
+            "line_types": {"rope": {"EA": 1e8, "EIy": 1e-2, "GJ": 1e-2, "mass_per_length": 0.1, "tension_only": True,
+                                    "outer_diameter": 0.036}},
+            "lines": {"rope": {"type": "rope", "length": 20.0, "elements": 10,
+                               "end_a": {"attach": "fixed", "position": [0, 0, 50.0], "connection": "pinned"},
+                               "end_b": {"attach": "load", "position": [0, 0, 1.0], "connection": "pinned"}}},
+            "bodies": {"load": {"mass": 1e4, "radius_of_gyration": 1.0}},
+            "winches": {"w": {"line": "rope", "mode": mode}}}
+    if heave is not None:
+        data["winches"]["w"]["heave_compensation"] = heave
+    return data
+
+
+def test_modes_name_winches_held_locked():
+    """The modal analysis holds a constant-tension winch locked (its bounce sqrt(k/M)/2pi =
+    3.559 Hz stays, the time domain has none), unsaid before; now the message names it. A
+    speed winch (prescribed: locked is right) and heave compensation on a fixed sheave are not named."""
+    tension = rfesim.modes(_winch_scene({"kind": "tension", "tension": 1e4 * G, "gain": 1e5, "max_speed": 1.0}), n=7)
+    assert tension.frequencies_hz[6] == pytest.approx(math.sqrt(5e6 / 1e4) / (2 * math.pi), rel=2e-3)
+    assert "holds every winch and payout locked" in tension.message
+    assert "winch 'w' (mode tension: it pays out at the set tension)" in tension.message
+    drum = rfesim.modes(_winch_scene({"kind": "drum", "radius": 0.5, "inertia": 100.0,
+                                      "torque": [[0, 0.5 * 1e4 * G]]}), n=2)
+    assert "winch 'w' (mode drum without a brake" in drum.message
+    speed = rfesim.modes(_winch_scene({"kind": "speed", "rows": [[0, 0]]}, heave={"kp": 1.0}), n=2)
+    assert "locked" not in speed.message
