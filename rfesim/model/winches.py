@@ -87,6 +87,13 @@ class WinchInfo:
     payout: float = 0.0             # m, current payout (as last set)
     speed: float = 0.0              # m/s
     extra: dict = field(default_factory=dict)
+    origins: dict = field(default_factory=dict)  # the scenario's template origins (rfesim.scenario.pipelay.Origin)
+
+    def user_path(self, rest: str) -> str:
+        """The dotted path of the winch's field ``rest`` as the user wrote it: a crane
+        template's winch (``winches.<crane>_winch``) is its ``cranes.<crane>.winch``."""
+        from ..scenario.pipelay import template_path
+        return template_path(f"winches.{self.name}.{rest}", self.origins)
 
     @property
     def elements(self) -> int:
@@ -161,7 +168,8 @@ def compile_winches(sc, model) -> list[WinchInfo]:
             ext_sde=np.asarray(ext_sde, np.int64), ext_side=np.asarray(ext_side, np.int64),
             ext_arm0=np.asarray(ext_arm, float).reshape(-1, 3), load_idx=loads, load_arm0=km.load_arm[loads].copy(),
             absorber_k=float(sa.stiffness) if sa is not None else 0.0,
-            absorber_c=float(sa.damping) if sa is not None else 0.0, spec=w)
+            absorber_c=float(sa.damping) if sa is not None else 0.0, spec=w,
+            origins=dict(getattr(sc, "_origins", None) or {}))
         if w.payout_inertia:
             # follower loads along the free elements (x axis: toward end B) for the material's
             # acceleration relative to the nodes (set_payout's accel; zero until a payout speeds up)
@@ -608,7 +616,7 @@ class WinchController:
         info = self.info
         if D > info.stored:
             raise SolverError(f"winch '{self.name}' ran out of rope: payout {D:.6g} m is more than the "
-                              f"{info.stored:.6g} m stored on the drum (winches.{self.name}.stored)",
+                              f"{info.stored:.6g} m stored on the drum ({info.user_path('stored')})",
                               time=t_next, quantity="winch payout")
         if info.length0 + self._hanging(D) < MIN_FRACTION * info.length0:
             what = f"hauled in {-D:.6g} m" if self.slipped + self.slip0 == 0.0 else \
@@ -756,7 +764,7 @@ class WinchController:
         k = self._rope_axial()[0] if T > 0.0 else 0.0
         return (f"winch '{self.name}' (constant tension): its speed {v:.4g} m/s missed the characteristic by "
                 f"{abs(res):.3g} m/s at tension {T:.6g} N, with k h / gain = {k * hh / m.gain:.3g} (rope axial "
-                f"stiffness k = {k:.3g} N/m); raise winches.{self.name}.mode.gain (N*s/m) toward k h = "
+                f"stiffness k = {k:.3g} N/m); raise {self.info.user_path('mode.gain')} (N*s/m) toward k h = "
                 f"{k * hh:.3g}, shorten the time step, or lower mode.max_speed ({m.max_speed:g} m/s)")
 
     def after_step(self, km, state, t: float, h: float) -> None:

@@ -360,8 +360,11 @@ class AFrame(_Crane):
     type: Literal["a-frame"]
     legs: MemberSpec
     leg_spacing: float = _units("m", "Distance between the two legs (across the vessel)", default=6.0, gt=0.0)
-    crossbeam_mass: float = _units("kg", "Mass of the crossbeam and sheave block", default=0.0, ge=0.0,
-                                   le=MAX_MASS, limit=MASS_LIMIT)
+    crossbeam_mass: float = _units("kg", "Without `crossbeam`: the mass of the whole crossbeam with its sheave "
+                                         "block, carried at the legs' top (the equivalent frame's short top line); "
+                                         "with a `crossbeam` member: only what its tube leaves out, the sheave block "
+                                         "and fittings, spread over its span on top of the tube's own mass (from "
+                                         "its section)", default=0.0, ge=0.0, le=MAX_MASS, limit=MASS_LIMIT)
     outboard_deg: float = _units("deg", "Direction of the outboard side in the vessel frame (180: over the "
                                  "stern, -x)", default=180.0, ge=-360.0, le=360.0)
     tilt_deg: AngleProfile | None = _units("deg (s, deg)", "Leg angle from the vertical, positive outboard, -80 to "

@@ -69,7 +69,7 @@ def test_unsettled_speed_names_what_to_change(monkeypatch):
         rfesim.simulate(crane(1.0e3, 0.3, duration=0.02))
     msg = str(exc.value)
     for words in ("did not settle", "winch 'c_winch' (constant tension)", "k h / gain",
-                  "winches.c_winch.mode.gain", "time step", "max_speed"):
+                  "cranes.c.winch.mode.gain", "time step", "max_speed"):
         assert words in msg, (words, msg)
 
 
