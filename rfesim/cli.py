@@ -270,26 +270,49 @@ def _table(header: list[str], rows: list[list[str]], indent: str = "  ") -> list
     return out
 
 
-def _line_extremes(res) -> list[str]:
+def _line_extremes(res, sc=None) -> list[str]:
     """Per line: max top tension (the end held on board, rfesim.sweep.line_top_tension, and
-    which force it is), max/min tension, max bend moment over the run."""
+    which force it is), max/min tension, max bend moment over the run; a crane's structure
+    lines with the real frame's loads (rfesim.crane_results.structure_loads)."""
     import numpy as np
 
+    from .crane_results import structure_loads
     from .sweep import line_top_tension
 
+    crane = structure_loads(res, sc)
     rows = []
     for name, lr in res.lines.items():
         if len(res.time) == 0:
             rows.append([name, "-", "-", "-", "-", "-"])
             continue
         top, where = line_top_tension(res, name)
-        rows.append([name, _kn(float(np.nanmax(top))), where, _kn(float(np.max(lr.tension))),
-                     _kn(float(np.min(lr.tension))), _kn(float(np.max(lr.bend_moment)))])
+        tension, bend = np.asarray(lr.tension), np.asarray(lr.bend_moment)
+        if name in crane:
+            m = crane[name]
+            tension, bend = m["axial_force"], m["bend_moment"]
+            top = np.linalg.norm(m["end_a_force" if where == "end A" else "end_b_force"], axis=-1)
+        rows.append([name, _kn(float(np.nanmax(top))), where, _kn(float(np.max(tension))),
+                     _kn(float(np.min(tension))), _kn(float(np.max(bend)))])
     return _table(["line", "max top tension [kN]", "taken at", "max tension [kN]", "min tension [kN]",
-                   "max bend moment [kN*m]"], rows)
+                   "max bend moment [kN*m]"], rows) + _crane_note(crane)
 
 
-def _run_summary(res, wall: float) -> list[str]:
+def _crane_note(crane: dict) -> list[str]:
+    """What the crane structure rows of the line tables hold (rfesim.crane_results.structure_loads)."""
+    real = [n for n, m in crane.items() if m["of"] == "real frame"]
+    model = [n for n, m in crane.items() if m["of"] != "real frame"]
+    out = []
+    if real:
+        out.append(f"  {', '.join(real)}: loads of the real crane frame, its luffing cylinders or rope at their eye "
+                   f"(crane_summary; the results file keeps the model's, docs/theory.md 'Member loads of the real "
+                   f"frame')")
+    if model:
+        out.append(f"  {', '.join(model)}: loads of the model, whose luffing joint carries the drive's moment (no "
+                   f"cylinder or luffing rope in the crane template to put at its eye)")
+    return out
+
+
+def _run_summary(res, wall: float, sc=None) -> list[str]:
     c = res.counters
     nt = len(res.time)
     lines = []
@@ -312,7 +335,7 @@ def _run_summary(res, wall: float) -> list[str]:
             step_txt = ""
         lines.append(f"simulated {simulated:.6g} s: {c.get('steps', 0)} steps{step_txt}, {nt} output times, "
                      f"wall time {wall:.3g} s")
-    return lines + _line_extremes(res)
+    return lines + _line_extremes(res, sc)
 
 
 # --------------------------------------------------------------------------- commands
@@ -459,7 +482,7 @@ def cmd_run(args) -> int:
 def _finished(res, sc, out: Path, plot: str | None, wall: float) -> int:
     _write(res, out)
     print(f"{sc.name}: {_summary_message(res.message)}")
-    for line in _run_summary(res, wall):
+    for line in _run_summary(res, wall, sc):
         print(line)
     print(f"results written to {out}")
     if plot:
@@ -530,13 +553,19 @@ def cmd_statics(args) -> int:
         return _solver_failure(exc, out)
     wall = time.perf_counter() - wall0
     print(f"{sc.name}: statics {_summary_message(res.message)} (wall time {wall:.3g} s)")
+    from .crane_results import structure_loads
+
+    crane = structure_loads(res, sc)
     rows = []
     for name, lr in res.lines.items():
-        fa, fb = lr.end_a_force[-1], lr.end_b_force[-1]
+        fa, fb, tension = lr.end_a_force[-1], lr.end_b_force[-1], lr.tension[-1]
+        if name in crane:           # a crane's structure: the real frame's loads
+            m = crane[name]
+            fa, fb, tension = m["end_a_force"][-1], m["end_b_force"][-1], m["axial_force"][-1]
         rows.append([name, _vector_kn(fa), _kn(float(np.linalg.norm(fa))), _vector_kn(fb), _kn(float(np.linalg.norm(fb))),
-                     _kn(float(lr.tension[-1].min())), _kn(float(lr.tension[-1].max()))])
+                     _kn(float(tension.min())), _kn(float(tension.max()))])
     for line in _table(["line", "end A force [kN]", "|A| [kN]", "end B force [kN]", "|B| [kN]",
-                        "min tension [kN]", "max tension [kN]"], rows):
+                        "min tension [kN]", "max tension [kN]"], rows) + _crane_note(crane):
         print(line)
     if out is not None:
         _write(res, out)

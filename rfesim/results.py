@@ -16,9 +16,16 @@ CHANNELS: dict[str, tuple[str, str]] = {
     "payout": ("m", "Length of line paid out by the tensioner or reel since the start (negative: reeled in)"),
     "grip_force": ("N", "Axial (reel: tangential) force with which the tensioner or reel holds the line back"),
     "position": ("m", "Position of the line points (end A, every SDE, end B) in the global frame"),
-    "tension": ("N", "Effective tension (axial SDE force)"),
-    "shear_force": ("N", "Shear force magnitude at the SDE"),
-    "bend_moment": ("N*m", "Bending moment magnitude at the SDE"),
+    "tension": ("N", "Effective tension (axial SDE force); a crane template's boom or legs below a table-driven "
+                     "luffing cylinder's eye: the model's, whose luffing joint holds them by a moment at the hinge "
+                     "(rfesim.crane_results.crane_summary gives the real frame's, the cylinders at their eye)"),
+    "shear_force": ("N", "Shear force magnitude at the SDE; a crane template's boom or legs below a table-driven "
+                         "luffing cylinder's eye: the model's, whose luffing joint holds them by a moment at the "
+                         "hinge (not corrected to the real frame)"),
+    "bend_moment": ("N*m", "Bending moment magnitude at the SDE; a crane template's boom or legs below a "
+                           "table-driven luffing cylinder's eye: the model's, whose luffing joint holds them by a "
+                           "moment at the hinge (rfesim.crane_results.crane_summary gives the real frame's, the "
+                           "cylinders at their eye)"),
     "torque": ("N*m", "Torque (torsional moment) at the SDE"),
     "curvature": ("1/m", "Curvature at the SDE (bending rotation over the element length)"),
     "end_a_force": ("N", "Force of the line on its end-A attachment (global)"),

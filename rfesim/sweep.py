@@ -27,7 +27,10 @@ legs, ..., are left out; the table's ``top_tension_at`` names the line and the e
 ``riser end B``, ``lay tensioner`` or ``crane_rope sheave``),
 ``max_tension`` / ``min_tension`` (N, effective tension over the SDEs and times of the
 lines outside a crane's structure: a crane's hoist rope, not its pedestal or boom in
-compression), ``max_bend_moment`` (N*m, over all lines, a crane's boom and pedestal too), ``touchdown_min`` / ``touchdown_max`` (m, range over time and
+compression), ``max_bend_moment`` (N*m, over all lines, a crane's boom and pedestal too: for a crane template
+whose luffing cylinder or rope the case gives, the real frame's moments, with that actuator at its eye, at the
+SDEs, the members' ends and the eye, rfesim.crane_results.structure_loads; the results file keeps the model's),
+``touchdown_min`` / ``touchdown_max`` (m, range over time and
 lines of the results' ``touchdown_arc_length``, the arc length from end A where seabed
 contact begins; empty when no line touches the seabed), ``daf`` (dynamic amplification:
 max top tension over the top tension at t = 0, the static one; for a crane's rope that of
@@ -126,11 +129,13 @@ def line_top_tension(res, name: str):
     return np.asarray(lr.top_tension), "end B"
 
 
-def _summary(res) -> tuple[dict[str, float | None], str | None]:
-    """The summary columns and where the max top tension is (``"<line> <end>"``)."""
+def _summary(res, scenario=None) -> tuple[dict[str, float | None], str | None]:
+    """The summary columns and where the max top tension is (``"<line> <end>"``); a crane's
+    structure lines with the real frame's bending moments where ``scenario`` (the case that
+    ran) gives its luffing cylinder or rope (rfesim.crane_results.structure_loads)."""
     import numpy as np
 
-    from .crane_results import crane_names, rope_tension, structure_lines
+    from .crane_results import crane_names, rope_tension, structure_lines, structure_loads
 
     out: dict[str, float | None] = {c: None for c in SUMMARY_COLUMNS}
     if len(res.time) == 0 or not res.lines:
@@ -149,7 +154,10 @@ def _summary(res) -> tuple[dict[str, float | None], str | None]:
     carrying = [lr for name, lr in res.lines.items() if name not in structure]
     out["max_tension"] = _finite_or_none(max(np.nanmax(lr.tension) for lr in carrying))
     out["min_tension"] = _finite_or_none(min(np.nanmin(lr.tension) for lr in carrying))
-    out["max_bend_moment"] = _finite_or_none(max(np.nanmax(lr.bend_moment) for lr in res.lines.values()))
+    members = structure_loads(res, scenario)
+    out["max_bend_moment"] = _finite_or_none(max(
+        np.nanmax(members[name]["bend_moment"] if name in members else lr.bend_moment)
+        for name, lr in res.lines.items()))
     out["touchdown_min"], out["touchdown_max"] = touchdown_range(res)
     static_top = float(best_top[0])
     if best.endswith("_rope") and best[:-len("_rope")] in cranes:
@@ -160,10 +168,12 @@ def _summary(res) -> tuple[dict[str, float | None], str | None]:
     return out, f"{best} {where}"
 
 
-def summarize(res) -> dict[str, float | None]:
+def summarize(res, scenario=None) -> dict[str, float | None]:
     """The summary columns of one run's Results (None where not defined). The top tension
-    is that of the end held on board (:func:`line_top_tension`)."""
-    return _summary(res)[0]
+    is that of the end held on board (:func:`line_top_tension`); ``scenario``: the one that
+    ran (a Scenario or its dict), whose crane templates give the real frame's bending moments
+    of their structure (rfesim.crane_results.template_actuators)."""
+    return _summary(res, scenario)[0]
 
 
 # --------------------------------------------------------------------------- one load case
@@ -228,7 +238,7 @@ def _run_case(case: dict, index: int) -> dict[str, Any]:
     except rfesim.ScenarioError as exc:
         res = None
         row.update(status="failed", message=f"scenario error: {exc}")
-    summary, where = _summary(res) if res is not None else ({c: None for c in SUMMARY_COLUMNS}, None)
+    summary, where = _summary(res, case) if res is not None else ({c: None for c in SUMMARY_COLUMNS}, None)
     row.update(summary)
     row["top_tension_at"] = where
     row["wall_time"] = time.perf_counter() - wall0

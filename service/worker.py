@@ -384,8 +384,9 @@ def _execute(spec: dict, progress: Callable[[float, float], None], results_path:
             else:
                 out["has_results"] = True
             # the summary columns and, beside them as in rfesim sweep's table, where the max top
-            # tension is ("riser end B")
-            summary, where = _summary(res)
+            # tension is ("riser end B"); a crane's structure with the real frame's moments when the
+            # scenario's crane template gives its luffing cylinder or rope
+            summary, where = _summary(res, spec.get("scenario"))
             out["summary"] = {**summary, "top_tension_at": where}
             out["sim_time"] = float(res.time[-1])
         out.update(kw)

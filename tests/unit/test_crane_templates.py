@@ -300,6 +300,32 @@ def test_slack_events_and_snap_loads():
     T[15:] = 0.0           # slack from 7.5 s to the end
     ev = slack_events(t, T, 1.0)
     assert len(ev) == 2
-    assert ev[0] == {"start": 2.0, "end": 3.5, "snap_load": 500.0, "snap_time": 3.5}
+    assert ev[0] == {"start": 2.0, "end": 3.5, "snap_load": 500.0, "snap_time": 3.5, "blips": 0}
     assert ev[1]["start"] == 7.5 and math.isnan(ev[1]["end"]) and math.isnan(ev[1]["snap_load"])
     assert slack_events(t, np.full_like(t, 100.0), 1.0) == []
+
+
+def test_slack_event_merges_taut_blips_and_its_snap_window_stops_at_the_next_event():
+    """Audit: a chattering slack rope (one-sample taut blips of a few kN) counted 37 events in
+    6 s, and each event's snap load was the largest tension of a 2 s window running over the
+    next events. Now a short, low taut interval (one sample, or under min_taut; below
+    blip_level) does not end an event, a high one (a snap) does, and the snap window stops
+    at the next event's start."""
+    t = np.round(np.arange(0.0, 3.0, 0.01), 10)
+    T = np.full_like(t, 1000.0)
+    T[100:150] = 0.0                 # slack 1.00 .. 1.50 s
+    T[120] = 80.0                    # a one-sample blip in it, below blip_level 500 N
+    T[135:137] = 90.0                # a two-sample one (0.02 s < min_taut)
+    T[150:160] = 2000.0              # taut again at 1.50 s: snap 2000 N
+    T[160:170] = 0.0                 # slack 1.60 .. 1.70 s
+    T[170] = 600.0                   # a one-sample blip above blip_level: a snap, it ends the event
+    T[171:180] = 0.0                 # slack 1.71 .. 1.80 s
+    T[180:] = 3000.0                 # taut from 1.80 s on: its snap 3000 N
+    ev = slack_events(t, T, 10.0, blip_level=500.0)
+    assert [(e["start"], e["end"], e["snap_load"], e["snap_time"], e["blips"]) for e in ev] == [
+        (1.0, 1.5, 2000.0, 1.5, 2), (1.6, 1.7, 600.0, 1.7, 0), (1.71, 1.8, 3000.0, 1.8, 0)]
+    # the first event's window (2 s) covers the later 3000 N; it stops at the next event's start
+    assert ev[0]["snap_time"] < ev[1]["start"]
+    # without the height limit the short snap merges too; the 0.1 s taut interval does not
+    assert [(e["start"], e["end"], e["blips"]) for e in slack_events(t, T, 10.0, blip_level=1e9)] == [
+        (1.0, 1.5, 2), (1.6, 1.8, 1)]
