@@ -1004,6 +1004,11 @@ def compile_scenario(sc, start: str | None = None) -> Model:
                   plastic_history_width=int(plastic_width), supports=support_infos, tensioners=tens_infos,
                   dof_mask=dof_mask, initial=initial, line_index={li.name: k for k, li in enumerate(lines)},
                   bodies=body_infos, reels=reel_infos, joins=join_infos, closures=closure_infos)
+    if tens_infos:
+        from .supports import table_payout_problems
+        problems = table_payout_problems(model)     # a payout table beyond the line behind the track
+        if problems:
+            raise ScenarioError(problems)
     if reel_infos and km.has_plastic:
         model.initial_plastic_history = reeled_history(sc, lines, ref.R, km.plastic_params, int(plastic_width))
     if getattr(sc, "winches", None):

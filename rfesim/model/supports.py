@@ -322,3 +322,65 @@ def compile_tensioners(sc, attachment_names: list[str], lines) -> tuple[dict, li
         fill_payout(out, "tens", j, sup.payout)
         infos.append(TensionerInfo(name=name, line=sup.line, index=j))
     return out, infos
+
+
+def track_held_length(centres: np.ndarray, lengths: np.ndarray, P: np.ndarray, e: np.ndarray,
+                      L: float) -> float | None:
+    """Length of line (m) from its end A up to the exit of a track (entry ``P``, unit axis
+    ``e``, length ``L``) along the line: the arc length to the centre of the last RFE of the
+    first run, from end A, of RFEs whose centres lie in the track (0 <= xi <= L, within one
+    element or 1 m of its axis), plus what is left of the track beyond that centre. None when
+    no RFE lies in the track. ``centres`` (n, 3) and ``lengths`` (n,) are one line's RFEs."""
+    d = centres - P[None, :]
+    xi = d @ e
+    lateral = np.linalg.norm(d - xi[:, None] * e[None, :], axis=1)
+    tol = max(1.0, float(lengths.max()))
+    inside = (xi >= 0.0) & (xi <= L) & (lateral <= tol)
+    if not inside.any():
+        return None
+    k = int(np.argmax(inside))
+    while k + 1 < len(inside) and inside[k + 1]:
+        k += 1
+    s_centre = np.cumsum(lengths) - 0.5 * lengths
+    return float(s_centre[k] + (L - xi[k]))
+
+
+def table_payout_problems(model) -> list[tuple[str, str]]:
+    """(field, reason) for each tensioner whose payout table pays out more line than lies
+    behind its track's exit in the start shape (``track_held_length``): the line's end A
+    would leave the track and the line fly off or drop (a 15 m table through a 10 m track
+    with end A at its entry ran 'finished', its line 494 m away). A reel's table is checked
+    against its stored_length by the schema; a driven (constant-tension) payout, whose total
+    is not known before the run, and what statics shifts the payout by, are checked during
+    the run (rfesim.solvers.dynamics.payout_beyond)."""
+    sc, km = model.scenario, model.km
+    supports = getattr(sc, "supports", None) or {}
+    out = []
+    X = model.initial.positions()
+    att = model.attachment_state(0.0)
+    origins = getattr(sc, "_origins", None) or {}
+    for ti in model.tensioners:
+        sup = supports[ti.name]
+        if sup.payout.kind != "table":
+            continue
+        reach = max(row[1] for row in sup.payout.rows)
+        if reach <= 0.0:
+            continue
+        li = model.line(ti.line)
+        a = int(km.tens_att[ti.index])
+        P = att.p[a] + att.R[a] @ km.tens_point[ti.index]
+        e = att.R[a] @ km.tens_axis[ti.index]
+        lo, hi = li.rfe_start, li.rfe_stop
+        held = track_held_length(X[lo:hi], km.rfe_length[lo:hi], P, e, float(km.tens_length[ti.index]))
+        if held is None or reach <= held * (1.0 + 1e-9):
+            continue
+        field = f"supports.{ti.name}.payout"
+        if origins:
+            from ..scenario.pipelay import template_path
+            field = template_path(field, origins)
+        out.append((field,
+                    f"the table pays out {reach:.6g} m, but the tensioner holds only {held:.6g} m of line "
+                    f"'{ti.line}' from its end A up to the track's exit at the start: end A would leave the track "
+                    f"and the line run free; pay out at most {held:.6g} m, or start with more line behind the "
+                    f"track (end A further back, or a longer track)"))
+    return out

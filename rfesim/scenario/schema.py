@@ -1771,7 +1771,10 @@ class TensionerSupport(_Strict):
                              le=MAX_FORCE, limit=FORCE_LIMIT)
     payout: Annotated[Union[PayoutTable, PayoutConstantTension], Field(discriminator="kind")] = Field(
         default_factory=lambda: PayoutTable(kind="table", rows=[[0.0, 0.0]]),
-        description="Prescribed payout, or driven by the tension characteristic (default: holds the line)")
+        description="Prescribed payout, or driven by the tension characteristic (default: holds the line); a "
+                    "table may pay out at most the line behind the track's exit at the start (from end A up to "
+                    "the exit along the line): more is refused, and a payout that runs end A out of the track "
+                    "stops the run")
     horizontal_tension: float | None = _units(
         "N", "Horizontal lay tension H that statics sets: it pays the line out (or hauls it in) through the "
              "track until the horizontal force of the line on its end B (a laid pipe's pinned end on the "

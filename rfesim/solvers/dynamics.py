@@ -1088,23 +1088,39 @@ def _wrap_phi(km, att, ws, j: int) -> float:
     return phi + 2.0 * math.pi if phi < -0.5 * math.pi else phi
 
 
-def payout_ends(system: System) -> list[tuple]:
-    """The driven (constant-tension) tensioners and reels and what of their line they hold
-    at the start, from the evaluated workspace: (kind, j, name, line, D0, held) with held the
-    pipe from end A up to the track's exit (m; end A upstream of the exit) or the pipe stored
-    on the drum (m, R times end A's wrap angle). Those whose line's end A is not upstream of
-    the exit, or not on the drum, are left out."""
+def _tensioner_payout(km, ws, j: int, t: float) -> float:
+    """Paid-out length of tensioner j at time t (m): its table's, or the driven value."""
+    from ..loads.tensioner import tensioner_payout
+    return float(tensioner_payout(km.tens_mode, km.tens_table_t, km.tens_table_d, km.tens_table_v, km.tens_count,
+                                  j, t, ws.tens_D))
+
+
+def _pays_out(km, j: int) -> bool:
+    """Tensioner j can pay its line out: driven (constant tension), or a table reaching past 0."""
+    if int(km.tens_mode[j]) == 1:
+        return True
+    c = max(1, int(km.tens_count[j]))
+    return bool((km.tens_table_d[j, :c] > km.tens_table_d[j, 0]).any())
+
+
+def payout_ends(system: System, t: float = 0.0) -> list[tuple]:
+    """The tensioners that pay out (driven by constant tension, or by a table that reaches
+    beyond its first row) and the driven reels, and what of their line they hold at the
+    start (time t), from the evaluated workspace: (kind, j, name, line, D0, held) with held
+    the pipe from end A up to the track's exit (m; end A upstream of the exit) or the pipe
+    stored on the drum (m, R times end A's wrap angle). Those whose line's end A is not
+    upstream of the exit, or not on the drum, are left out."""
     km, ws, att, model = system.km, system.ws, system.att, system.model
     out = []
     if km.has_tensioners:
         for ti in model.tensioners:
             j = ti.index
-            if int(km.tens_mode[j]) != 1:
+            if not _pays_out(km, j):
                 continue
             xi_end, xi_centre = _track_xi(km, att, ws, j)
             L = float(km.tens_length[j])
             if xi_centre < L:
-                out.append(("tensioner", j, ti.name, ti.line, float(ws.tens_D[j]), L - xi_end))
+                out.append(("tensioner", j, ti.name, ti.line, _tensioner_payout(km, ws, j, t), L - xi_end))
     if km.has_reels:
         for ri in model.reels:
             j = ri.index
@@ -1116,22 +1132,28 @@ def payout_ends(system: System) -> list[tuple]:
     return out
 
 
-def payout_beyond(system: System, ends: list[tuple]) -> str:
-    """A message when a driven tensioner has run end A of its line out of its track (the
-    end-A RFE's centre past the exit: the track holds none of the line), or a driven reel
-    has paid out more than it held or let end A off the drum, from the evaluated workspace;
-    else ''. The pipe's end would leave and the line drop: the run stops there."""
+def payout_beyond(system: System, ends: list[tuple], t: float = 0.0) -> str:
+    """A message when a tensioner that pays out (driven, or by a table) has run end A of its
+    line out of its track (the end-A RFE's centre past the exit: the track holds none of the
+    line), or a driven reel has paid out more than it held or let end A off the drum, from
+    the evaluated workspace at time t; else ''. The pipe's end would leave and the line drop
+    (or fly off under its pull): the run stops there. A table reaching beyond the line held
+    at the start is refused before the run (rfesim.model.supports.table_payout_problems);
+    this catches what statics' payout shift or the run's motion add."""
     km, ws, att = system.km, system.ws, system.att
     for kind, j, name, line, D0, held in ends:
         if kind == "tensioner":
-            D = float(ws.tens_D[j]) - D0
+            D = _tensioner_payout(km, ws, j, t) - D0
             xi_end, xi_centre = _track_xi(km, att, ws, j)
             if xi_centre >= float(km.tens_length[j]):
+                driven = int(km.tens_mode[j]) == 1
+                how = "(constant tension)" if driven else f"(its payout table, by t = {t:.6g} s)"
+                fix = (f"a set tension (supports.{name}.payout) the line's pull does not outrun" if driven else
+                       f"a payout table (supports.{name}.payout) that pays out less")
                 return (f"tensioner '{name}' ran end A of line '{line}' out of its track: it paid out {D:.6g} m "
-                        f"(constant tension) and held {held:.6g} m of the line from end A up to its exit at the "
+                        f"{how} and held {held:.6g} m of the line from end A up to its exit at the "
                         f"start; the track holds none of it now and the line's end is free: start with more "
-                        f"line upstream of the track (end A further back), or a set tension "
-                        f"(supports.{name}.payout) the line's pull does not outrun")
+                        f"line upstream of the track (end A further back), or {fix}")
         else:
             D = float(ws.reel_D[j]) - D0
             phi = _wrap_phi(km, att, ws, j)
@@ -1213,14 +1235,14 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
                                   f"output interval or a shorter duration")]) from None
     if recorder.k == 0 or recorder.time[recorder.k - 1] < st.t:
         recorder.record(st, st.qdd)
-    # driven tensioners and reels: what of their line they hold at the start (checked at every
+    # tensioners that pay out and driven reels: what of their line they hold at the start (checked at every
     # output time: a payout that runs the line's end out stops the run, ``payout_beyond``;
     # such scenes are recorded in Python, Recorder.kernel_records, so every path passes output)
     ends = getattr(system, "payout_ends", None)
-    if ends is None and ((km.has_tensioners and (km.tens_mode == 1).any()) or
+    if ends is None and ((km.has_tensioners and any(_pays_out(km, j) for j in range(km.tens_mode.shape[0]))) or
                          (km.has_reels and (km.reel_mode == 1).any())):
         system.evaluate(st)
-        ends = system.payout_ends = payout_ends(system)
+        ends = system.payout_ends = payout_ends(system, st.t)
     stats = np.zeros(4, np.int64)
     fail = np.zeros(3)
     # closed scenes: the energy at the start, checked for growth at output times (EnergyCheck)
@@ -1241,7 +1263,7 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
     def check_payout():
         """Stop with the results so far once a driven tensioner or reel has run its line's end
         out (``payout_beyond``; the workspace holds the evaluation of the recorded state)."""
-        msg = payout_beyond(system, ends) if ends else ""
+        msg = payout_beyond(system, ends, st.t) if ends else ""
         if msg:
             raise SolverError(msg, time=st.t, quantity="payout beyond the line held",
                               results=make_results(status=1, message=msg))

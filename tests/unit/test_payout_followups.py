@@ -6,7 +6,9 @@
 2. a driven tensioner's or reel's trial payout lives in the workspace (``tens_D_trial``,
    ``reel_D_trial``), not in the model's payout tables (which stay constant);
 3. a constant-tension payout that runs end A of the line out of the tensioner's track stops the run with a SolverError naming it (with the results so far);
-4. a tensioner whose grips all slip in statics is named with its capacity field.
+4. a tensioner whose grips all slip in statics is named with its capacity field;
+5. a payout table that pays out more line than lies behind a tensioner's exit is refused
+   before the run, naming supports.<name>.payout, and stops the run if it gets there anyway.
 """
 from __future__ import annotations
 
@@ -155,3 +157,46 @@ def test_statics_beyond_a_tensioners_capacity_names_its_capacity():
     assert "supports.tensioner.capacity" in text and "tensioner 'tensioner'" in text
     assert "20000 N" in text and "about 50000 N" in text      # 12.5 kN at load factor 0.25
     assert err.value.hint is not None and "supports.tensioner.capacity" in err.value.hint
+
+
+# --------------------------------------------------------------------------- 5. a table beyond the line held
+
+RUNOUT_TABLE = {"kind": "table", "rows": [[0.0, 0.0], [2.0, 0.0], [18.0, 15.0], [20.0, 15.0]]}
+
+
+def test_payout_table_beyond_the_line_behind_the_track_is_refused():
+    """End A at the entry of a 10 m track, the table pays out 15 m: before, `rfesim check`
+    passed it and the run 'finished' with status 0 while the line flew off 494 m under its
+    pull (the grip force 0). Now the model build refuses it, naming the field and both
+    lengths; 4 m, and 15 m with end A 10 m further back (20 m held), are accepted."""
+    from rfesim.api import check_model
+    from rfesim.errors import ScenarioError
+    with pytest.raises(ScenarioError) as err:
+        check_model(_pulled_line(RUNOUT_TABLE, end_a=0.0, duration=20.0))
+    text = str(err.value)
+    assert "supports.tensioner.payout" in text
+    assert "pays out 15 m" in text and "holds only 10 m" in text
+    check_model(_pulled_line({"kind": "table", "rows": [[0.0, 0.0], [10.0, 4.0]]}, end_a=0.0))
+    check_model(_pulled_line(RUNOUT_TABLE, end_a=-10.0))
+
+
+def test_payout_table_that_runs_end_a_out_stops_the_run(monkeypatch):
+    """The run-time net behind that check (a payout statics shifts, or a scene the start-shape
+    check cannot judge): with the check switched off, the 15 m table through the 10 m track
+    stops the run once end A's element has left the track (its centre past the exit, about
+    9.5 m paid out at 12 s), with a SolverError naming the tensioner, its table and the
+    results so far (before: status 0, 'finished: 400 steps')."""
+    import rfesim.model.supports as supports
+    monkeypatch.setattr(supports, "table_payout_problems", lambda model: [], raising=False)
+    with pytest.raises(SolverError) as err:
+        rfesim.simulate(_pulled_line(RUNOUT_TABLE, end_a=0.0, duration=20.0))
+    exc = err.value
+    text = str(exc)
+    assert "tensioner 'tensioner'" in text and "out of its track" in text and "payout table" in text
+    assert "supports.tensioner.payout" in text
+    paid = float(text.split("paid out ")[1].split(" m")[0])
+    held = float(text.split("held ")[1].split(" m")[0])
+    assert 9.0 < paid < 11.0 and 9.9 < held <= 10.0
+    t = np.asarray(exc.results.time)
+    assert 10.0 < t[-1] < 14.0
+    assert exc.results.status == 1
