@@ -151,13 +151,21 @@ def lay_summary(res, line: str | None = None, *, outer_diameter: float | None = 
     touchdown, overbend: concave down above the touchdown, on the stinger/aligner; the
     ``*_strain`` are bending only, kappa D / 2);
     ``sagbend_total_strain``, ``overbend_total_strain``: the largest outer-fibre strain
-    axial + bending, eps_a + kappa D / 2 (the fibre on the tension side; eps_a the wall's
-    axial strain, ``_axial_strain``), which strain criteria such as DNV-ST-F101's (the
-    overbend strain of its simplified laying criteria, the displacement-controlled
-    local-buckling check) take; ``roller_reactions`` {support: (nt, nroller) N};
+    magnitude, axial + bending, |eps_a| + kappa D / 2 (eps_a the wall's axial strain,
+    ``_axial_strain``): the fibre on the tension side where the wall is in tension (eps_a >
+    0, as on the overbend), the fibre on the compression side where it is compressed (eps_a <
+    0: the deep sag bend, where the external pressure's Poisson term and the low effective
+    tension put the wall in axial compression), which strain criteria such as DNV-ST-F101's
+    (the overbend strain of its simplified laying criteria, the displacement-controlled
+    local-buckling check on the compressive strain) take; ``sagbend_tensile_strain``,
+    ``overbend_tensile_strain``: the tension-side fibre's largest strain, eps_a + kappa D / 2;
+    ``sagbend_compressive_strain``, ``overbend_compressive_strain``: the compression-side
+    fibre's largest compressive strain, kappa D / 2 - eps_a (a positive number; 0 when no
+    fibre is in compression); ``roller_reactions`` {support: (nt, nroller) N};
     ``roller_reaction_max`` {support: (nroller,) N}; ``range_graphs`` {channel: {arc_length,
     min, max, mean}} for tension, bend_moment, curvature, bending_strain (kappa D / 2),
-    axial_strain (eps_a), total_strain (eps_a + kappa D / 2), position_z;
+    axial_strain (eps_a), total_strain (|eps_a| + kappa D / 2), tensile_strain (eps_a + kappa
+    D / 2), compressive_strain (kappa D / 2 - eps_a), position_z;
     ``residual_curvature`` (nsde,) 1/m at the last time, curvature - M/EI (the curvature
     left after elastic unloading; 0 for an elastic pipe up to round-off; for an elasto-plastic
     pipe the ``residual_curvature`` channel, from the plastic memory), and
@@ -219,11 +227,13 @@ def lay_summary(res, line: str | None = None, *, outer_diameter: float | None = 
     curv = np.asarray(lr.curvature)
     td = np.asarray(lr.touchdown_arc_length) if lr.touchdown_arc_length is not None else np.full(nt, np.nan)
     try:
-        total = np.asarray(_axial_strain(sc, lt, pos, np.asarray(lr.tension, float))) + curv * 0.5 * D
+        axial = np.asarray(_axial_strain(sc, lt, pos, np.asarray(lr.tension, float)))
     except (ValueError, TypeError, KeyError, ZeroDivisionError):        # a section without EA: no axial strain
-        total = np.full(curv.shape, np.nan)
+        axial = np.full(curv.shape, np.nan)
+    bending = curv * 0.5 * D                     # curvature is a magnitude: the outer fibres at +-kappa D / 2
+    fibres = {"total": np.abs(axial) + bending, "tensile": axial + bending, "compressive": bending - axial}
     out = {"sagbend_moment": 0.0, "sagbend_curvature": 0.0, "overbend_moment": 0.0, "overbend_curvature": 0.0,
-           "sagbend_total_strain": 0.0, "overbend_total_strain": 0.0}
+           **{f"{part}_{f}_strain": 0.0 for part in ("sagbend", "overbend") for f in fibres}}
     for k in np.flatnonzero(keep):
         zpp = np.gradient(np.gradient(pos[k, :, 2], s_pts), s_pts)
         zpp_sde = np.interp(s_sde, s_pts, zpp)
@@ -235,15 +245,16 @@ def lay_summary(res, line: str | None = None, *, outer_diameter: float | None = 
             if mask.any():
                 out[f"{part}_moment"] = max(out[f"{part}_moment"], float(moment[k][mask].max()))
                 out[f"{part}_curvature"] = max(out[f"{part}_curvature"], float(curv[k][mask].max()))
-                out[f"{part}_total_strain"] = max(out[f"{part}_total_strain"], float(np.nanmax(total[k][mask],
-                                                                                              initial=0.0)))
+                for f, data in fibres.items():
+                    key = f"{part}_{f}_strain"
+                    out[key] = max(out[key], float(np.nanmax(data[k][mask], initial=0.0)))
     out["sagbend_strain"] = out["sagbend_curvature"] * 0.5 * D
     out["overbend_strain"] = out["overbend_curvature"] * 0.5 * D
     graphs = {ch: lr.range_graph(ch, t_from, time) for ch in ("tension", "bend_moment", "curvature", "position_z")}
     graphs["bending_strain"] = {"arc_length": graphs["curvature"]["arc_length"],
                                 **{q: graphs["curvature"][q] * 0.5 * D for q in ("min", "max", "mean")}}
     rows = np.flatnonzero(keep)
-    for name_, data in (("axial_strain", total - curv * 0.5 * D), ("total_strain", total)):
+    for name_, data in (("axial_strain", axial), *((f"{f}_strain", v) for f, v in fibres.items())):
         graphs[name_] = {"arc_length": graphs["curvature"]["arc_length"], "min": data[rows].min(axis=0),
                          "max": data[rows].max(axis=0), "mean": data[rows].mean(axis=0)}
     residual = curv[-1] - moment[-1] / EI
