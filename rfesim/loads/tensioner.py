@@ -16,7 +16,12 @@ track, 0 <= xi = e.(r - P) <= L, is
 
 Both springs (and the capacity) are weighted by min(1, xi / l, (L - xi) / l): the pads take
 hold of an RFE over one element length after the entry and let go over one before the
-exit, so a line passing through sees no jump of force as RFEs come and go.
+exit, so a line passing through sees no jump of force as RFEs come and go. Only RFEs whose
+centre lies within ``TRACK_CAPTURE`` (1 m) of the axis are in the track: the pads hold a
+pipe on the axis, not line that merely lies between the planes through the entry and the
+exit (before, a reel-lay template's pipe stored on the lower half of a 12 m drum, 21 m
+from the tensioner's axis but 0.3 m past its entry plane, was pulled towards the axis with
+63 MN, and statics failed for reel radii 11 to 13 m).
 
 The paid-out length D is history: prescribed (a table of D against time, see ``_table``), or
 driven by the tensioner's characteristic: payout speed v(T) from the grip force T it
@@ -52,6 +57,7 @@ from .drives import drive_table
 
 MODE_TABLE = 0
 MODE_TENSION = 1
+TRACK_CAPTURE = 1.0         # m: an RFE whose centre is farther from a track's axis is not in the track
 
 
 @njit(cache=True)
@@ -119,6 +125,16 @@ def track_weight(xi, L, li):
 
 
 @njit(cache=True)
+def off_axis(dx, dy, dz, xi, ex, ey, ez):
+    """True when the point (dx, dy, dz) from a track's entry, xi along its unit axis e, lies
+    farther than TRACK_CAPTURE from the axis: not in the track (module text)."""
+    lx = dx - xi * ex
+    ly = dy - xi * ey
+    lz = dz - xi * ez
+    return lx * lx + ly * ly + lz * lz > TRACK_CAPTURE * TRACK_CAPTURE
+
+
+@njit(cache=True)
 def _track_grip(D, lo, hi, px, py, pz, ex, ey, ez, L, kg_j, cap_share, rfe_length, r, grip_a, grip_on):
     """(T, k): the axial force T(D) the gripped RFEs in the track carry with the pads at D
     (the grip law of ``tensioner_forces``) and -dT/dD (the grip stiffness of the RFEs below
@@ -128,10 +144,13 @@ def _track_grip(D, lo, hi, px, py, pz, ex, ey, ez, L, kg_j, cap_share, rfe_lengt
     for i in range(lo, hi):
         if grip_on[i] == 0:
             continue
-        xi = (r[i, 0] - px) * ex + (r[i, 1] - py) * ey + (r[i, 2] - pz) * ez
+        dx = r[i, 0] - px
+        dy = r[i, 1] - py
+        dz = r[i, 2] - pz
+        xi = dx * ex + dy * ey + dz * ez
         li = rfe_length[i]
         wgt = track_weight(xi, L, li)
-        if wgt <= 0.0:
+        if wgt <= 0.0 or off_axis(dx, dy, dz, xi, ex, ey, ez):
             continue
         kg = kg_j * li * wgt
         cap = cap_share * li * wgt
@@ -176,10 +195,13 @@ def tensioner_forces(tens_att, tens_point, tens_axis, tens_length, tens_kl, tens
         last = tens_line_lo[j]
         held = 0.0
         for i in range(tens_line_lo[j], tens_line_hi[j]):
-            xi = (r[i, 0] - px) * ex + (r[i, 1] - py) * ey + (r[i, 2] - pz) * ez
+            dx = r[i, 0] - px
+            dy = r[i, 1] - py
+            dz = r[i, 2] - pz
+            xi = dx * ex + dy * ey + dz * ez
             li = rfe_length[i]
             wgt = track_weight(xi, L, li)
-            if wgt <= 0.0:
+            if wgt <= 0.0 or off_axis(dx, dy, dz, xi, ex, ey, ez):
                 continue
             held += li * wgt
             first = min(first, i)
@@ -201,7 +223,7 @@ def tensioner_forces(tens_att, tens_point, tens_axis, tens_length, tens_kl, tens
             dy = r[i, 1] - py
             dz = r[i, 2] - pz
             xi = dx * ex + dy * ey + dz * ez
-            if xi < 0.0 or xi > L:
+            if xi < 0.0 or xi > L or off_axis(dx, dy, dz, xi, ex, ey, ez):
                 grip_on_trial[i] = 0
                 continue
             li = rfe_length[i]

@@ -328,14 +328,15 @@ def track_held_length(centres: np.ndarray, lengths: np.ndarray, P: np.ndarray, e
                       L: float) -> float | None:
     """Length of line (m) from its end A up to the exit of a track (entry ``P``, unit axis
     ``e``, length ``L``) along the line: the arc length to the centre of the last RFE of the
-    first run, from end A, of RFEs whose centres lie in the track (0 <= xi <= L, within one
-    element or 1 m of its axis), plus what is left of the track beyond that centre. None when
-    no RFE lies in the track. ``centres`` (n, 3) and ``lengths`` (n,) are one line's RFEs."""
+    first run, from end A, of RFEs whose centres lie in the track (0 <= xi <= L, within
+    ``TRACK_CAPTURE`` of its axis, as rfesim.loads.tensioner holds them), plus what is left of
+    the track beyond that centre. None when no RFE lies in the track. ``centres`` (n, 3) and
+    ``lengths`` (n,) are one line's RFEs."""
+    from ..loads.tensioner import TRACK_CAPTURE
     d = centres - P[None, :]
     xi = d @ e
     lateral = np.linalg.norm(d - xi[:, None] * e[None, :], axis=1)
-    tol = max(1.0, float(lengths.max()))
-    inside = (xi >= 0.0) & (xi <= L) & (lateral <= tol)
+    inside = (xi >= 0.0) & (xi <= L) & (lateral <= TRACK_CAPTURE)
     if not inside.any():
         return None
     k = int(np.argmax(inside))

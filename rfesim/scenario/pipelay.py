@@ -250,7 +250,9 @@ class ReelSpec(_Strict):
                                          "(so that reeled pipe reaches past the straightener once that path is "
                                          "paid out, and the reel never empties), at least a quarter turn and at "
                                          "most half a turn less one element (the cap can leave the reeled pipe "
-                                         "short of the straightener at the end of the payout)", default=None, gt=0.0)
+                                         "short of the straightener at the end of the payout); statics starts with "
+                                         "end A anywhere on that half turn (checked for radii 8 to 20 m)",
+                                         default=None, gt=0.0)
 
 
 class ReelLayTemplate(_Template):

@@ -1062,15 +1062,18 @@ def _end_a_point(km, ws, i: int) -> np.ndarray:
     return ws.r[i] - 0.5 * float(km.rfe_length[i]) * ws.R[i][:, 0]
 
 
-def _track_xi(km, att, ws, j: int) -> tuple[float, float]:
-    """(xi of end A of tensioner j's line, xi of that RFE's centre): along the track's axis
-    from its entry (rfesim.loads.tensioner), in the evaluated workspace."""
+def _track_xi(km, att, ws, j: int) -> tuple[float, float, float]:
+    """(xi of end A of tensioner j's line, xi of that RFE's centre, the centre's distance
+    from the axis): along the track's axis from its entry (rfesim.loads.tensioner), in the
+    evaluated workspace."""
     a = int(km.tens_att[j])
     R = att.R[a]
     P = att.p[a] + R @ km.tens_point[j]
     e = R @ km.tens_axis[j]
     i = int(km.tens_line_lo[j])
-    return float(e @ (_end_a_point(km, ws, i) - P)), float(e @ (ws.r[i] - P))
+    d = ws.r[i] - P
+    xi = float(e @ d)
+    return float(e @ (_end_a_point(km, ws, i) - P)), xi, float(np.linalg.norm(d - xi * e))
 
 
 def _wrap_phi(km, att, ws, j: int) -> float:
@@ -1109,7 +1112,9 @@ def payout_ends(system: System, t: float = 0.0) -> list[tuple]:
     start (time t), from the evaluated workspace: (kind, j, name, line, D0, held) with held
     the pipe from end A up to the track's exit (m; end A upstream of the exit) or the pipe
     stored on the drum (m, R times end A's wrap angle). Those whose line's end A is not
-    upstream of the exit, or not on the drum, are left out."""
+    upstream of the exit, lies beside the track (between its entry and exit planes but off
+    its axis: a reel-lay line's end A on the drum), or is not on the drum, are left out."""
+    from ..loads.tensioner import TRACK_CAPTURE
     km, ws, att, model = system.km, system.ws, system.att, system.model
     out = []
     if km.has_tensioners:
@@ -1117,9 +1122,9 @@ def payout_ends(system: System, t: float = 0.0) -> list[tuple]:
             j = ti.index
             if not _pays_out(km, j):
                 continue
-            xi_end, xi_centre = _track_xi(km, att, ws, j)
+            xi_end, xi_centre, lateral = _track_xi(km, att, ws, j)
             L = float(km.tens_length[j])
-            if xi_centre < L:
+            if xi_centre < 0.0 or (xi_centre < L and lateral <= TRACK_CAPTURE):
                 out.append(("tensioner", j, ti.name, ti.line, _tensioner_payout(km, ws, j, t), L - xi_end))
     if km.has_reels:
         for ri in model.reels:
@@ -1144,7 +1149,7 @@ def payout_beyond(system: System, ends: list[tuple], t: float = 0.0) -> str:
     for kind, j, name, line, D0, held in ends:
         if kind == "tensioner":
             D = _tensioner_payout(km, ws, j, t) - D0
-            xi_end, xi_centre = _track_xi(km, att, ws, j)
+            xi_end, xi_centre, _ = _track_xi(km, att, ws, j)
             if xi_centre >= float(km.tens_length[j]):
                 driven = int(km.tens_mode[j]) == 1
                 how = "(constant tension)" if driven else f"(its payout table, by t = {t:.6g} s)"

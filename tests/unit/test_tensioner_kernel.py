@@ -128,3 +128,23 @@ def test_track_on_a_moving_vessel_and_the_characteristic():
     commit_tensioners(np.array([MODE_TENSION]), D_trial, D, 0.0, np.zeros(1), np.zeros(1, np.int64),
                       np.zeros(1), np.zeros(1, np.int64), np.array([0]), np.array([1]))
     assert D[0] == 0.37                   # statics (h = 0) does not move it
+
+
+def test_line_beside_the_track_is_not_held():
+    """Only RFEs within TRACK_CAPTURE (1 m) of the axis are in the track. Before, any RFE
+    between the entry and exit planes was pulled onto the axis: a reel-lay pipe stored on the
+    lower half of a 12 m drum, 21 m from the tensioner's axis and 0.3 m past its entry plane,
+    took 63 MN (statics failed for reel radii 11-13 m)."""
+    from rfesim.loads.tensioner import TRACK_CAPTURE
+    e = np.array([np.cos(np.radians(70.0)), 0.0, -np.sin(np.radians(70.0))])
+    P = np.zeros(3)
+    side = np.array([np.sin(np.radians(70.0)), 0.0, np.cos(np.radians(70.0))])      # normal to e
+    # on the axis, just within the capture, just beyond it, and 21 m away, all 5 m into the track
+    offsets = [0.0, 0.9 * TRACK_CAPTURE, 1.1 * TRACK_CAPTURE, 21.0]
+    r = np.array([P + 5.0 * e + d * side for d in offsets])
+    lengths = np.full(4, 1.0)
+    F, at, on, force = run_kernel(P, e, 10.0, 1e7, 1e7, 1e6, np.array([0.0, 1.0]), np.array([0.0, 0.0]), 0.0,
+                                  lengths, r, np.zeros(4), np.zeros(4, np.int64))
+    np.testing.assert_array_equal(on, [1, 1, 0, 0])
+    assert np.linalg.norm(F[1]) == pytest.approx(1e7 * 0.9 * TRACK_CAPTURE, rel=1e-12)     # pulled onto the axis
+    np.testing.assert_array_equal(F[2:], 0.0)
