@@ -10,8 +10,10 @@ line (end A free at the tensioner's entry, end B pinned on the seabed ``laid_len
 beyond the natural-catenary touchdown), its supports (S-lay: tensioner and stinger; J-lay:
 the collar, a tensioner-kind track along the tower; reel-lay: reel, aligner, straightener and
 tensioner on the ramp) and, without one, a seabed. The suspended pipe follows the natural
-catenary (``rfesim.catenary.natural_catenary``) with the horizontal lay tension H from
-its lift-off point (stinger tip, tower or ramp exit) to the touchdown point, so statics
+catenary with the horizontal lay tension H from its lift-off point (stinger tip, tower or
+ramp exit) to the touchdown point (``lay_catenary``: submerged weight below the still water
+surface, the weight in air above it; ``rfesim.catenary.natural_catenary`` when the lift-off
+point is under water), so statics
 starts next to its solution. A template that gives ``tension`` sets it as the track's
 ``horizontal_tension``: statics pays the pipe out (or hauls it in) through the tensioner
 or collar (and turns a reel-lay reel with it) until the pipe carries H to its pinned end B
@@ -654,7 +656,6 @@ def _tensioner(tpl, line: str, vname: str, entry, axis, length: float, top_tensi
 
 
 def _expand_one(out: dict, name: str, tpl, raw_tpl: dict, env) -> None:
-    from ..catenary import natural_catenary
     line = tpl.line or name
     if any(c in line for c in "/:\\") or line.strip() != line:
         raise FieldError("line", f"bad name {line!r}: no '/', ':' or '\\', no outer spaces")
@@ -671,7 +672,7 @@ def _expand_one(out: dict, name: str, tpl, raw_tpl: dict, env) -> None:
     radius = 0.5 * pipe.contact_diameter
     z_bed_axis = seabed_z + radius - w / k_bed       # the laid pipe's axis (sunk w/k into the seabed)
     build = {"s-lay": _s_lay, "j-lay": _j_lay, "reel-lay": _reel_lay}[tpl.method]
-    geo = build(tpl, pipe, vpos, heading, z_bed_axis, natural_catenary)
+    geo = build(tpl, pipe, vpos, heading, z_bed_axis)
     # the line: end A free at the first track's entry, end B pinned on the seabed
     length = geo["length"]
     n = _element_count(tpl, length, geo.get("default_element"))
@@ -701,18 +702,48 @@ def _expand_one(out: dict, name: str, tpl, raw_tpl: dict, env) -> None:
         out["name"] = f"{tpl.method} of a {tpl.pipe.outer_diameter:.4g} m pipe"
 
 
-def _catenary_h(tpl, h: float, angle_deg: float | None, w: float, what: str) -> tuple[float, float]:
-    """(H, departure angle in deg): H given, or from the angle at the lift-off point h above
-    the laid pipe's axis: tan(theta) = sqrt(h^2 + 2 a h) / a, a = H / w, so
-    H = w h cos(theta) / (1 - cos(theta))."""
+def _weight_height(pipe, h: float, z_top: float) -> tuple[float, float]:
+    """(W, h_air): the pipe's weight over the height h from the laid pipe's axis up to the
+    lift-off point at z_top, W = w h_water + w_air h_air (N), submerged below the still water
+    surface and in air above it, with h_air = the part of h above the surface."""
+    h_air = min(h, max(0.0, z_top - pipe.surface_level))
+    return pipe.submerged_weight * (h - h_air) + pipe.weight * h_air, h_air
+
+
+def lay_catenary(pipe, h: float, z_top: float, H: float) -> dict:
+    """The natural catenary from the touchdown up to the lift-off point h above the laid
+    pipe's axis (at z_top), in two pieces: submerged weight w below the still water surface,
+    the weight in air w_a above it (a catenary of parameter H / w_i in each, the slope
+    continuous at the surface). With sec(theta) = cosh(x / a) on a catenary, the height
+    between two angles is a (sec(theta_2) - sec(theta_1)), so at the surface
+    sec(theta_s) = 1 + w h_water / H and at the top sec(theta) = 1 + W / H, W = w h_water +
+    w_a h_air; the lengths a (tan(theta_2) - tan(theta_1)) and spans a (asinh(tan(theta_2)) -
+    asinh(tan(theta_1))) of the pieces add up. One piece (the lift-off point under water)
+    is ``rfesim.catenary.natural_catenary``. Returns ``horizontal_span``, ``suspended_length``
+    (m), ``top_angle_deg``, ``top_tension`` = H + W (N, the effective tension at the top)."""
+    W, h_air = _weight_height(pipe, h, z_top)
+    tan_s = math.sqrt(max(0.0, (1.0 + pipe.submerged_weight * (h - h_air) / H) ** 2 - 1.0))
+    tan_t = math.sqrt(max(0.0, (1.0 + W / H) ** 2 - 1.0))
+    a_w, a_a = H / pipe.submerged_weight, H / pipe.weight
+    return {"horizontal_span": a_w * math.asinh(tan_s) + a_a * (math.asinh(tan_t) - math.asinh(tan_s)),
+            "suspended_length": a_w * tan_s + a_a * (tan_t - tan_s),
+            "top_angle_deg": math.degrees(math.atan(tan_t)), "top_tension": H + W}
+
+
+def _catenary_h(tpl, pipe, h: float, z_top: float, angle_deg: float | None, what: str) -> tuple[float, float]:
+    """(H, departure angle in deg): H given, or from the angle theta at the lift-off point h
+    above the laid pipe's axis (at z_top) on the two-piece natural catenary (``lay_catenary``):
+    sec(theta) = 1 + W / H, so H = W cos(theta) / (1 - cos(theta)) with W = w h_water + w_a h_air
+    the pipe's weight over the height, submerged below the still water surface and in air above
+    it (before, w h: the submerged weight over the whole height left H 2.8 % low for a J-lay
+    tower exit 15 m above the water at 85 deg, 1.5 % for the reel-lay ramp exit 2 m up at 70 deg)."""
     if h <= 0.0:
         raise FieldError("exit", f"the {what} is {-h:.4g} m below the seabed: it must be above it")
+    W, _ = _weight_height(pipe, h, z_top)
     if tpl.tension is not None:
-        a = tpl.tension / w
-        angle = math.degrees(math.atan2(math.sqrt(h * h + 2.0 * a * h), a))
-        return tpl.tension, angle
+        return tpl.tension, math.degrees(math.acos(1.0 / (1.0 + W / tpl.tension)))
     c = math.cos(math.radians(angle_deg))
-    return w * h * c / (1.0 - c), angle_deg
+    return W * c / (1.0 - c), angle_deg
 
 
 def _stiff_sagbend(tpl, pipe, H: float, angle: float, field: str) -> None:
@@ -735,7 +766,7 @@ def _stiff_sagbend(tpl, pipe, H: float, angle: float, field: str) -> None:
                             f"start shape do not hold (statics may fail, or settle far from H); {fix}")
 
 
-def _s_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
+def _s_lay(tpl, pipe, vpos, heading, z_bed) -> dict:
     """S-lay: the tensioner on the deck line, 2 m of free pipe, the stinger arc to its tip;
     the tip angle equals the departure angle of the natural catenary from the tip (unless
     the stinger length is given). The deck line is tangent to the arc at station 0 (the
@@ -754,9 +785,9 @@ def _s_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
     def height(theta):                     # tip (pipe axis) above the laid pipe's axis
         return vpos[2] + zA - Rp * (1.0 - math.cos(theta)) - z_bed
 
-    def departure(theta):                  # catenary angle at the tip (rad)
+    def departure(theta):                  # catenary angle at the tip (rad), dry above the water
         h = max(height(theta), 0.0)
-        return math.atan2(math.sqrt(h * h + 2.0 * a * h), a)
+        return math.radians(lay_catenary(pipe, h, z_bed + h, H)["top_angle_deg"]) if h > 0.0 else 0.0
 
     if height(0.0) <= 0.0:
         raise FieldError("stinger.start", "the stinger starts below the seabed")
@@ -783,7 +814,7 @@ def _s_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
     stations = max(1, round(length_stinger / st.spacing))
     spacing = length_stinger / stations    # a station exactly at the tip
     h = height(theta)
-    nat = natural_catenary(w, h, H)
+    nat = lay_catenary(pipe, h, z_bed + h, H)
     gap = 2.0                              # free pipe between the tensioner and the stinger
 
     def geometry(track):
@@ -847,14 +878,13 @@ def _s_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
     return geo
 
 
-def _j_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
+def _j_lay(tpl, pipe, vpos, heading, z_bed) -> dict:
     """J-lay: the pipe hangs from the collar (a tensioner-kind track along the tower, ending
     at the tower exit) and leaves at the tower angle on the natural catenary."""
     exit_local = list(tpl.exit)
     exit_g = _to_global(vpos, heading, exit_local)
-    w = pipe.submerged_weight
     h = exit_g[2] - z_bed
-    H, angle = _catenary_h(tpl, h, tpl.tower_angle_deg, w, "tower exit")
+    H, angle = _catenary_h(tpl, pipe, h, exit_g[2], tpl.tower_angle_deg, "tower exit")
     _stiff_sagbend(tpl, pipe, H, angle, "tension" if tpl.tension is not None else "tower_angle_deg")
     if tpl.tension is not None and not 70.0 <= angle < 90.0:
         raise FieldError("tension", f"{tpl.tension} N leaves the tower exit {h:.4g} m above the seabed at "
@@ -862,7 +892,8 @@ def _j_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
                                     f"or use s-lay)")
     th = math.radians(angle)
     axis = [math.cos(th), 0.0, -math.sin(th)]     # down the tower, leaning towards the lay direction
-    nat = natural_catenary(w, h, H)
+    nat = lay_catenary(pipe, h, exit_g[2], H)
+    top = nat["top_tension"]                       # H + the pipe's weight over the height
     u = [math.cos(heading), math.sin(heading), 0.0]
 
     def geometry(track):
@@ -876,14 +907,14 @@ def _j_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
 
     # the hang-off: under vessel pitch the pipe bends within sqrt(EI/T_top) below the collar
     # (9 m in scenarios/j_lay.json); elements of a sixth of it carry the moment there
-    hang_off = math.sqrt(pipe.EI / (H + w * h))
+    hang_off = math.sqrt(pipe.EI / top)
     default_element = min(DEFAULT_ELEMENT_LENGTH["j-lay"], HANG_OFF_ELEMENT_FRACTION * hang_off)
     track = _track_length(tpl, geometry(10.0)["length"], default_element)
     geo = geometry(track)
     layer = math.sqrt(pipe.EI / H)
     # the collar holds the catenary's top tension and the pipe in the tower (in air)
-    collar = _tensioner(tpl, "", None, geo.pop("entry"), axis, track, H + w * h,
-                        static_load=H + w * h + pipe.weight * track * math.sin(th), what="collar", upstream=track,
+    collar = _tensioner(tpl, "", None, geo.pop("entry"), axis, track, top,
+                        static_load=top + pipe.weight * track * math.sin(th), what="collar", upstream=track,
                         horizontal_tension=tpl.tension)
     collar.pop("line")
     collar["attach"] = None
@@ -942,16 +973,15 @@ def _elastic_on_reel(pipe, reel_radius: float) -> None:
                      f"default)")
 
 
-def _reel_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
+def _reel_lay(tpl, pipe, vpos, heading, z_bed) -> dict:
     """Reel-lay, up the ramp from its exit: tensioner, 2 m, straightener, 2 m, the aligner
     arc (stinger kind, from horizontal down to the ramp angle), 2 m of horizontal pipe to
     the take-off point at the top of the reel; end A lies on the reel's wrap
     (rfesim.model.reels). The catenary leaves the exit at the ramp angle."""
     exit_local = list(tpl.exit)
     exit_g = _to_global(vpos, heading, exit_local)
-    w = pipe.submerged_weight
     h = exit_g[2] - z_bed
-    H, angle = _catenary_h(tpl, h, tpl.ramp_angle_deg, w, "ramp exit")
+    H, angle = _catenary_h(tpl, pipe, h, exit_g[2], tpl.ramp_angle_deg, "ramp exit")
     _stiff_sagbend(tpl, pipe, H, angle, "tension" if tpl.tension is not None else "ramp_angle_deg")
     if tpl.tension is not None and not 20.0 <= angle < 90.0:
         raise FieldError("tension", f"{tpl.tension} N leaves the ramp exit at {angle:.3g} deg: the ramp stands "
@@ -961,7 +991,8 @@ def _reel_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
     # the straightener's middle roller pushes the pipe towards the reel and aligner centres
     # (below the ramp's pipe line): the reverse of the reeling and aligner bend
     side = [-math.sin(al), 0.0, -math.cos(al)]
-    nat = natural_catenary(w, h, H)
+    nat = lay_catenary(pipe, h, exit_g[2], H)
+    top = nat["top_tension"]                       # H + the pipe's weight over the height
     u = [math.cos(heading), math.sin(heading), 0.0]
     rp = 0.5 * pipe.contact_diameter
     gap, span = 2.0, 6.0
@@ -1013,12 +1044,12 @@ def _reel_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
     track = _track_length(tpl, geometry(10.0)["length"])
     geo = geometry(track)
     layer = math.sqrt(pipe.EI / H)
-    back_tension = tpl.reel.back_tension or 0.1 * (H + w * h)
+    back_tension = tpl.reel.back_tension or 0.1 * top
     # the tensioner holds the catenary's top tension and the pipe on the ramp less the back tension
     # given the tension, statics pays the pipe out through the tensioner (the reel turning
     # with it) until the pipe carries H to end B (rfesim.solvers.lay_statics)
-    tensioner = _tensioner(tpl, "", None, geo.pop("entry_t"), e, track, H + w * h,
-                           static_load=H + w * h + pipe.weight * track * math.sin(al) - back_tension,
+    tensioner = _tensioner(tpl, "", None, geo.pop("entry_t"), e, track, top,
+                           static_load=top + pipe.weight * track * math.sin(al) - back_tension,
                            horizontal_tension=tpl.tension)
     entry_s, arc_start, take_off = geo.pop("entry_s"), geo.pop("arc_start"), geo.pop("take_off")
     arc = tpl.aligner_radius * al
@@ -1038,7 +1069,7 @@ def _reel_lay(tpl, pipe, vpos, heading, z_bed, natural_catenary) -> dict:
             "reel": {"kind": "reel", "centre": [take_off[0], take_off[1], take_off[2] - reel_radius],
                      "axis": [0.0, -1.0, 0.0], "direction": [1.0, 0.0, 0.0], "radius": reel_radius,
                      "wrap_deg": wrap_deg, "stored_length": stored,
-                     "capacity": max(1.0e6, 3.0 * (H + w * h)),
+                     "capacity": max(1.0e6, 3.0 * top),
                      "back_tension": back_tension,
                      "grip_stiffness": tpl.reel.grip_stiffness, **_reel_payout(tpl, back_tension)},
             "aligner": {"kind": "stinger", "start": [arc_start[0], arc_start[1], arc_start[2] - lift],

@@ -29,8 +29,8 @@ def test_coarse_elements_over_the_aligner_are_warned_about(lay):
 
 
 def test_warning_names_elements_when_given_as_a_count():
-    (warning,) = _reel_lay(elements=300)._template_warnings       # 1.73 m on the 518 m line
-    assert "pipelay.lay.elements" in warning and "elements of 1.727 m" in warning
+    (warning,) = _reel_lay(elements=300)._template_warnings       # 1.73 m on the 520 m line
+    assert "pipelay.lay.elements" in warning and "elements of 1.733 m" in warning
 
 
 def test_fine_elements_and_a_larger_aligner_are_not_warned_about():

@@ -135,7 +135,7 @@ def test_the_templates_warnings_are_made_again_not_kept_stale():
     reel = os.path.join(HERE, "..", "..", "scenarios", "reel_lay.json")
     sc = rfesim.load_scenario(reel)
     (warning,) = sc._template_warnings
-    assert warning.startswith("pipelay.lay.element_length: elements of 1.993 m")
+    assert warning.startswith("pipelay.lay.element_length: elements of 1.999 m")
     sc.analysis.dynamics.enabled = not sc.analysis.dynamics.enabled
     assert rfesim.load_scenario(sc)._template_warnings == [warning]
     finer = rfesim.load_scenario(rfesim.load_scenario(reel), overrides={"pipelay.lay.element_length": 0.5})
