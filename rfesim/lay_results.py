@@ -68,19 +68,34 @@ def _exit_points(sup: dict) -> np.ndarray:
 
 
 def _tension_past(sc: dict, res, lr, sup: dict, pos: np.ndarray) -> np.ndarray:
-    """(nt,) tension of the first SDE past the exit of tensioner ``sup`` (followed with its
-    vessel). pos (nt, npoints, 3): end A, the SDEs, end B."""
+    """(nt,) tension of the line at the exit of tensioner ``sup`` (followed with its vessel):
+    the free span's tension, from the first two SDEs past the exit extrapolated linearly
+    back to it (before, the first SDE's, up to an element below the exit: 161.4 kN against
+    163.6 kN at the exit of the reel-lay template's 2 m elements, the pipe's weight in air
+    over that length). pos (nt, npoints, 3): end A, the SDEs, end B."""
     tension = np.asarray(lr.tension)
+    s = np.asarray(lr.sde_arc_length)
     p0 = _exit_points(sup)[0]
+    e0 = np.asarray(sup["axis"], float)
+    e0 = e0 / np.linalg.norm(e0)
     att = sup.get("attach", "fixed")
     out = np.zeros(pos.shape[0])
+    n = tension.shape[1]
     for k in range(pos.shape[0]):
-        p = p0
+        p, e = p0, e0
         if att in res.vessels:
             vr = res.vessels[att]
-            p = np.asarray(vr.position[k]) + _vessel_rotation(sc, res, att, k) @ p0
-        j = int(np.linalg.norm(pos[k, 1:-1] - p[None, :], axis=1).argmin())   # nearest SDE
-        out[k] = tension[k, min(j + 1, tension.shape[1] - 1)]
+            Rv = _vessel_rotation(sc, res, att, k)
+            p, e = np.asarray(vr.position[k]) + Rv @ p0, Rv @ e0
+        pts = pos[k, 1:-1]
+        j = int(np.linalg.norm(pts - p[None, :], axis=1).argmin())   # nearest SDE
+        past = j + np.flatnonzero((pts[j:] - p[None, :]) @ e > 0.0)   # downstream of the exit
+        if len(past) < 2 or past[1] != past[0] + 1:
+            out[k] = tension[k, min(j + 1, n - 1)]
+            continue
+        a, b = past[0], past[1]
+        s_exit = s[a] - float((pts[a] - p) @ e)              # the pipe runs along the axis there
+        out[k] = tension[k, a] + (tension[k, b] - tension[k, a]) * (s_exit - s[a]) / (s[b] - s[a])
     return out
 
 
@@ -141,8 +156,9 @@ def lay_summary(res, line: str | None = None, *, outer_diameter: float | None = 
     the line: the force the most downstream tensioner (or collar) holds along its track (its
     grip force), or without one the component of the end-A force along the line's tangent
     there, ``end_a_force . end_a_direction`` (the axial tension; the clamp's shear is left
-    out); a line stored on a reel: the tension just past that tensioner's exit, which the
-    reel's back tension and the tensioner hold together;
+    out); a line stored on a reel: the line's tension at that tensioner's exit (the free
+    span's, from the first two SDEs past the exit), which the reel's back tension and the
+    tensioner hold together;
     ``departure_angle`` (nt,) deg below horizontal of the line just past the lift-off
     point, ``departure_arc_length`` (nt,) m; ``touchdown_position`` (nt, 3) m,
     ``touchdown_arc_length`` (nt,) m; ``sagbend_moment``, ``sagbend_curvature``,
@@ -220,7 +236,7 @@ def lay_summary(res, line: str | None = None, *, outer_diameter: float | None = 
         top = np.asarray(res.tensioners[last[0]].grip_force, float)
         if any(s.get("kind") == "reel" for s in supports.values()):
             # reel-lay: the reel holds a back tension too; the top tension is the line's
-            # tension just past the tensioner's exit (the catenary's top)
+            # tension at the tensioner's exit (the catenary's top)
             top = _tension_past(sc, res, lr, last[1], pos)
     # sagbend / overbend: sign of z'' along the line above the touchdown point
     moment = np.asarray(lr.bend_moment)

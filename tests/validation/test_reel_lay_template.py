@@ -104,6 +104,18 @@ def test_statics_match_the_natural_catenary(short):
     assert tension_ramp.min() > -0.05 * reel["back_tension"]
 
 
+def test_top_tension_is_read_at_the_tensioner_exit(short):
+    """The top tension of the reel-lay line is the free span's tension at the tensioner's
+    exit, H + w (0 - z_bed) + w_air 2 m with the settled H (163.6 kN in the auditor's run),
+    to 0.3 kN; before, the first SDE past the exit's, an element (2 m of pipe in air at 70
+    deg, 2.2 kN) below it: 161.4 kN."""
+    _, _, z_bed, _ = catenary_numbers()
+    line = short.line("lay")
+    H = -line.end_b_force[0][0]
+    top = lay_summary(short)["top_tension"]
+    assert top[0] == pytest.approx(H + W_SUB * (0.0 - z_bed) + W_AIR * 2.0, abs=300.0)
+
+
 def test_payout_follows_the_law_and_conserves_the_pipe(short):
     t = np.asarray(short.time)
     law = PchipInterpolator(*np.asarray(ROWS).T)(t)
