@@ -464,6 +464,7 @@ def simulate(scenario, *, progress=None):
     try:
         res = rec.results(status=0, message=message, counters=dict(counters), **meta)
         res.message += _dynamic_warnings(model, res, sc, rec)
+        res.message += "".join(f"{DYNAMICS_WARNING}{w}" for w in _straightener_warnings(system, state, res, sc))
     except KeyboardInterrupt as exc:
         # Ctrl-C after the last step, while the results were put together: the run is complete,
         # and they go with the interruption as those of a run stopped early do (the command
@@ -594,6 +595,19 @@ def _dynamic_warnings(model, results, sc=None, recorder=None) -> str:
     schedule = (output_interval_warning(float(dyn.duration), float(dyn.output_interval))
                 if dyn is not None and dyn.output_interval else None)
     return "".join(f"{DYNAMICS_WARNING}{w}" for w in [schedule] * bool(schedule) + warnings)
+
+
+def _straightener_warnings(system, state, results, sc) -> list[str]:
+    """The straightener supports whose elasto-plastic pipe, gone through them during the run,
+    keeps a residual curvature above rfesim.straightening.STRAIGHTNESS_LIMIT (its value, bend
+    radius and sense, and the offset field to set), logged."""
+    if not system.km.has_plastic or not any(s.kind == "straightener" for s in (sc.supports or {}).values()):
+        return []
+    from .straightening import straightener_warnings
+    warnings = straightener_warnings(system, state, results, sc)
+    for w in warnings:
+        log.warning("dynamics: %s", w)
+    return warnings
 
 
 def modes(scenario, n: int | None = None) -> ModalResults:

@@ -269,8 +269,16 @@ class ReelLayTemplate(_Template):
     reel: ReelSpec = Field(default_factory=ReelSpec)
     aligner_radius: float = _units("m", "Radius of the aligner wheel arc at the top of the ramp", default=9.0,
                                    gt=0.0)
-    straightener_offset: float = _units("m", "Set of the straightener's middle track (reverse bend)",
-                                        default=0.0, ge=0.0)
+    straightener_offset: float = _units("m", "Set of the straightener's middle roller from the line of its two "
+                                        "outer rollers (3 m apart on either side of it), towards the reel and "
+                                        "aligner centres (reverse bending); negative: away from them. The roller "
+                                        "line alone already bends the pipe coming off the aligner back past "
+                                        "straight (at 0 the template's pipe leaves reversed, by 0.002-0.020 1/m "
+                                        "with 1 m elements); moving the offset by d changes the residual "
+                                        "curvature by -3 d / pitch^2 (1/3 1/m per m): a run warns "
+                                        "when the pipe through the straightener keeps more than 0.005 1/m, with "
+                                        "the offset that would cancel it (docs/theory.md, 'Straightener offset')",
+                                        default=0.0)
 
     @model_validator(mode="after")
     def _angle(self):
@@ -697,7 +705,8 @@ def _expand_one(out: dict, name: str, tpl, raw_tpl: dict, env) -> None:
         support = dict(support, line=line)
         if support.get("attach") is None:
             support["attach"] = vname
-        _add(out, "supports", f"{line}_{key}", support, "line", origin=_SUPPORT_FIELDS.get(key, ""))
+        _add(out, "supports", f"{line}_{key}", support, "line", origin=_SUPPORT_FIELDS.get(key, ""),
+             keys={"offset": "straightener_offset"} if key == "straightener" else None)
     if not out.get("name"):
         out["name"] = f"{tpl.method} of a {tpl.pipe.outer_diameter:.4g} m pipe"
 
@@ -991,6 +1000,8 @@ def _reel_lay(tpl, pipe, vpos, heading, z_bed) -> dict:
     # the straightener's middle roller pushes the pipe towards the reel and aligner centres
     # (below the ramp's pipe line): the reverse of the reeling and aligner bend
     side = [-math.sin(al), 0.0, -math.cos(al)]
+    if tpl.straightener_offset < 0.0:               # set away from the centres
+        side = [-c for c in side]
     nat = lay_catenary(pipe, h, exit_g[2], H)
     top = nat["top_tension"]                       # H + the pipe's weight over the height
     u = [math.cos(heading), math.sin(heading), 0.0]
@@ -1077,7 +1088,7 @@ def _reel_lay(tpl, pipe, vpos, heading, z_bed) -> dict:
                         "spacing": arc / stations, "roller_width": 0.6, "roller_radius": roller_radius,
                         "v_angle_deg": 0.0, "stiffness": 1.0e7, "damping": 1.0e4, "friction": 0.0},
             "straightener": {"kind": "straightener", "entry": entry_s, "axis": e, "side": side, "span": span,
-                             "offset": tpl.straightener_offset, "rollers": 3, "roller_radius": 0.2,
+                             "offset": abs(tpl.straightener_offset), "rollers": 3, "roller_radius": 0.2,
                              "roller_width": 1.0, "stiffness": 1.0e7, "damping": 1.0e4},
             "tensioner": tensioner})
     for sup in geo["supports"].values():
