@@ -730,9 +730,16 @@ def lay_catenary(pipe, h: float, z_top: float, H: float) -> dict:
     asinh(tan(theta_1))) of the pieces add up. One piece (the lift-off point under water)
     is ``rfesim.catenary.natural_catenary``. Returns ``horizontal_span``, ``suspended_length``
     (m), ``top_angle_deg``, ``top_tension`` = H + W (N, the effective tension at the top)."""
+    from ..catenary import natural_catenary
+
     W, h_air = _weight_height(pipe, h, z_top)
-    tan_s = math.sqrt(max(0.0, (1.0 + pipe.submerged_weight * (h - h_air) / H) ** 2 - 1.0))
-    tan_t = math.sqrt(max(0.0, (1.0 + W / H) ** 2 - 1.0))
+    if h_air <= 0.0:                    # all under water: one piece, the closed form as before
+        nat = natural_catenary(pipe.submerged_weight, h, H)
+        return {k: nat[k] for k in ("horizontal_span", "suspended_length", "top_angle_deg", "top_tension")}
+    # tan = sqrt(sec^2 - 1) = sqrt(x (2 + x)), x = sec - 1: no cancellation for a light pipe
+    # under a large tension (x of 1e-15; (1 + x)^2 - 1 rounds to 0, a flat departure)
+    x_s, x_t = pipe.submerged_weight * (h - h_air) / H, W / H
+    tan_s, tan_t = math.sqrt(x_s * (2.0 + x_s)), math.sqrt(x_t * (2.0 + x_t))
     a_w, a_a = H / pipe.submerged_weight, H / pipe.weight
     return {"horizontal_span": a_w * math.asinh(tan_s) + a_a * (math.asinh(tan_t) - math.asinh(tan_s)),
             "suspended_length": a_w * tan_s + a_a * (tan_t - tan_s),
