@@ -23,6 +23,7 @@ import pytest
 
 import rfesim
 from rfesim.crane_results import crane_summary, section_loads, structure_loads, template_actuators
+from test_cranes import column      # the test crane of the crane validation (tests/ dirs are on sys.path)
 
 G = 9.81
 ROOT = Path(__file__).resolve().parents[2]
@@ -40,17 +41,6 @@ def a_frame(portal=True, tilt=35.0, **cylinder):
     if portal:
         tpl["crossbeam"] = {"length": 6.0, "outer_diameter": 0.8, "wall_thickness": 0.03, "elements": 6}
     return {"environment": {"gravity": G}, "cranes": {"af": tpl},
-            "analysis": {"statics": {"enabled": True}, "dynamics": {"enabled": False}}}
-
-
-def column(**over):
-    tpl = {"type": "column", "position": [0.0, 0.0, 2.0],
-           "pedestal": {"length": 8.0, "outer_diameter": 2.0, "wall_thickness": 0.04, "elements": 4},
-           "boom": {"length": 20.0, "outer_diameter": 0.8, "wall_thickness": 0.02, "elements": 10},
-           "slewing_deg": 0.0, "luffing_deg": 40.0, "rope": {"length": 10.0, "elements": 10},
-           "payload": {"mass": 5000.0, "radius_of_gyration": 1.0}}
-    tpl.update(over)
-    return {"environment": {"gravity": G}, "cranes": {"c": tpl},
             "analysis": {"statics": {"enabled": True}, "dynamics": {"enabled": False}}}
 
 
