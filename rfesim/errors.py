@@ -64,7 +64,7 @@ class SolverError(RfesimError, RuntimeError):
         super().__init__(text)
 
 
-class UnsupportedError(SolverError, NotImplementedError):
+class UnsupportedError(SolverError):
     """An analysis this installation does not provide for the scene (the modal analysis of a
     scene mixing chains with absolute-coordinate lines): not a failure of the solver. A
     SolverError for callers that catch those; the command line exits with 2 (a missing
