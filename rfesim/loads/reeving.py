@@ -20,18 +20,29 @@ For reeving j on the join SDE s (RFE a: the parent's last, RFE b: the rope's fir
   acts on that RFE at L (the rope's run is inside the structure: no net force), with a
   vessel lead it goes to the vessel (prescribed motion: an output).
 
-Jacobian (``reeving_tangent``): T depends on the join's deformation through the same SDE,
-so dT = f^T df / T and the pull's rows of the join tangent are e (f/T)^T times its force rows
-(and P - r_a cross that for the moment): the coupling between the parent's last RFE and the
-rope's first, which sit next to each other in the block-tridiagonal Jacobian. Left out of
-the Jacobian: the turning of e with P and L (of order T/|L - P|, small against the rope's
-axial stiffness) and, for a line-end lead, the pull on the lead RFE (its RFE is not a
-neighbour of the join's; it is a boom foot held by a stiff joint, so Newton stays fast).
+Jacobian (``reeving_tangent``, rv_K rows: the forces on a and on the lead's RFE f,
+columns: the motions of a, b and f): the pull F = T e on a at P and -F on f at L, with
+
+* dT = (f/T)^T df: the tension follows the join's deformation (its rows of the join
+  tangent, with the slip's part of a slipping rope: ``slip_tangent``), of the order of the
+  join's stiffness;
+* de = (I - e e^T)(dL - dP)/|L - P|: the run turns with the sheave P = (r_a + p_a + r_b +
+  p_b)/2 (and P moves with a slipping rope's arm, X_b d(delta)/2) and the lead L = r_f + l;
+* the arms P - r_a and l turn with their RFEs.
+
+A line-end lead couples f with a and b, which are not neighbours in the block-tridiagonal
+Jacobian (the boom's foot and its tip): those blocks go off the band as the closing joins'
+(``km.ob_row``, ``km.ob_col``, ws.ob_J; rfesim.solvers.banded.bt_factor_closed, Woodbury).
+Before 2026-12 the lead's rows were left out of the analytic Jacobian, and the coloured
+finite differences of statics mixed the foot's coupling with the tip into the band: the
+column_crane scenario with the rope along the boom did not converge (docs/theory.md,
+'Reeving').
 """
 from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit
 
 from ._common import add_force_moment
@@ -226,31 +237,142 @@ def reeving_forces(rv_sde, rv_kind, rv_att, rv_rfe, rv_point, sde_left, sde_righ
 
 
 @njit(cache=True)
-def reeving_tangent(rv_sde, sde_left, rbase, roff, sde_point, tension, e, fdir, K, Kd):
-    """Add the pull's dependence on the join's deformation to the join tangents K, Kd
-    (nsde, 12, 12; K = -df/dx of ``rfesim.loads.sde_tangent``): the parent's rows (0-5)
-    get e (f/T)^T times its force rows 0-2, and the arm P - r_a cross that."""
+def _skew_into(v, out, rows, cols, scale):
+    """out[rows:rows+3, cols:cols+3] += scale [v]x (the cross-product matrix of v)."""
+    out[rows + 0, cols + 1] -= scale * v[2]
+    out[rows + 0, cols + 2] += scale * v[1]
+    out[rows + 1, cols + 0] += scale * v[2]
+    out[rows + 1, cols + 2] -= scale * v[0]
+    out[rows + 2, cols + 0] -= scale * v[1]
+    out[rows + 2, cols + 1] += scale * v[0]
+
+
+@njit(cache=True)
+def _cross_rows(v, G, out, row0, scale):
+    """out[row0:row0+3, :] += scale [v]x G (G (3, m), out (>= row0 + 3, m), both 2-d)."""
+    for col in range(G.shape[1]):
+        out[row0 + 0, col] += scale * (v[1] * G[2, col] - v[2] * G[1, col])
+        out[row0 + 1, col] += scale * (v[2] * G[0, col] - v[0] * G[2, col])
+        out[row0 + 2, col] += scale * (v[0] * G[1, col] - v[1] * G[0, col])
+
+
+@njit(cache=True)
+def reeving_tangent(rv_sde, rv_kind, rv_att, rv_rfe, rv_point, rv_slip, sde_left, sde_right, sde_arm_left,
+                    sde_arm_right, R, rbase, roff, sde_point, att_p, att_R, tension, e, fdir, K, Kd, rv_K, rv_Kd):
+    """The pulls' tangent (module text): rv_K, rv_Kd (nv, 12, 18) = -d(force)/dx, -d(force)/dv
+    of reeving j, rows: the force and moment on the sheave's RFE a (0-5) and on the lead's
+    RFE f (6-11, a line-end lead), columns: the spatial (dr, da) of RFE a (0-5), of the
+    rope's first RFE b (6-11) and of f (12-17). K, Kd: the join tangents (nsde, 12, 12,
+    ``rfesim.loads.sde_tangent`` and ``slip_tangent``), read for the tension's dependence on
+    the join. Zero for a reeving without tension (its pull is zero)."""
+    GP = np.zeros((3, 18))          # dP/dx, the sheave P (the join SDE's point)
+    GL = np.zeros((3, 18))          # dL/dx, the lead
+    GF = np.zeros((3, 18))          # dF_a/dx, the pull on a
+    Gc = np.zeros((3, 18))          # d(P - r_a)/dx
+    Gl = np.zeros((3, 18))          # d(l)/dx, the lead's arm from its RFE's centre
+    pa = np.zeros(3)
+    pb = np.zeros(3)
+    lv = np.zeros(3)
+    c = np.zeros(3)
+    Fa = np.zeros(3)
     for j in range(rv_sde.shape[0]):
-        if tension[j] <= 0.0:
+        for r in range(12):
+            for col in range(18):
+                rv_K[j, r, col] = 0.0
+                rv_Kd[j, r, col] = 0.0
+        T = tension[j]
+        if T <= 0.0:
             continue
         s = rv_sde[j]
         a = sde_left[s]
-        cx = sde_point[s, 0] - (rbase[a, 0] + roff[a, 0])
-        cy = sde_point[s, 1] - (rbase[a, 1] + roff[a, 1])
-        cz = sde_point[s, 2] - (rbase[a, 2] + roff[a, 2])
-        ex = e[j, 0]
-        ey = e[j, 1]
-        ez = e[j, 2]
-        mx = cy * ez - cz * ey       # c x e
-        my = cz * ex - cx * ez
-        mz = cx * ey - cy * ex
-        for which in range(2):
-            A = K if which == 0 else Kd
-            for col in range(12):
-                u = fdir[j, 0] * A[s, 0, col] + fdir[j, 1] * A[s, 1, col] + fdir[j, 2] * A[s, 2, col]
-                A[s, 0, col] += ex * u
-                A[s, 1, col] += ey * u
-                A[s, 2, col] += ez * u
-                A[s, 3, col] += mx * u
-                A[s, 4, col] += my * u
-                A[s, 5, col] += mz * u
+        b = sde_right[s]
+        for k in range(3):
+            pa[k] = R[a, k, 0] * sde_arm_left[s, 0] + R[a, k, 1] * sde_arm_left[s, 1] + R[a, k, 2] * sde_arm_left[s, 2]
+            pb[k] = (R[b, k, 0] * sde_arm_right[s, 0] + R[b, k, 1] * sde_arm_right[s, 1]
+                     + R[b, k, 2] * sde_arm_right[s, 2])
+            c[k] = sde_point[s, k] - (rbase[a, k] + roff[a, k])
+            Fa[k] = T * e[j, k]
+        GP[:, :] = 0.0
+        GL[:, :] = 0.0
+        Gl[:, :] = 0.0
+        # P = (r_a + p_a + r_b + p_b) / 2, dp = da x p = -[p]x da
+        for k in range(3):
+            GP[k, k] += 0.5
+            GP[k, 6 + k] += 0.5
+        _skew_into(pa, GP, 0, 3, -0.5)
+        _skew_into(pb, GP, 0, 9, -0.5)
+        if rv_slip[j] == 1:
+            # the slip lengthens the join's arm on the rope along X_b by d(delta) = -e . dP_a
+            # (a fixed lead; rfesim.loads.reeving.slip_arms), which moves P by X_b d(delta) / 2
+            for col in range(6):
+                if col < 3:
+                    dd = -e[j, col]
+                else:
+                    m = col - 3             # -e . (da x p_a) = -(p_a x e) . da
+                    m1 = (m + 1) % 3
+                    m2 = (m + 2) % 3
+                    dd = -(pa[m1] * e[j, m2] - pa[m2] * e[j, m1])
+                for k in range(3):
+                    GP[k, col] += 0.5 * R[b, k, 0] * dd
+        lead = rv_kind[j] == KIND_LINE_END
+        f = rv_rfe[j]
+        if lead:
+            for k in range(3):
+                lv[k] = R[f, k, 0] * rv_point[j, 0] + R[f, k, 1] * rv_point[j, 1] + R[f, k, 2] * rv_point[j, 2]
+                GL[k, 12 + k] = 1.0
+            _skew_into(lv, GL, 0, 15, -1.0)
+            _skew_into(lv, Gl, 0, 15, -1.0)
+        # the run's length d = |L - P|
+        if lead:
+            L0 = rbase[f, 0] + roff[f, 0] + lv[0]
+            L1 = rbase[f, 1] + roff[f, 1] + lv[1]
+            L2 = rbase[f, 2] + roff[f, 2] + lv[2]
+        else:
+            at = rv_att[j]
+            L0 = att_p[at, 0] + att_R[at, 0, 0] * rv_point[j, 0] + att_R[at, 0, 1] * rv_point[j, 1] + \
+                att_R[at, 0, 2] * rv_point[j, 2]
+            L1 = att_p[at, 1] + att_R[at, 1, 0] * rv_point[j, 0] + att_R[at, 1, 1] * rv_point[j, 1] + \
+                att_R[at, 1, 2] * rv_point[j, 2]
+            L2 = att_p[at, 2] + att_R[at, 2, 0] * rv_point[j, 0] + att_R[at, 2, 1] * rv_point[j, 1] + \
+                att_R[at, 2, 2] * rv_point[j, 2]
+        d = math.sqrt((L0 - sde_point[s, 0]) ** 2 + (L1 - sde_point[s, 1]) ** 2 + (L2 - sde_point[s, 2]) ** 2)
+        # dT = (f/T) . df = -(f/T)^T K[s, 0:3] dx over the join's columns (a, b)
+        for col in range(18):
+            # dF_a = e dT + T (I - e e^T)/d (dL - dP)
+            w0 = GL[0, col] - GP[0, col]
+            w1 = GL[1, col] - GP[1, col]
+            w2 = GL[2, col] - GP[2, col]
+            ew = e[j, 0] * w0 + e[j, 1] * w1 + e[j, 2] * w2
+            dT = 0.0
+            if col < 12:
+                dT = -(fdir[j, 0] * K[s, 0, col] + fdir[j, 1] * K[s, 1, col] + fdir[j, 2] * K[s, 2, col])
+            for k in range(3):
+                w = w0 if k == 0 else (w1 if k == 1 else w2)
+                GF[k, col] = e[j, k] * dT + T / d * (w - e[j, k] * ew)
+                Gc[k, col] = GP[k, col] - (1.0 if col == k else 0.0)
+        # K = -d(force)/dx: on a, F_a = T e and M_a = c x F_a
+        for k in range(3):
+            for col in range(18):
+                rv_K[j, k, col] = -GF[k, col]
+        _cross_rows(c, GF, rv_K[j], 3, -1.0)
+        _cross_rows(Fa, Gc, rv_K[j], 3, 1.0)        # -(dc x F_a) = F_a x dc
+        if lead:
+            # on f: -F_a at L, M_f = l x (-F_a)
+            for k in range(3):
+                for col in range(18):
+                    rv_K[j, 6 + k, col] = GF[k, col]
+            _cross_rows(lv, GF, rv_K[j], 9, 1.0)
+            _cross_rows(Fa, Gl, rv_K[j], 9, -1.0)   # -(dl x (-F_a)) = -(F_a x dl)
+        # damping: the tension's dependence on the join's rates (the direction has none)
+        for col in range(12):
+            u = fdir[j, 0] * Kd[s, 0, col] + fdir[j, 1] * Kd[s, 1, col] + fdir[j, 2] * Kd[s, 2, col]
+            if u == 0.0:
+                continue
+            for k in range(3):
+                k1 = (k + 1) % 3
+                k2 = (k + 2) % 3
+                rv_Kd[j, k, col] = e[j, k] * u
+                rv_Kd[j, 3 + k, col] = (c[k1] * e[j, k2] - c[k2] * e[j, k1]) * u
+                if lead:
+                    rv_Kd[j, 6 + k, col] = -e[j, k] * u
+                    rv_Kd[j, 9 + k, col] = -(lv[k1] * e[j, k2] - lv[k2] * e[j, k1]) * u

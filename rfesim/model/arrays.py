@@ -205,6 +205,12 @@ class KernelModel(NamedTuple):
     # plus two off-band blocks per closure (rfesim.solvers.banded.bt_factor_closed)
     cl_sde: np.ndarray = np.zeros(0, np.int64)       # (nc,) int64, the closing SDE
     has_closures: bool = False
+    # --- further off-band Jacobian blocks: a rope led along a line couples the lead's RFE with
+    # the sheave's, which are not neighbours (rfesim.loads.reeving.reeving_tangent); solved with
+    # the closures' (rfesim.solvers.banded.bt_factor_closed)
+    ob_row: np.ndarray = np.zeros(0, np.int64)       # (nob,) int64, the block's row RFE
+    ob_col: np.ndarray = np.zeros(0, np.int64)       # (nob,) int64, its column RFE (|row - col| > 1, pairs unique)
+    has_offband: bool = False
 
 
 class Workspace(NamedTuple):
@@ -301,6 +307,10 @@ class Workspace(NamedTuple):
     cl_work: np.ndarray = np.zeros((0, 0))           # (12 nc, 12 nc) scratch of its inversion
     cl_rhs: np.ndarray = np.zeros((1, 6))            # (n, 6) scratch right-hand side
     cl_w: np.ndarray = np.zeros(0)                   # (12 nc,) scratch of the solve (bt_solve_closed)
+    #   (with further off-band blocks, 12 nc + 6 nob for cl_Z, cl_S, cl_work, cl_w: 6 columns per block)
+    ob_J: np.ndarray = np.zeros((0, 6, 6))           # (nob, 6, 6) the further off-band blocks (km.ob_row, km.ob_col)
+    rv_K: np.ndarray = np.zeros((0, 12, 18))         # (nv, 12, 18) the pulls' stiffness tangent (rfesim.loads.reeving)
+    rv_Kd: np.ndarray = np.zeros((0, 12, 18))        # (nv, 12, 18) their damping tangent
 
 
 class Reference(NamedTuple):
@@ -326,8 +336,9 @@ class AttachmentState(NamedTuple):
 
 
 def new_workspace(n: int, nsde: int, nh: int = 1, nroller: int = 0, ntens: int = 0, nreel: int = 0,
-                  nmotor: int = 0, nbody: int = 0, ntug: int = 0, nreeve: int = 0, nclosure: int = 0) -> Workspace:
-    m = 12 * nclosure
+                  nmotor: int = 0, nbody: int = 0, ntug: int = 0, nreeve: int = 0, nclosure: int = 0,
+                  noffband: int = 0) -> Workspace:
+    m = 12 * nclosure + 6 * noffband
     return Workspace(
         R=np.zeros((n, 3, 3)), r=np.zeros((n, 3)), rbase=np.zeros((n, 3)), roff=np.zeros((n, 3)), v=np.zeros((n, 3)), w=np.zeros((n, 3)),
         wb=np.zeros((n, 3)), E=np.zeros((n, 3, 3)), Edot=np.zeros((n, 3)), F=np.zeros((n, 3)),
@@ -355,7 +366,8 @@ def new_workspace(n: int, nsde: int, nh: int = 1, nroller: int = 0, ntens: int =
         c_tangent=np.zeros((nsde, 6)), deck_normal=np.zeros(nbody), tug_tension=np.zeros(ntug), tug_length=np.zeros(ntug),
         rv_tension=np.zeros(nreeve), rv_dir=np.zeros((nreeve, 3)), rv_fdir=np.zeros((nreeve, 3)),
         rv_slip_out=np.zeros(nreeve), cl_J=np.zeros((nclosure, 2, 6, 6)), cl_Z=np.zeros((m, n, 6)),
-        cl_S=np.zeros((m, m)), cl_work=np.zeros((m, m)), cl_rhs=np.zeros((n, 6)), cl_w=np.zeros(m))
+        cl_S=np.zeros((m, m)), cl_work=np.zeros((m, m)), cl_rhs=np.zeros((n, 6)), cl_w=np.zeros(m),
+        ob_J=np.zeros((noffband, 6, 6)), rv_K=np.zeros((nreeve, 12, 18)), rv_Kd=np.zeros((nreeve, 12, 18)))
 
 
 def _identities(m: int) -> np.ndarray:

@@ -59,7 +59,27 @@ def reeving_arrays(sc, model) -> dict:
             out["rv_len"][j] = _run_length(model, ji, out["rv_att"][j], out["rv_point"][j])
     if problems:
         raise ScenarioError(problems)
+    out.update(_offband_blocks(model, out))
     return out
+
+
+def _offband_blocks(model, rv: dict) -> dict:
+    """km.ob_row, ob_col, has_offband: the Jacobian blocks of the line-end leads' pulls whose
+    RFEs are not neighbours (rfesim.loads.reeving.reeving_tangent: rows the sheave's RFE a and
+    the lead's f, columns a, the rope's first b and f; a boom's foot against its tip)."""
+    km = model.km
+    pairs: list[tuple[int, int]] = []
+    for j in range(rv["rv_sde"].shape[0]):
+        if rv["rv_kind"][j] != KIND_LINE_END:
+            continue
+        s = int(rv["rv_sde"][j])
+        a, b, f = int(km.sde_left[s]), int(km.sde_right[s]), int(rv["rv_rfe"][j])
+        for i in (a, f):
+            for k in (a, b, f):
+                if abs(i - k) > 1 and (i, k) not in pairs:
+                    pairs.append((i, k))
+    return dict(ob_row=np.array([p[0] for p in pairs], np.int64), ob_col=np.array([p[1] for p in pairs], np.int64),
+                has_offband=bool(pairs))
 
 
 def _run_length(model, ji, att_index: int, point: np.ndarray) -> float:

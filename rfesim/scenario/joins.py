@@ -117,6 +117,25 @@ def check_join_references(sc) -> list[tuple[str, str]]:
             seen.append(parent)
             cur = parent
     errors.extend(_check_closures(sc))
+    errors.extend(_check_line_leads(sc))
+    return errors
+
+
+def _check_line_leads(sc) -> list[tuple[str, str]]:
+    """A rope led along a line (``end_a.reeving.lead`` "<line>:end_a|end_b") pulls that line's
+    end with the tension at the sheave: RFEs that are not neighbours, whose coupling only the
+    analytic Jacobian carries (rfesim.loads.reeving; the coloured differences mix it into the
+    band: 82 of 100 steps of a column crane halved)."""
+    errors: list[tuple[str, str]] = []
+    integ = sc.analysis.dynamics.integrator
+    if getattr(integ, "jacobian", "analytic") == "analytic":
+        return errors
+    for name, line in sc.lines.items():
+        rv = getattr(line.end_a, "reeving", None)
+        if rv is not None and ":" in rv.lead:
+            errors.append(("analysis.dynamics.integrator.jacobian", f"line '{name}' is led along '{rv.lead}' "
+                           f"(lines.{name}.end_a.reeving.lead): the pull there couples RFEs that are not "
+                           f"neighbours, which needs the analytic Jacobian"))
     return errors
 
 

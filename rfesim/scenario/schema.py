@@ -1449,7 +1449,8 @@ class Reeving(_Strict):
 
     lead: str = Field(..., min_length=1, description='Where the rope runs to from the sheave: a vessel name or '
                       '"fixed" (a deck winch or guide sheave at point), or an end of a line, "<line>:end_a" or '
-                      '"<line>:end_b" (a rope running along a boom to its foot; the equal pull acts there)')
+                      '"<line>:end_b" (a rope running along a boom to its foot; the equal pull acts there; dynamics '
+                      'then needs the analytic Jacobian, the default)')
     point: Vector3 | None = _units("m", "The lead point: in the vessel frame for a vessel, global for fixed "
                                    "(not for a line end)", default=None)
 

@@ -144,11 +144,18 @@ def _gauss_jordan(A, out, work, m):
 # U's columns E_a K_ab e_k and E_b K_ba e_k, W's E_b e_k and E_a e_k (k = 0..5; K_ab =
 # ws.cl_J[c, 0], K_ba = ws.cl_J[c, 1]). Woodbury: J^-1 r = y - Z S^-1 W^T y with y = B^-1 r,
 # Z = B^-1 U (12 nc solves per factorisation) and S = I + W^T Z (12 nc x 12 nc).
+# Further off-band blocks (a rope led along a line, rfesim.loads.reeving: km.ob_row,
+# km.ob_col, ws.ob_J) follow the closures' 12 nc columns, 6 each: U's E_row K e_k, W's E_col e_k.
 
 @njit(cache=True)
 def _woodbury_node(km, idx, column):
     """The RFE of U's column (``column``) or W's row ``idx``: 12 per closure, its end a's
-    6 then its end b's; a U column belongs to that end, a W row to the other one."""
+    6 then its end b's; a U column belongs to that end, a W row to the other one; then 6 per
+    further off-band block, a U column on its row RFE, a W row on its column RFE."""
+    nc12 = 12 * km.cl_sde.shape[0]
+    if idx >= nc12:
+        k = (idx - nc12) // 6
+        return km.ob_row[k] if column else km.ob_col[k]
     s = km.cl_sde[idx // 12]
     first = (idx % 12) < 6
     if first == column:
@@ -158,24 +165,31 @@ def _woodbury_node(km, idx, column):
 
 @njit(cache=True, _nrt=True)
 def bt_factor_closed(J, F, km, ws):
-    """``bt_factor`` of J's band, then Z and S^-1 of the closures into ws (see above).
-    Returns the first singular pivot block, n for a singular capacitance matrix, or -1."""
+    """``bt_factor`` of J's band, then Z and S^-1 of the closures and further off-band
+    blocks into ws (see above). Returns the first singular pivot block, n for a singular
+    capacitance matrix, or -1."""
     bad = bt_factor(J, F)
-    if bad >= 0 or not km.has_closures:
+    if bad >= 0 or not (km.has_closures or km.has_offband):
         return bad
     n = J.shape[0]
     m = ws.cl_Z.shape[0]
+    nc12 = 12 * km.cl_sde.shape[0]
     rhs = ws.cl_rhs
     for col in range(m):
-        c = col // 12
-        part = (col % 12) // 6
         k = col % 6
         node = _woodbury_node(km, col, True)
         for i in range(n):
             for a in range(6):
                 rhs[i, a] = 0.0
-        for a in range(6):
-            rhs[node, a] = ws.cl_J[c, part, a, k]
+        if col < nc12:
+            c = col // 12
+            part = (col % 12) // 6
+            for a in range(6):
+                rhs[node, a] = ws.cl_J[c, part, a, k]
+        else:
+            blk = (col - nc12) // 6
+            for a in range(6):
+                rhs[node, a] = ws.ob_J[blk, a, k]
         bt_solve(F, rhs, ws.cl_Z[col])
     for row in range(m):
         k = row % 6
@@ -194,7 +208,7 @@ def bt_solve_closed(F, rhs, out, km, ws):
     allocation, no reference counting of the model and workspace tuples (docs/theory.md,
     'Reference counting off in the evaluation chain'): it runs at every Newton iteration."""
     bt_solve(F, rhs, out)
-    if not km.has_closures:
+    if not (km.has_closures or km.has_offband):
         return
     m = ws.cl_Z.shape[0]
     w = ws.cl_w

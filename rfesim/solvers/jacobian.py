@@ -13,6 +13,10 @@ J = (local part) + (SDE part):
   forces -- formed by forward differences with every RFE perturbed at once (6 evaluations
   of the local terms, whatever the number of RFEs).
 
+The reevings' pulls (rfesim.loads.reeving.reeving_tangent) add blocks of the sheave's RFE and
+of a line-end lead's RFE; those between RFEs that are not neighbours (a boom's foot and its
+tip) go to ws.ob_J, solved with the closing joins' (rfesim.solvers.banded.bt_factor_closed).
+
 In statics (mode 0) cK = 1, cD = 0; in an implicit step (mode 1) cK = cq, cD = cv
 (``rfesim.solvers.kernels.residual_q``). This costs about a fifth of the coloured
 finite-difference Jacobian (18 full evaluations) and is checked against it in the tests.
@@ -62,6 +66,48 @@ def _maps(km, att, ws, T):
                 T[i, 0, 3 + b] = col1 * c[2] - col2 * c[1]
                 T[i, 1, 3 + b] = col2 * c[0] - col0 * c[2]
                 T[i, 2, 3 + b] = col0 * c[1] - col1 * c[0]
+
+
+@njit(cache=True)
+def _reeving_blocks(km, ws, T, cK, cD, J, KK, KT):
+    """Add the pulls' tangent (ws.rv_K, rv_Kd of rfesim.loads.reeving.reeving_tangent) to J:
+    the block of rows RFE i (the sheave's a, a line-end lead's f) and columns RFE j (a, the
+    rope's first b, f) is T_i^T (cK K + cD Kd) T_j, in the band when i and j are neighbours,
+    else in ws.ob_J at the slot of (i, j) (km.ob_row, km.ob_col)."""
+    for rv in range(km.rv_sde.shape[0]):
+        s = km.rv_sde[rv]
+        lead = km.rv_kind[rv] == 1
+        for bi in range(2 if lead else 1):
+            i = km.sde_left[s] if bi == 0 else km.rv_rfe[rv]
+            for bj in range(3 if lead else 2):
+                j = km.sde_left[s] if bj == 0 else (km.sde_right[s] if bj == 1 else km.rv_rfe[rv])
+                for a in range(6):
+                    for b in range(6):
+                        KK[a, b] = cK * ws.rv_K[rv, 6 * bi + a, 6 * bj + b] + cD * ws.rv_Kd[rv, 6 * bi + a, 6 * bj + b]
+                for a in range(6):
+                    for b in range(6):
+                        acc = 0.0
+                        for k in range(6):
+                            acc += KK[a, k] * T[j, k, b]
+                        KT[a, b] = acc
+                for a in range(6):
+                    for b in range(6):
+                        acc = 0.0
+                        for k in range(6):
+                            acc += T[i, k, a] * KT[k, b]
+                        KK[a, b] = acc
+                slot = j - i + 1
+                if 0 <= slot <= 2:
+                    for a in range(6):
+                        for b in range(6):
+                            J[i, slot, a, b] += KK[a, b]
+                    continue
+                for c in range(km.ob_row.shape[0]):
+                    if km.ob_row[c] == i and km.ob_col[c] == j:
+                        for a in range(6):
+                            for b in range(6):
+                                ws.ob_J[c, a, b] += KK[a, b]
+                        break
 
 
 @njit(cache=True)
@@ -116,11 +162,12 @@ def jacobian_analytic_at(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask,
                          km.sde_damping, km.sde_has_rest, km.sde_rest, ws.sde_rest_eff, ws.R, ws.rbase, ws.roff,
                          ws.sigma, Ks, Kds)
     if km.has_reeving:
-        # the rope's slip over the sheave, then the sheave's pull toward the lead with the join's
-        # tension (rfesim.loads.reeving)
+        # the rope's slip over the sheave (into the join's tangent), then the pulls toward the
+        # leads: their tangent in ws.rv_K, rv_Kd, placed below (rfesim.loads.reeving)
         slip_tangent(km.rv_sde, km.rv_slip, km.sde_left, km.sde_right, km.sde_arm_left, ws.R, ws.rv_dir, Ks, Kds)
-        reeving_tangent(km.rv_sde, km.sde_left, ws.rbase, ws.roff, ws.sde_point, ws.rv_tension, ws.rv_dir,
-                        ws.rv_fdir, Ks, Kds)
+        reeving_tangent(km.rv_sde, km.rv_kind, km.rv_att, km.rv_rfe, km.rv_point, km.rv_slip, km.sde_left,
+                        km.sde_right, km.sde_arm_left, km.sde_arm_right, ws.R, ws.rbase, ws.roff, ws.sde_point,
+                        att.p, att.R, ws.rv_tension, ws.rv_dir, ws.rv_fdir, Ks, Kds, ws.rv_K, ws.rv_Kd)
     _maps(km, att, ws, T)
     cK = 1.0 if mode == 0 else cq
     cD = 0.0 if mode == 0 else cv
@@ -135,8 +182,14 @@ def jacobian_analytic_at(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask,
                 for a in range(6):
                     for b in range(6):
                         ws.cl_J[c, blk, a, b] = 0.0
+    for c in range(ws.ob_J.shape[0]):
+        for a in range(6):
+            for b in range(6):
+                ws.ob_J[c, a, b] = 0.0
     KK = np.empty((6, 6))
     KT = np.empty((6, 6))
+    if km.has_reeving:
+        _reeving_blocks(km, ws, T, cK, cD, J, KK, KT)
     for s in range(km.sde_left.shape[0]):
         ia = km.sde_left[s]
         ib = km.sde_right[s]

@@ -198,9 +198,10 @@ def modal_analysis(system: System, state: State, nmodes: int) -> ModalResults:
     system.ws.waves_off[0] = 1          # about the static state: still water plus current
     try:
         km = system.km
-        if km.has_closures:
-            # a closing join: its off-band blocks (in ws.cl_J) are added below
-            K = system.static_jacobian_closed(st.q, st.ref).copy()
+        if km.has_closures or system.has_line_leads:
+            # a closing join or a rope led along a line: their off-band blocks (in ws.cl_J,
+            # ws.ob_J) are added below
+            K = system.static_jacobian_hybrid(st.q, st.ref).copy()
         else:
             K = system.static_jacobian_accurate(st.q, st.ref).copy()
         system.evaluate(st)
@@ -223,6 +224,11 @@ def modal_analysis(system: System, state: State, nmodes: int) -> ModalResults:
                 ii, jj = np.meshgrid(np.arange(6 * i, 6 * i + 6), np.arange(6 * j, 6 * j + 6), indexing="ij")
                 Ksp = Ksp + sp.csr_matrix((system.ws.cl_J[c, blk].ravel(), (ii.ravel(), jj.ravel())),
                                           shape=(n6, n6))
+    if km.has_offband:
+        n6 = 6 * system.n
+        for c, (i, j) in enumerate(zip(km.ob_row, km.ob_col)):
+            ii, jj = np.meshgrid(np.arange(6 * i, 6 * i + 6), np.arange(6 * j, 6 * j + 6), indexing="ij")
+            Ksp = Ksp + sp.csr_matrix((system.ws.ob_J[c].ravel(), (ii.ravel(), jj.ravel())), shape=(n6, n6))
     Ksp = Ksp.tocsr()[active][:, active]
     n = system.n
     Msp = sp.block_diag([Mblk[i] for i in range(n)], format="csr")[active][:, active]

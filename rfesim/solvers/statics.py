@@ -524,9 +524,11 @@ def _solve(system: System, state: State | None, tolerance: float, max_iterations
     # Newton cycling (the A-frame with a deck winch lead: no convergence in 100 iterations),
     # the analytic one converges in 5 (docs/theory.md, 'Reeving')
     slipping = bool(getattr(system.km, "has_reeving", False) and np.any(system.km.rv_slip == 1))
-    # a closing join (rfesim.model.joins) couples RFEs that are not neighbours: the coloured
-    # differences would mix its blocks into the band (System.static_jacobian_closed)
-    closed = bool(system.km.has_closures)
+    # a closing join (rfesim.model.joins) or a rope led along a line (reeving to a line end)
+    # couples RFEs that are not neighbours: the coloured differences would mix its blocks into
+    # the band (System.static_jacobian_hybrid; with the rope along the boom the column_crane
+    # scenario did not converge, docs/theory.md 'Reeving')
+    closed = bool(system.km.has_closures) or system.has_line_leads
     # ropes (tension-only SDEs) from their elastic equilibrium: their exact tangent
     # (System.static_jacobian_ropes)
     ropes = bool(rope_tangent and system.km.has_tension_only and np.any(system.km.sde_tension_only == 1))
@@ -556,9 +558,9 @@ def _solve(system: System, state: State | None, tolerance: float, max_iterations
             if slipping:
                 J = system.static_jacobian_analytic(st.q, st.ref, lam)
             elif ropes:
-                J = system.static_jacobian_ropes(st.q, st.ref, lam, closed)
+                J = system.static_jacobian_hybrid(st.q, st.ref, lam, ropes=True)
             elif closed:
-                J = system.static_jacobian_closed(st.q, st.ref, lam)
+                J = system.static_jacobian_hybrid(st.q, st.ref, lam)
             else:
                 J = system.static_jacobian_accurate(st.q, st.ref, lam)
             yaw = _free_yaw(system, st.ref)

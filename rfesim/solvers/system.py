@@ -20,7 +20,8 @@ class System:
         self.n = n
         self.ws = new_workspace(n, nsde, model.plastic_history_width, km.roller_attach.shape[0],
                                 km.tens_att.shape[0], km.reel_att.shape[0], km.motor_sde.shape[0],
-                                km.body_rfe.shape[0], km.tug_rfe.shape[0], km.rv_sde.shape[0], km.cl_sde.shape[0])
+                                km.body_rfe.shape[0], km.tug_rfe.shape[0], km.rv_sde.shape[0], km.cl_sde.shape[0],
+                                km.ob_row.shape[0])
         if getattr(model, "initial_plastic_history", None) is not None:
             self.ws.plastic_hist[:] = model.initial_plastic_history     # pipe reeled on before t = 0
         self.vs = vessel_spec(model.motions)
@@ -108,48 +109,62 @@ class System:
                           self.Kds, self.T, self.Fsde, self.Msde)
         return self.J
 
-    def static_jacobian_closed(self, q: np.ndarray, ref, scale: float = 1.0) -> np.ndarray:
-        """Static Jacobian of a scene with closing joins (rfesim.model.joins): the central
-        differences of ``static_jacobian_accurate`` with the closing SDEs switched off (their
-        off-band coupling would mix into the coloured band), plus the closing SDEs' own part
-        of the analytic tangent (its change when they are switched on; their off-band blocks
-        in ws.cl_J). The analytic tangent alone left the A-frame's statics stalling."""
+    @property
+    def has_line_leads(self) -> bool:
+        """A rope led along a line (reeving with a line-end lead, rfesim.loads.reeving): its pull
+        on the lead couples RFEs that are not neighbours."""
+        km = self.km
+        return bool(km.has_reeving and np.any(km.rv_kind == 1))
+
+    def static_jacobian_hybrid(self, q: np.ndarray, ref, scale: float = 1.0, ropes: bool = False) -> np.ndarray:
+        """Static Jacobian from the central differences of ``static_jacobian_accurate`` with
+        what the coloured differences cannot take switched off, plus the change of the
+        analytic tangent (rfesim.solvers.jacobian) when it is switched on again:
+
+        * closing joins (rfesim.model.joins): the closing SDEs couple RFEs that are not
+          neighbours, which the colouring would mix into the band; their off-band blocks are
+          left in ws.cl_J. The analytic tangent alone left the A-frame's statics stalling;
+        * ropes led along a line (reeving to a line end, rfesim.loads.reeving): the pull on
+          the lead (a boom's foot) follows the tension at the sheave (its tip), which the
+          colouring mixed into the foot's band (the column crane scenario with the rope
+          along the boom did not converge); its off-band blocks are left in ws.ob_J;
+        * with ``ropes``, the tension-only SDEs (rfesim.loads.tension_only): the differences
+          alone straddle the kink of max(0, C eps): their step (1e-5 of an element length) is
+          larger than a light rope's whole stretch (1e-6 m for 100 N on EA = 1e8 N), so a
+          rope element near the kink looks half as stiff, slack or taut (docs/theory.md,
+          'Slack ropes in statics'); the differences take them elastic in compression too.
+
+        The analytic tangent with everything on comes last, so that ws.cl_J and ws.ob_J hold
+        the off-band blocks of the Jacobian returned."""
         km = self.km
         s = km.cl_sde
-        saved = km.sde_stiffness[s].copy()
+        saved_k = km.sde_stiffness[s].copy()
+        saved_t = km.sde_tension_only.copy()
         km.sde_stiffness[s] = 0.0
+        if ropes:
+            km.sde_tension_only[:] = 0
+        if self.has_line_leads:
+            self.km = km._replace(has_reeving=False)
         try:
             off = self.static_jacobian_analytic(q, ref, scale).copy()
             J = self.static_jacobian_accurate(q, ref, scale).copy()
         finally:
-            km.sde_stiffness[s] = saved
+            self.km = km
+            km.sde_stiffness[s] = saved_k
+            km.sde_tension_only[:] = saved_t
         J += self.static_jacobian_analytic(q, ref, scale) - off
         self.J[:] = J
         return self.J
 
+    def static_jacobian_closed(self, q: np.ndarray, ref, scale: float = 1.0) -> np.ndarray:
+        """``static_jacobian_hybrid`` of a scene with closing joins (or ropes led along a line)."""
+        return self.static_jacobian_hybrid(q, ref, scale)
+
     def static_jacobian_ropes(self, q: np.ndarray, ref, scale: float = 1.0, closed: bool = False) -> np.ndarray:
-        """Static Jacobian of a scene with ropes (tension-only SDEs, rfesim.loads.tension_only)
-        on their exact tangent: the central differences of ``static_jacobian_accurate``
-        (``static_jacobian_closed`` with ``closed``) with the ropes elastic in compression too,
-        plus the change of the analytic tangent when they are tension-only again (nothing for
-        a taut element; for a slack one its axial stiffness and the geometric stiffness of
-        its compressive force come off). The differences alone straddle the kink of
-        max(0, C eps): their step (1e-5 of an element length) is larger than a light rope's
-        whole stretch (1e-6 m for 100 N on EA = 1e8 N), so a rope element near the kink looks
-        half as stiff, slack or taut (docs/theory.md, 'Slack ropes in statics')."""
-        km = self.km
-        saved = km.sde_tension_only.copy()
-        km.sde_tension_only[:] = 0
-        try:
-            J = (self.static_jacobian_closed(q, ref, scale) if closed
-                 else self.static_jacobian_accurate(q, ref, scale)).copy()
-            elastic = self.static_jacobian_analytic(q, ref, scale).copy()
-        finally:
-            km.sde_tension_only[:] = saved
-        # the tension-only tangent last: with closing joins ws.cl_J keeps its off-band blocks
-        J += self.static_jacobian_analytic(q, ref, scale) - elastic
-        self.J[:] = J
-        return self.J
+        """``static_jacobian_hybrid`` of a scene with ropes (tension-only SDEs) on their exact
+        tangent (with the closing joins and ropes led along a line, if any, whatever
+        ``closed`` says)."""
+        return self.static_jacobian_hybrid(q, ref, scale, ropes=True)
 
     def static_jacobian_accurate(self, q: np.ndarray, ref, scale: float = 1.0) -> np.ndarray:
         """Central-difference static Jacobian (statics and modal analysis). Central
