@@ -116,7 +116,7 @@ def jacobian_analytic(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd
     """Fill J (n, 3, 6, 6) at q; r0 receives the residual at q. Work arrays: Ks, Kds
     (nsde, 12, 12), T (n, 6, 6), Fsde, Msde (n, 3)."""
     jacobian_analytic_at(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, r0, qp, rp, hs,
-                         length_scale, J, Ks, Kds, T, Fsde, Msde, False)
+                         length_scale, J, Ks, Kds, T, Fsde, Msde, np.bool_(False))
 
 
 @njit(cache=True, _nrt=True)
@@ -255,7 +255,7 @@ def jacobian_analytic_at(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask,
             tmp = q[i, k] + h
             hs[i] = tmp - q[i, k]
             qp[i, k] = tmp
-        residual_general(km, att, qp, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, rp, 1, Fsde,
+        residual_general(km, att, qp, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, rp, np.int64(1), Fsde,
                          Msde)
         for i in range(n):
             inv = 1.0 / hs[i]

@@ -39,7 +39,7 @@ def jacobian_fd(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, 
     """Block-tridiagonal Jacobian d(residual)/dq by forward differences, RFEs coloured by
     index mod 3 (RFEs of one colour are three apart, so their effects never overlap)."""
     jacobian_fd_general(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, r0, qp, rp, hs,
-                        length_scale, J, False, 1.5e-8)
+                        length_scale, J, np.bool_(False), 1.5e-8)
 
 
 @njit(cache=True)
@@ -158,6 +158,10 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
     cq = h * h * beta * (1.0 - alpha_f) / (1.0 - alpha_m)
     cv = h * gamma * (1.0 - alpha_f) / (1.0 - alpha_m)
     attempts = 3 if flags.shape[0] > 3 and flags[3] == 1 else 2
+    # mode 1 (dynamics) and frozen 2 as int64, not literals: a literal argument makes numba
+    # compile another specialization of the whole residual and Jacobian kernels for it
+    mode_dyn = np.int64(1)
+    keep_sde = np.int64(2)
     for step in range(nsteps):
         t1 = t0 + (step + 1) * h
         attachment_kinematics(vs, t1, att)
@@ -183,10 +187,10 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
             for it in range(maxit):
                 if analytic:
                     # the SDE forces alone are kept in Fsde, Msde for a Jacobian at this iterate
-                    residual_general(km, att, q, ref, ws, 1.0, 1, Q0, V0, cq, cv, mask, qd_buf, A_buf, r, 2, Fsde,
-                                     Msde)
+                    residual_general(km, att, q, ref, ws, 1.0, mode_dyn, Q0, V0, cq, cv, mask, qd_buf, A_buf, r,
+                                     keep_sde, Fsde, Msde)
                 else:
-                    residual_q(km, att, q, ref, ws, 1.0, 1, Q0, V0, cq, cv, mask, qd_buf, A_buf, r)
+                    residual_q(km, att, q, ref, ws, 1.0, mode_dyn, Q0, V0, cq, cv, mask, qd_buf, A_buf, r)
                 if km.has_sea and attempt == 0 and it == 0:
                     # water kinematics at the predictor, kept for this step's Newton iterations
                     # and Jacobian (the predictor is within O(h^3) of the solution)
@@ -218,11 +222,11 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
                 if need_new:
                     if analytic:
                         # r, ws, Fsde and Msde hold the evaluation at q (residual_general above)
-                        jacobian_analytic_at(km, att, q, ref, ws, 1.0, 1, Q0, V0, cq, cv, mask, qd_buf, A_buf, r,
-                                             qp, rp, hs, length_scale, J, Ks, Kds, T, Fsde, Msde, True)
+                        jacobian_analytic_at(km, att, q, ref, ws, 1.0, mode_dyn, Q0, V0, cq, cv, mask, qd_buf, A_buf, r,
+                                             qp, rp, hs, length_scale, J, Ks, Kds, T, Fsde, Msde, np.bool_(True))
                     else:
-                        jacobian_fd(km, att, q, ref, ws, 1.0, 1, Q0, V0, cq, cv, mask, qd_buf, A_buf, r, qp, rp, hs,
-                                    length_scale, J)
+                        jacobian_fd(km, att, q, ref, ws, 1.0, mode_dyn, Q0, V0, cq, cv, mask, qd_buf, A_buf, r, qp, rp,
+                                    hs, length_scale, J)
                     stats[2] += 1
                     bad = bt_factor_closed(J, Fac, km, ws)
                     if bad >= 0:

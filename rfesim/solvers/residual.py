@@ -15,7 +15,7 @@ def residual_q(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A
     qdot = V0 + cv A, out = cq (Mgen A - fgen). Fixed coordinates give out = q (statics)
     or q - Q0, so their Jacobian rows are the identity.
     """
-    residual_general(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, out, 0,
+    residual_general(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, out, np.int64(0),
                      ws.F, ws.M)
 
 
