@@ -30,7 +30,7 @@ from ..kinematics import matmul_into, matvec_into
 from ..loads.reeving import reeving_tangent, slip_tangent
 from ..loads.sde_tangent import sde_tangent_rest
 from ..model.assemble import sde_part
-from .residual import residual_general, residual_q
+from .residual import residual_general
 
 
 @njit(cache=True, _nrt=True)
@@ -110,13 +110,14 @@ def _reeving_blocks(km, ws, T, cK, cD, J, KK, KT):
                         break
 
 
-@njit(cache=True)
 def jacobian_analytic(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, r0, qp, rp, hs,
                       length_scale, J, Ks, Kds, T, Fsde, Msde):
     """Fill J (n, 3, 6, 6) at q; r0 receives the residual at q. Work arrays: Ks, Kds
-    (nsde, 12, 12), T (n, 6, 6), Fsde, Msde (n, 3)."""
+    (nsde, 12, 12), T (n, 6, 6), Fsde, Msde (n, 3). A Python function: a compiled wrapper
+    of ``jacobian_analytic_at`` would be another entry point, compiled with its whole tree
+    of kernels (4 MB of machine code, about 30 s of a cold start)."""
     jacobian_analytic_at(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, r0, qp, rp, hs,
-                         length_scale, J, Ks, Kds, T, Fsde, Msde, np.bool_(False))
+                         length_scale, J, Ks, Kds, T, Fsde, Msde, False)
 
 
 @njit(cache=True, _nrt=True)
@@ -129,7 +130,8 @@ def jacobian_analytic_at(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask,
     Jacobian, the same numbers)."""
     n = q.shape[0]
     if not evaluated:
-        residual_q(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, r0)
+        residual_general(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, r0, np.int64(0),
+                         ws.F, ws.M)
         # SDE forces alone, spatial, at the base state (ws holds the base poses and velocities)
         for i in range(n):
             for k in range(3):

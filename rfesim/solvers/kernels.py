@@ -33,13 +33,17 @@ Q_POSITION, Q_VELOCITY, Q_NEWTON, Q_JACOBIAN, Q_THROUGH = 0, 1, 2, 3, 4
 ROPE_THROUGH_STRAIN = -1.0      # axial strain of a tension-only SDE below which its elements passed through
 
 
-@njit(cache=True)
+FD_REL_STEP = 1.5e-8      # relative step of the forward-difference Jacobian
+
+
 def jacobian_fd(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, r0, qp, rp, hs,
                 length_scale, J):
     """Block-tridiagonal Jacobian d(residual)/dq by forward differences, RFEs coloured by
-    index mod 3 (RFEs of one colour are three apart, so their effects never overlap)."""
+    index mod 3 (RFEs of one colour are three apart, so their effects never overlap).
+    A Python function (``jacobian_fd_general`` forward, as compiled kernels call it): a
+    compiled wrapper would be another entry point compiled with its whole tree of kernels."""
     jacobian_fd_general(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, r0, qp, rp, hs,
-                        length_scale, J, np.bool_(False), 1.5e-8)
+                        length_scale, J, False, FD_REL_STEP)
 
 
 @njit(cache=True)
@@ -48,6 +52,7 @@ def jacobian_fd_general(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, 
     """Coloured finite-difference Jacobian; ``central`` uses (r(q+h) - r(q-h)) / 2h with r0
     as a second buffer (overwritten), for the accuracy modal analysis needs."""
     n = q.shape[0]
+    not_frozen = np.int64(0)       # int64, not a literal: one specialization of residual_general
     for c in range(3):
         for k in range(6):
             for i in range(n):
@@ -59,11 +64,13 @@ def jacobian_fd_general(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask, 
                 tmp = q[i, k] + h
                 hs[i] = tmp - q[i, k]
                 qp[i, k] = tmp
-            residual_q(km, att, qp, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, rp)
+            residual_general(km, att, qp, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, rp, not_frozen,
+                             ws.F, ws.M)
             if central:
                 for i in range(c, n, 3):
                     qp[i, k] = q[i, k] - hs[i]
-                residual_q(km, att, qp, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, r0)
+                residual_general(km, att, qp, ref, ws, scale, mode, Q0, V0, cq, cv, mask, qd_buf, A_buf, r0,
+                                 not_frozen, ws.F, ws.M)
             for i in range(c, n, 3):
                 inv = 1.0 / (2.0 * hs[i]) if central else 1.0 / hs[i]
                 for j in range(i - 1, i + 2):
@@ -162,6 +169,7 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
     # compile another specialization of the whole residual and Jacobian kernels for it
     mode_dyn = np.int64(1)
     keep_sde = np.int64(2)
+    not_frozen = np.int64(0)
     for step in range(nsteps):
         t1 = t0 + (step + 1) * h
         attachment_kinematics(vs, t1, att)
@@ -190,7 +198,8 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
                     residual_general(km, att, q, ref, ws, 1.0, mode_dyn, Q0, V0, cq, cv, mask, qd_buf, A_buf, r,
                                      keep_sde, Fsde, Msde)
                 else:
-                    residual_q(km, att, q, ref, ws, 1.0, mode_dyn, Q0, V0, cq, cv, mask, qd_buf, A_buf, r)
+                    residual_general(km, att, q, ref, ws, 1.0, mode_dyn, Q0, V0, cq, cv, mask, qd_buf, A_buf, r,
+                                     not_frozen, ws.F, ws.M)
                 if km.has_sea and attempt == 0 and it == 0:
                     # water kinematics at the predictor, kept for this step's Newton iterations
                     # and Jacobian (the predictor is within O(h^3) of the solution)
@@ -225,8 +234,8 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
                         jacobian_analytic_at(km, att, q, ref, ws, 1.0, mode_dyn, Q0, V0, cq, cv, mask, qd_buf, A_buf, r,
                                              qp, rp, hs, length_scale, J, Ks, Kds, T, Fsde, Msde, np.bool_(True))
                     else:
-                        jacobian_fd(km, att, q, ref, ws, 1.0, mode_dyn, Q0, V0, cq, cv, mask, qd_buf, A_buf, r, qp, rp,
-                                    hs, length_scale, J)
+                        jacobian_fd_general(km, att, q, ref, ws, 1.0, mode_dyn, Q0, V0, cq, cv, mask, qd_buf, A_buf,
+                                            r, qp, rp, hs, length_scale, J, np.bool_(False), FD_REL_STEP)
                     stats[2] += 1
                     bad = bt_factor_closed(J, Fac, km, ws)
                     if bad >= 0:
