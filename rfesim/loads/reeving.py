@@ -77,6 +77,19 @@ KIND_LINE_END = 1   # an end of a line: the equal and opposite pull acts there
 
 
 @njit(cache=True)
+def _attached_point(att_p, att_R, at, rv_point, j):
+    """The lead point of reeving j (rv_point, in the frame of attachment ``at``) in the
+    global frame: p_at + R_at rv_point[j]."""
+    x = att_p[at, 0] + att_R[at, 0, 0] * rv_point[j, 0] + att_R[at, 0, 1] * rv_point[j, 1] + \
+        att_R[at, 0, 2] * rv_point[j, 2]
+    y = att_p[at, 1] + att_R[at, 1, 0] * rv_point[j, 0] + att_R[at, 1, 1] * rv_point[j, 1] + \
+        att_R[at, 1, 2] * rv_point[j, 2]
+    z = att_p[at, 2] + att_R[at, 2, 0] * rv_point[j, 0] + att_R[at, 2, 1] * rv_point[j, 1] + \
+        att_R[at, 2, 2] * rv_point[j, 2]
+    return x, y, z
+
+
+@njit(cache=True)
 def slip_arms(rv_sde, rv_slip, rv_att, rv_point, rv_len, rv_arm_written, rv_arm_offset, sde_left, sde_arm_left,
               sde_arm_right, sde_stiffness, sde_damping, R, rbase, roff, v, w, att_p, att_R, att_v, att_w, slip_out):
     """Set the join SDE's arm on the rope of every slipping reeving for the slip of the
@@ -196,13 +209,7 @@ def reeving_forces(rv_sde, rv_kind, rv_att, rv_rfe, rv_point, sde_left, sde_righ
             continue
         # the lead point
         if rv_kind[j] == KIND_POINT:
-            at = rv_att[j]
-            L0 = att_p[at, 0] + att_R[at, 0, 0] * rv_point[j, 0] + att_R[at, 0, 1] * rv_point[j, 1] + \
-                att_R[at, 0, 2] * rv_point[j, 2]
-            L1 = att_p[at, 1] + att_R[at, 1, 0] * rv_point[j, 0] + att_R[at, 1, 1] * rv_point[j, 1] + \
-                att_R[at, 1, 2] * rv_point[j, 2]
-            L2 = att_p[at, 2] + att_R[at, 2, 0] * rv_point[j, 0] + att_R[at, 2, 1] * rv_point[j, 1] + \
-                att_R[at, 2, 2] * rv_point[j, 2]
+            L0, L1, L2 = _attached_point(att_p, att_R, rv_att[j], rv_point, j)
             lx = ly = lz = 0.0
         else:
             k = rv_rfe[j]
@@ -328,13 +335,7 @@ def reeving_tangent(rv_sde, rv_kind, rv_att, rv_rfe, rv_point, rv_slip, sde_left
             L1 = rbase[f, 1] + roff[f, 1] + lv[1]
             L2 = rbase[f, 2] + roff[f, 2] + lv[2]
         else:
-            at = rv_att[j]
-            L0 = att_p[at, 0] + att_R[at, 0, 0] * rv_point[j, 0] + att_R[at, 0, 1] * rv_point[j, 1] + \
-                att_R[at, 0, 2] * rv_point[j, 2]
-            L1 = att_p[at, 1] + att_R[at, 1, 0] * rv_point[j, 0] + att_R[at, 1, 1] * rv_point[j, 1] + \
-                att_R[at, 1, 2] * rv_point[j, 2]
-            L2 = att_p[at, 2] + att_R[at, 2, 0] * rv_point[j, 0] + att_R[at, 2, 1] * rv_point[j, 1] + \
-                att_R[at, 2, 2] * rv_point[j, 2]
+            L0, L1, L2 = _attached_point(att_p, att_R, rv_att[j], rv_point, j)
         d = math.sqrt((L0 - sde_point[s, 0]) ** 2 + (L1 - sde_point[s, 1]) ** 2 + (L2 - sde_point[s, 2]) ** 2)
         # dT = (f/T) . df = -(f/T)^T K[s, 0:3] dx over the join's columns (a, b)
         for col in range(18):

@@ -69,6 +69,24 @@ def _maps(km, att, ws, T):
 
 
 @njit(cache=True)
+def _congruence_into(T, i, j, KK, KT):
+    """KK <- T_i^T KK T_j (6 x 6; KT is scratch): a block of the spatial tangent mapped to
+    the columns of RFE j and the rows of RFE i."""
+    for a in range(6):
+        for b in range(6):
+            acc = 0.0
+            for k in range(6):
+                acc += KK[a, k] * T[j, k, b]
+            KT[a, b] = acc
+    for a in range(6):
+        for b in range(6):
+            acc = 0.0
+            for k in range(6):
+                acc += T[i, k, a] * KT[k, b]
+            KK[a, b] = acc
+
+
+@njit(cache=True)
 def _reeving_blocks(km, ws, T, cK, cD, J, KK, KT):
     """Add the pulls' tangent (ws.rv_K, rv_Kd of rfesim.loads.reeving.reeving_tangent) to J:
     the block of rows RFE i (the sheave's a, a line-end lead's f) and columns RFE j (a, the
@@ -84,18 +102,7 @@ def _reeving_blocks(km, ws, T, cK, cD, J, KK, KT):
                 for a in range(6):
                     for b in range(6):
                         KK[a, b] = cK * ws.rv_K[rv, 6 * bi + a, 6 * bj + b] + cD * ws.rv_Kd[rv, 6 * bi + a, 6 * bj + b]
-                for a in range(6):
-                    for b in range(6):
-                        acc = 0.0
-                        for k in range(6):
-                            acc += KK[a, k] * T[j, k, b]
-                        KT[a, b] = acc
-                for a in range(6):
-                    for b in range(6):
-                        acc = 0.0
-                        for k in range(6):
-                            acc += T[i, k, a] * KT[k, b]
-                        KK[a, b] = acc
+                _congruence_into(T, i, j, KK, KT)
                 slot = j - i + 1
                 if 0 <= slot <= 2:
                     for a in range(6):
@@ -226,18 +233,7 @@ def jacobian_analytic_at(km, att, q, ref, ws, scale, mode, Q0, V0, cq, cv, mask,
                             KK[3 + a, b] = (T[i, 3, 3 + a] * KT[3, b] + T[i, 4, 3 + a] * KT[4, b]
                                             + T[i, 5, 3 + a] * KT[5, b])
                 else:
-                    for a in range(6):
-                        for b in range(6):
-                            acc = 0.0
-                            for k in range(6):
-                                acc += KK[a, k] * T[j, k, b]
-                            KT[a, b] = acc
-                    for a in range(6):
-                        for b in range(6):
-                            acc = 0.0
-                            for k in range(6):
-                                acc += T[i, k, a] * KT[k, b]
-                            KK[a, b] = acc
+                    _congruence_into(T, i, j, KK, KT)
                 if cl >= 0:
                     for a in range(6):
                         for b in range(6):
