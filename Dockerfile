@@ -23,8 +23,10 @@ RUN useradd --create-home --uid 10001 rfesim \
 USER rfesim
 WORKDIR /app
 
-# compile the numba kernels once, into the image (the workers then only load them)
-RUN python -c "import rfesim; rfesim.simulate('scenarios/cantilever_pipe.json')" \
+# compile the numba kernels once, into the image, in parallel processes (the workers then only
+# load them)
+RUN python -c "import rfesim; rfesim.precompile()" \
+    && python -c "import rfesim; rfesim.simulate('scenarios/cantilever_pipe.json')" \
     && python -c "from service.worker import warm_up; warm_up()"
 
 VOLUME /data

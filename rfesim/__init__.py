@@ -54,5 +54,15 @@ from .scenario import Scenario, load_scenario  # noqa: E402
 from .results import Results, open_results  # noqa: E402
 from .api import modes, simulate, statics  # noqa: E402
 
+
+def precompile(processes: int | None = None) -> int:
+    """Compile the numba kernels the shipped scenarios use into numba's cache, in parallel
+    processes (default: one per CPU, at most 4; RFESIM_PRECOMPILE sets it, 0: none), rather
+    than one by one as a run first calls them: for a fresh install or cache. Returns how many
+    kernels it compiled or loaded (docs/theory.md, 'Compiling in parallel')."""
+    from ._precompile import precompile as run
+    return run(processes)
+
+
 __all__ = ["Scenario", "load_scenario", "statics", "simulate", "modes", "Results", "open_results",
-           "ScenarioError", "SolverError", "UnsupportedError", "CancelledError", "RfesimError", "__version__"]
+           "precompile", "ScenarioError", "SolverError", "UnsupportedError", "CancelledError", "RfesimError", "__version__"]

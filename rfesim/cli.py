@@ -426,9 +426,19 @@ def numba_cache_is_cold() -> bool:
 
 
 def _note_cold_cache() -> None:
+    """A cold cache: say so, and compile the kernels ahead in parallel processes
+    (rfesim.precompile; RFESIM_PRECOMPILE=0 leaves them to compile as the run calls them)."""
     if numba_cache_is_cold():
-        _err("compiling the numba kernels: the first run after an install takes several minutes "
-             "(about 8 on 2 cores); they are cached, so later runs start in seconds")
+        from ._precompile import precompile, processes_default
+
+        n = processes_default()
+        _err("compiling the numba kernels" + (f" in {n} processes" if n > 1 else "") + ": the first run after an "
+             "install takes several minutes (about 5 on 2 cores); they are cached, so later runs start in seconds")
+        try:
+            precompile(n)
+        except Exception as exc:   # the run compiles what it calls, as without it
+            _err(f"note: compiling the kernels ahead failed ({type(exc).__name__}: {exc}); the run compiles "
+                 "them as it calls them")
 
 
 def _progress_bar(args):
