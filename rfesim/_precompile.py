@@ -27,6 +27,7 @@ import sys
 import tempfile
 import time
 import types
+from typing import Callable
 
 PACKAGE = os.path.dirname(os.path.abspath(__file__))
 KERNELS = os.path.join(PACKAGE, "data", "kernel_signatures.json")
@@ -252,10 +253,12 @@ def _settled(folder: str, i: int) -> bool:
         return False
 
 
-def work(folder: str, only: set[str] | None = None) -> int:
+def work(folder: str, only: set[str] | None = None,
+         progress: Callable[[int, int], None] | None = None) -> int:
     """Compile kernels of the plan shared through ``folder`` until none is left to take;
     returns how many this process compiled. ``only``: those keys alone (and no waiting for
-    others)."""
+    others). ``progress(done, total)``: called after each kernel this process compiles and
+    about once a second while it waits (``done`` counts every process's)."""
     table = dispatchers()
     sigs = recorded(table=table)
     if only is not None:
@@ -265,6 +268,18 @@ def work(folder: str, only: set[str] | None = None) -> int:
     done: set[int] = set()
     mine = 0
     pending = list(range(len(plan)))
+    said = 0.0
+
+    def report() -> None:
+        nonlocal said
+        if progress is not None:
+            said = time.monotonic()
+            try:
+                n = sum(1 for name in os.listdir(folder) if name.endswith(".done"))
+            except OSError:
+                return
+            progress(min(n, len(plan)), len(plan))
+
     while pending:
         ready = None
         for i in list(pending):
@@ -277,6 +292,8 @@ def work(folder: str, only: set[str] | None = None) -> int:
         if ready is None:
             if pending:
                 time.sleep(POLL)
+                if time.monotonic() - said > 1.0:
+                    report()
             continue
         k, _ = plan[ready]
         for sig in sigs[k]:
@@ -288,6 +305,7 @@ def work(folder: str, only: set[str] | None = None) -> int:
         done.add(ready)
         with open(os.path.join(folder, f"{ready}.done"), "w"):
             pass
+        report()
     return mine
 
 
@@ -307,10 +325,12 @@ def processes_default() -> int:
     return max(1, min(4, n))
 
 
-def precompile(processes: int | None = None, only: set[str] | None = None) -> int:
+def precompile(processes: int | None = None, only: set[str] | None = None,
+               progress: Callable[[int, int], None] | None = None) -> int:
     """Compile the recorded kernels (``only``: those keys) into numba's cache, in this process
     and ``processes - 1`` more (default ``processes_default()``); returns how many kernels
-    the plan had (0 when no record is usable or processes is 0)."""
+    the plan had (0 when no record is usable or processes is 0). ``progress(done, total)``
+    as for ``work``."""
     processes = processes_default() if processes is None else processes
     if processes <= 0:
         return 0
@@ -333,10 +353,12 @@ def precompile(processes: int | None = None, only: set[str] | None = None) -> in
             except OSError:        # no more processes: this one does the rest
                 break
         try:
-            work(folder, only)
+            work(folder, only, progress)
         finally:
             for p in others:
                 p.wait()
+        if progress is not None:     # the others' last kernels
+            progress(min(len(sigs), sum(1 for name in os.listdir(folder) if name.endswith(".done"))), len(sigs))
     return len(sigs)
 
 

@@ -434,8 +434,19 @@ def _note_cold_cache() -> None:
         n = processes_default()
         _err("compiling the numba kernels" + (f" in {n} processes" if n > 1 else "") + ": the first run after an "
              "install takes several minutes (about 5 on 2 cores); they are cached, so later runs start in seconds")
+        tty = sys.stderr.isatty()
+
+        def progress(done: int, total: int) -> None:
+            sys.stderr.write(f"\r  {done} of {total} kernels compiled")
+            sys.stderr.flush()
+
+        t0 = time.perf_counter()
         try:
-            precompile(n)
+            total = precompile(n, progress=progress if tty else None)
+            if tty:
+                sys.stderr.write("\n")
+            if total:
+                _err(f"{total} kernels compiled in {time.perf_counter() - t0:.0f} s")
         except Exception as exc:   # the run compiles what it calls, as without it
             _err(f"note: compiling the kernels ahead failed ({type(exc).__name__}: {exc}); the run compiles "
                  "them as it calls them")

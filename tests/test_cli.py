@@ -242,7 +242,7 @@ def test_cold_numba_cache_is_announced(good, tmp_path, monkeypatch, capsys):
     # and compile them ahead in parallel processes (rfesim.precompile, tests/test_precompile.py)
     monkeypatch.setattr("rfesim.cli.numba_cache_is_cold", lambda: True)
     calls = []
-    monkeypatch.setattr("rfesim._precompile.precompile", lambda n: calls.append(n) or 0)
+    monkeypatch.setattr("rfesim._precompile.precompile", lambda n, progress=None: calls.append(n) or 0)
     monkeypatch.setenv("RFESIM_PRECOMPILE", "2")
     for argv in (["run", str(good), "-o", str(tmp_path / "c.nc"), "--no-progress"], ["statics", str(good)],
                  ["modes", str(good), "-n", "2"]):
@@ -252,7 +252,7 @@ def test_cold_numba_cache_is_announced(good, tmp_path, monkeypatch, capsys):
         assert "compiling" not in captured.out
     assert calls == [2, 2, 2]
     # a failure there is a note, and the run compiles as it goes
-    monkeypatch.setattr("rfesim._precompile.precompile", lambda n: 1 / 0)
+    monkeypatch.setattr("rfesim._precompile.precompile", lambda n, progress=None: 1 / 0)
     assert main(["statics", str(good)]) == 0
     assert "compiling the kernels ahead failed (ZeroDivisionError" in capsys.readouterr().err
 

@@ -133,3 +133,11 @@ def test_record_has_what_a_run_calls():
     run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=900, cwd=ROOT)
     assert run.returncode == 0, run.stderr
     assert run.stdout.strip().splitlines()[-1] == "[]", "kernels called with types the record lacks: " + run.stdout[-3000:]
+
+
+def test_progress_counts_every_kernel_of_the_plan():
+    # in this session's (warm) cache: the three load, and the count reaches the plan's size
+    seen = []
+    assert P.precompile(2, only=set(SMALL), progress=lambda done, total: seen.append((done, total))) == 3
+    assert seen and seen[-1] == (3, 3)
+    assert all(b[0] >= a[0] for a, b in zip(seen, seen[1:])) and {t for _, t in seen} == {3}
