@@ -340,8 +340,11 @@ def precompile(processes: int | None = None, only: set[str] | None = None,
         sigs = {k: v for k, v in sigs.items() if k in only}
     if not sigs:
         return 0
+    # run from the folder holding this rfesim, so that the processes compile the same package
+    # into the same cache (numba names a cache folder after the source's path): from a
+    # checkout with rfesim installed beside it, the checkout's copy would come first on the path
     cmd = [sys.executable, "-c", "import sys; from rfesim._precompile import main; sys.exit(main(sys.argv[1:]))",
-           "--work"]
+           "--package", PACKAGE, "--work"]
     with tempfile.TemporaryDirectory(prefix="rfesim-precompile-") as folder:
         extra = [folder] + (["--only", ",".join(sorted(only))] if only is not None else [])
         env = dict(os.environ, PYTHONPATH=os.pathsep.join(
@@ -349,7 +352,8 @@ def precompile(processes: int | None = None, only: set[str] | None = None,
         others = []
         for _ in range(processes - 1):
             try:
-                others.append(subprocess.Popen(cmd + extra, env=env, stdin=subprocess.DEVNULL))
+                others.append(subprocess.Popen(cmd + extra, env=env, stdin=subprocess.DEVNULL,
+                                               cwd=os.path.dirname(PACKAGE)))
             except OSError:        # no more processes: this one does the rest
                 break
         try:
@@ -364,6 +368,13 @@ def precompile(processes: int | None = None, only: set[str] | None = None,
 
 def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else argv
+    if "--package" in argv:
+        i = argv.index("--package")
+        if os.path.realpath(argv[i + 1]) != os.path.realpath(PACKAGE):
+            print(f"rfesim._precompile: this process imported {PACKAGE}, not {argv[i + 1]}: it would fill "
+                  "another cache; nothing done", file=sys.stderr)
+            return 1
+        argv = argv[:i] + argv[i + 2:]
     only = None
     if "--only" in argv:
         i = argv.index("--only")
@@ -376,7 +387,8 @@ def main(argv: list[str] | None = None) -> int:
         # the workload in a process of its own on an empty cache: what it compiles is the record
         with tempfile.TemporaryDirectory(prefix="rfesim-record-") as cache:
             env = dict(os.environ, NUMBA_CACHE_DIR=cache)
-            return subprocess.call([sys.executable, "-m", "rfesim._precompile", "--record-here"], env=env)
+            return subprocess.call([sys.executable, "-m", "rfesim._precompile", "--record-here"], env=env,
+                                   cwd=os.path.dirname(PACKAGE))
     if argv[:1] == ["--record-here"]:
         from ._kernel_workload import run_all
         failed = run_all()

@@ -652,10 +652,15 @@ def _exit_code(value) -> int:
 def cmd_bench(args) -> int:
     if not _module_exists("rfesim.bench.run"):
         return _missing("the benchmark runner (rfesim.bench.run)", "it has not been built yet")
-    from rfesim.bench.run import main as bench_main
+    runner = importlib.import_module("rfesim.bench.run")
 
     argv = (["--quick"] if args.quick else []) + list(args.extra)
-    return _exit_code(bench_main(argv))
+    # a bad option, or no checkout, is refused before any compiling
+    if hasattr(runner, "build_parser") and hasattr(runner, "checkout_problem"):
+        runner.build_parser().parse_args(argv)
+        if runner.checkout_problem() is None:
+            _note_cold_cache()
+    return _exit_code(runner.main(argv))
 
 
 def cmd_sweep(args) -> int:

@@ -107,18 +107,33 @@ SMALL = ("rfesim.loads.tensioner:payout_speed", "rfesim.loads.tensioner:payout_n
 def test_two_processes_fill_an_empty_cache(tmp_path, table):
     deps = P.callees(table[SMALL[1]], table)
     assert SMALL[0] in deps
-    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "cache"), PYTHONPATH=ROOT)
-    run = subprocess.run([sys.executable, "-m", "rfesim._precompile", "2", "--only", ",".join(SMALL)],
-                         capture_output=True, text=True, env=env, timeout=600, cwd=str(tmp_path))
+    # run from a folder holding another package named rfesim (a checkout beside an installed
+    # copy): the second process must still import this one, and fill the same cache
+    decoy = tmp_path / "rfesim"
+    decoy.mkdir()
+    (decoy / "__init__.py").write_text(f"open({str(tmp_path / 'decoy-imported')!r}, 'w').close()\n")
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "cache"))
+    env.pop("PYTHONPATH", None)
+    code = (f"import sys; sys.path.insert(0, {ROOT!r}); from rfesim._precompile import main; "
+            f"sys.exit(main(['2', '--only', {','.join(SMALL)!r}]))")
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=600,
+                         cwd=str(tmp_path))
     assert run.returncode == 0, run.stderr
     assert run.stdout.startswith("3 kernels compiled"), run.stdout
+    assert not (tmp_path / "decoy-imported").exists()
     # a new process finds every recorded signature of the three in that cache
     check = subprocess.run([sys.executable, "-c", (
         "from rfesim import _precompile as P; t = P.dispatchers(); r = P.recorded(table=t); "
         f"keys = {list(SMALL)!r}; c = P.cached_signatures({{k: t[k] for k in keys}}); "
         "print(all(set(r[k]) <= set(c.get(k, [])) for k in keys), sorted(c))")],
-        capture_output=True, text=True, env=env, timeout=300, cwd=str(tmp_path))
+        capture_output=True, text=True, env=dict(env, PYTHONPATH=ROOT), timeout=300, cwd=ROOT)
     assert check.stdout.startswith("True"), (check.stdout, check.stderr)
+
+
+def test_a_process_of_another_package_does_nothing(tmp_path, capsys):
+    assert P.main(["--package", str(tmp_path), "--work", str(tmp_path)]) == 1
+    assert "it would fill another cache; nothing done" in capsys.readouterr().err
+    assert not list(tmp_path.iterdir())                      # no claim taken
 
 
 def test_record_has_what_a_run_calls():
