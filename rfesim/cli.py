@@ -433,7 +433,7 @@ def _note_cold_cache() -> None:
 
         n = processes_default()
         _err("compiling the numba kernels" + (f" in {n} processes" if n > 1 else "") + ": the first run after an "
-             "install takes several minutes (about 5 on 2 cores); they are cached, so later runs start in seconds")
+             "install takes several minutes (about 4 on 2 cores); they are cached, so later runs start in seconds")
         tty = sys.stderr.isatty()
 
         def progress(done: int, total: int) -> None:
