@@ -19,6 +19,7 @@ left to be compiled when first called, as without this module.
 """
 from __future__ import annotations
 
+import hashlib
 import importlib
 import os
 import json
@@ -325,12 +326,41 @@ def processes_default() -> int:
     return max(1, min(4, n))
 
 
+def uncached(sigs: dict[str, list], table: dict[str, object]) -> set[str]:
+    """The keys of ``sigs`` with a signature not in numba's on-disk cache yet."""
+    have = cached_signatures({k: table[k] for k in sigs if k in table})
+    return {k for k, v in sigs.items() if not set(v) <= set(have.get(k, ()))}
+
+
+def _lock():
+    """An exclusive lock for precompiling this package into this cache, held until the file
+    returned is closed (or the process ends): two precompiles of one cache (the service's
+    workers warming up side by side) then take turns, and the second finds the kernels
+    cached. None where there is no such lock (not POSIX, a lock file not ours)."""
+    try:
+        import fcntl
+    except ImportError:   # pragma: no cover - not POSIX
+        return None
+    key = hashlib.sha1(f"{PACKAGE}\0{os.environ.get('NUMBA_CACHE_DIR', '')}".encode()).hexdigest()[:16]
+    try:
+        f = open(os.path.join(tempfile.gettempdir(), f"rfesim-precompile-{key}.lock"), "a")
+    except OSError:
+        return None
+    try:
+        fcntl.flock(f, fcntl.LOCK_EX)
+    except OSError:
+        f.close()
+        return None
+    return f
+
+
 def precompile(processes: int | None = None, only: set[str] | None = None,
                progress: Callable[[int, int], None] | None = None) -> int:
-    """Compile the recorded kernels (``only``: those keys) into numba's cache, in this process
-    and ``processes - 1`` more (default ``processes_default()``); returns how many kernels
-    the plan had (0 when no record is usable or processes is 0). ``progress(done, total)``
-    as for ``work``."""
+    """Compile the recorded kernels (``only``: those keys) that are not in numba's cache yet,
+    in this process and ``processes - 1`` more (default ``processes_default()``); returns how
+    many it compiled (0 when all are cached, no record is usable or processes is 0).
+    ``progress(done, total)`` as for ``work``. Another precompile of the same cache running
+    meanwhile is waited for first."""
     processes = processes_default() if processes is None else processes
     if processes <= 0:
         return 0
@@ -340,30 +370,37 @@ def precompile(processes: int | None = None, only: set[str] | None = None,
         sigs = {k: v for k, v in sigs.items() if k in only}
     if not sigs:
         return 0
-    # run from the folder holding this rfesim, so that the processes compile the same package
-    # into the same cache (numba names a cache folder after the source's path): from a
-    # checkout with rfesim installed beside it, the checkout's copy would come first on the path
-    cmd = [sys.executable, "-c", "import sys; from rfesim._precompile import main; sys.exit(main(sys.argv[1:]))",
-           "--package", PACKAGE, "--work"]
-    with tempfile.TemporaryDirectory(prefix="rfesim-precompile-") as folder:
-        extra = [folder] + (["--only", ",".join(sorted(only))] if only is not None else [])
-        env = dict(os.environ, PYTHONPATH=os.pathsep.join(
-            [os.path.dirname(PACKAGE)] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]))
-        others = []
-        for _ in range(processes - 1):
+    lock = _lock()
+    try:
+        todo = uncached(sigs, table)
+        if not todo:
+            return 0
+        # run from the folder holding this rfesim, so that the processes compile the same
+        # package into the same cache (numba names a cache folder after the source's path):
+        # from a checkout with rfesim installed beside it, the checkout's copy would come first
+        cmd = [sys.executable, "-c", "import sys; from rfesim._precompile import main; sys.exit(main(sys.argv[1:]))",
+               "--package", PACKAGE, "--only", ",".join(sorted(todo)), "--work"]
+        with tempfile.TemporaryDirectory(prefix="rfesim-precompile-") as folder:
+            env = dict(os.environ, PYTHONPATH=os.pathsep.join(
+                [os.path.dirname(PACKAGE)] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]))
+            others = []
+            for _ in range(min(processes, len(todo)) - 1):
+                try:
+                    others.append(subprocess.Popen(cmd + [folder], env=env, stdin=subprocess.DEVNULL,
+                                                   cwd=os.path.dirname(PACKAGE)))
+                except OSError:        # no more processes: this one does the rest
+                    break
             try:
-                others.append(subprocess.Popen(cmd + extra, env=env, stdin=subprocess.DEVNULL,
-                                               cwd=os.path.dirname(PACKAGE)))
-            except OSError:        # no more processes: this one does the rest
-                break
-        try:
-            work(folder, only, progress)
-        finally:
-            for p in others:
-                p.wait()
-        if progress is not None:     # the others' last kernels
-            progress(min(len(sigs), sum(1 for name in os.listdir(folder) if name.endswith(".done"))), len(sigs))
-    return len(sigs)
+                work(folder, todo, progress)
+            finally:
+                for p in others:
+                    p.wait()
+            if progress is not None:     # the others' last kernels
+                progress(min(len(todo), sum(1 for name in os.listdir(folder) if name.endswith(".done"))), len(todo))
+        return len(todo)
+    finally:
+        if lock is not None:
+            lock.close()
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -396,8 +433,13 @@ def main(argv: list[str] | None = None) -> int:
         for f in failed:
             print(f"failed: {f}")
         return 1 if failed else 0
+    def progress(done: int, total: int) -> None:
+        print(f"{done}/{total}", file=sys.stderr, flush=True)
+
+    show = "--progress" in argv
+    argv = [a for a in argv if a != "--progress"]
     t0 = time.perf_counter()
-    n = precompile(int(argv[0]) if argv else None, only)
+    n = precompile(int(argv[0]) if argv else None, only, progress if show else None)
     print(f"{n} kernels compiled in {time.perf_counter() - t0:.1f} s")
     return 0
 

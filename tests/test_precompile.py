@@ -115,12 +115,15 @@ def test_two_processes_fill_an_empty_cache(tmp_path, table):
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "cache"))
     env.pop("PYTHONPATH", None)
     code = (f"import sys; sys.path.insert(0, {ROOT!r}); from rfesim._precompile import main; "
-            f"sys.exit(main(['2', '--only', {','.join(SMALL)!r}]))")
+            f"sys.exit(main(['2', '--only', {','.join(SMALL)!r}, '--progress']))")
     run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=600,
                          cwd=str(tmp_path))
     assert run.returncode == 0, run.stderr
     assert run.stdout.startswith("3 kernels compiled"), run.stdout
     assert not (tmp_path / "decoy-imported").exists()
+    counts = [tuple(map(int, ln.split("/"))) for ln in run.stderr.split() if "/" in ln]
+    assert counts[-1] == (3, 3) and all(t == 3 for _, t in counts), run.stderr     # progress: done of the plan
+    assert [d for d, _ in counts] == sorted(d for d, _ in counts)
     # a new process finds every recorded signature of the three in that cache
     check = subprocess.run([sys.executable, "-c", (
         "from rfesim import _precompile as P; t = P.dispatchers(); r = P.recorded(table=t); "
@@ -150,9 +153,20 @@ def test_record_has_what_a_run_calls():
     assert run.stdout.strip().splitlines()[-1] == "[]", "kernels called with types the record lacks: " + run.stdout[-3000:]
 
 
-def test_progress_counts_every_kernel_of_the_plan():
-    # in this session's (warm) cache: the three load, and the count reaches the plan's size
+def test_a_cached_kernel_is_not_compiled_again():
+    # this session's cache holds the three: nothing to do, nothing reported
     seen = []
-    assert P.precompile(2, only=set(SMALL), progress=lambda done, total: seen.append((done, total))) == 3
-    assert seen and seen[-1] == (3, 3)
-    assert all(b[0] >= a[0] for a, b in zip(seen, seen[1:])) and {t for _, t in seen} == {3}
+    assert P.uncached({k: P.recorded()[k] for k in SMALL}, P.dispatchers()) == set()
+    assert P.precompile(2, only=set(SMALL), progress=lambda done, total: seen.append((done, total))) == 0
+    assert seen == []
+
+
+def test_two_precompiles_of_one_cache_take_turns(tmp_path):
+    # the second waits for the first's lock and then finds the kernels cached
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "cache"), PYTHONPATH=ROOT)
+    cmd = [sys.executable, "-m", "rfesim._precompile", "1", "--only", ",".join(SMALL)]
+    runs = [subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env, cwd=ROOT)
+            for _ in range(2)]
+    outs = [p.communicate(timeout=600) for p in runs]
+    assert [p.returncode for p in runs] == [0, 0], outs
+    assert sorted(out.split(" kernels")[0] for out, _ in outs) == ["0", "3"], outs
