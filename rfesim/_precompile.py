@@ -35,6 +35,21 @@ KERNELS = os.path.join(PACKAGE, "data", "kernel_signatures.json")
 POLL = 0.02                      # s between looks at the other processes' progress
 
 
+def cache_is_cold() -> bool:
+    """True when the compiled kernels are not in numba's cache yet (the first run after an
+    install, a new NUMBA_CACHE_DIR, kernel sources changed): a run would spend minutes
+    compiling before its first step. Judged by the cache index of the time-step and statics
+    kernels; False when numba's cache cannot be inspected."""
+    try:
+        from .solvers.jacobian import jacobian_analytic_at
+        from .solvers.kernels import ga_advance
+
+        paths = [d._cache._cache_file._index_path for d in (ga_advance, jacobian_analytic_at)]
+    except Exception:  # pragma: no cover - a numba without this (private) layout
+        return False
+    return not all(os.path.exists(p) for p in paths)
+
+
 def kernel_modules() -> list[str]:
     """The rfesim modules that define numba kernels."""
     out = []

@@ -367,9 +367,36 @@ def _check_output_times(sc, model) -> None:
     _check_output_size(System(model), n_out + 2)
 
 
+_COMPILE_CHECKED = False
+
+
+def _compile_ahead() -> None:
+    """Once per process: a cold numba cache (the first run after an install) is filled by
+    ``rfesim.precompile`` in parallel processes before the run, rather than kernel by kernel
+    as the run first calls them (docs/theory.md, 'Compiling in parallel'). Only with two
+    processes or more (RFESIM_PRECOMPILE, default the CPUs): one process would compile more
+    than the run needs."""
+    global _COMPILE_CHECKED
+    if _COMPILE_CHECKED:
+        return
+    _COMPILE_CHECKED = True
+    from . import _precompile
+
+    n = _precompile.processes_default()
+    if n < 2 or not _precompile.cache_is_cold():
+        return
+    log.info("compiling the numba kernels in %d processes (the first run after an install: a few minutes)", n)
+    try:
+        _precompile.precompile(n)
+    except Exception as exc:   # the run compiles what it calls, as without it
+        log.info("compiling the kernels ahead failed (%s: %s); the run compiles them as it calls them",
+                 type(exc).__name__, exc)
+
+
 def statics(scenario, *, progress=None):
     """Static equilibrium of a scenario -> Results with one time point."""
     sc = _scenario(scenario)
+    _compile_ahead()
     if _other_formulations(sc):
         from .formulations import scene
         res = scene.statics(sc, progress)
@@ -410,6 +437,7 @@ def simulate(scenario, *, progress=None):
     while some unit had not started). Interrupted statics carry nothing.
     """
     sc = _scenario(scenario)
+    _compile_ahead()
     if _other_formulations(sc):
         from .formulations import scene
         try:
@@ -623,6 +651,7 @@ def modes(scenario, n: int | None = None) -> ModalResults:
     sc = _scenario(scenario)
     from .solvers.modal import checked_mode_count
     nmodes = checked_mode_count(n, default=sc.analysis.modal.modes if sc.analysis.modal else 10)
+    _compile_ahead()
     if _other_formulations(sc):
         from .formulations import scene
         return scene.modes(sc, nmodes)

@@ -411,18 +411,10 @@ def cmd_schema(args) -> int:
 
 
 def numba_cache_is_cold() -> bool:
-    """True when the compiled numba kernels are not in the cache yet (the first run after an
-    install, or a new NUMBA_CACHE_DIR): the run then spends minutes compiling before its first
-    step. Judged by the cache index of the time-step and statics kernels; False when numba's
-    cache cannot be inspected."""
-    try:
-        from .solvers.jacobian import jacobian_analytic_at
-        from .solvers.kernels import ga_advance
+    """True when the compiled numba kernels are not in the cache yet (rfesim._precompile.cache_is_cold)."""
+    from ._precompile import cache_is_cold
 
-        paths = [d._cache._cache_file._index_path for d in (ga_advance, jacobian_analytic_at)]
-    except Exception:  # pragma: no cover - a numba without this (private) layout
-        return False
-    return not all(os.path.exists(p) for p in paths)
+    return cache_is_cold()
 
 
 def _note_cold_cache() -> None:
@@ -432,8 +424,12 @@ def _note_cold_cache() -> None:
         from ._precompile import precompile, processes_default
 
         n = processes_default()
-        _err("compiling the numba kernels" + (f" in {n} processes" if n > 1 else "") + ": the first run after an "
-             "install takes several minutes (about 4 on 2 cores); they are cached, so later runs start in seconds")
+        if n < 2:          # one process compiles them as the run calls them: no more than it needs
+            _err("compiling the numba kernels: the first run after an install takes several minutes (about 8 in "
+                 "one process); they are cached, so later runs start in seconds")
+            return
+        _err(f"compiling the numba kernels in {n} processes: the first run after an install takes several "
+             "minutes (about 4 on 2 cores); they are cached, so later runs start in seconds")
         tty = sys.stderr.isatty()
 
         def progress(done: int, total: int) -> None:

@@ -315,17 +315,13 @@ def _remove_stale_warmups() -> None:
 
 def warm_up() -> float:
     """Run the warm-up scenario (loads numba's cache, imports the netCDF writer; a cold cache
-    is filled first by ``rfesim.precompile``); returns its wall time in s."""
+    is filled first by ``rfesim.precompile``, as every first run's); returns its wall time in s."""
     import rfesim
 
     from rfesim.sweep import summarize
 
-    from rfesim.cli import numba_cache_is_cold
-
     t0 = time.perf_counter()
     try:
-        if numba_cache_is_cold():          # compile the kernels ahead, in parallel processes
-            rfesim.precompile()
         res = rfesim.simulate(WARMUP_SCENARIO)
         summarize(res)
         _remove_stale_warmups()

@@ -251,6 +251,11 @@ def test_cold_numba_cache_is_announced(good, tmp_path, monkeypatch, capsys):
         assert "compiling the numba kernels in 2 processes" in captured.err, argv
         assert "compiling" not in captured.out
     assert calls == [2, 2, 2]
+    # with one process the run compiles what it calls (no more than it needs)
+    monkeypatch.setenv("RFESIM_PRECOMPILE", "1")
+    assert main(["statics", str(good)]) == 0
+    assert "compiling the numba kernels: the first run" in capsys.readouterr().err and calls == [2, 2, 2]
+    monkeypatch.setenv("RFESIM_PRECOMPILE", "2")
     # a failure there is a note, and the run compiles as it goes
     monkeypatch.setattr("rfesim._precompile.precompile", lambda n, progress=None: 1 / 0)
     assert main(["statics", str(good)]) == 0

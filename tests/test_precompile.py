@@ -170,3 +170,31 @@ def test_two_precompiles_of_one_cache_take_turns(tmp_path):
     outs = [p.communicate(timeout=600) for p in runs]
     assert [p.returncode for p in runs] == [0, 0], outs
     assert sorted(out.split(" kernels")[0] for out, _ in outs) == ["0", "3"], outs
+
+
+def test_a_run_compiles_ahead_once_on_a_cold_cache(monkeypatch):
+    import copy
+
+    import rfesim
+    import rfesim.api as api
+    from scenes import RISER
+
+    sc = copy.deepcopy(RISER)
+    calls = []
+    monkeypatch.setattr(api, "_COMPILE_CHECKED", False)
+    monkeypatch.setattr(P, "cache_is_cold", lambda: True)
+    monkeypatch.setattr(P, "precompile", lambda n: calls.append(n) or 0)
+    monkeypatch.setenv("RFESIM_PRECOMPILE", "2")
+    bad = copy.deepcopy(sc)
+    bad["lines"]["riser"]["elements"] = 0
+    with pytest.raises(rfesim.ScenarioError, match="elements"):
+        rfesim.statics(bad)                                       # refused before any compiling
+    assert calls == []
+    rfesim.statics(sc)
+    rfesim.modes(sc, n=2)
+    assert calls == [2]                                           # once per process
+    # one process would compile more than the run needs: left to the run
+    monkeypatch.setattr(api, "_COMPILE_CHECKED", False)
+    monkeypatch.setenv("RFESIM_PRECOMPILE", "1")
+    rfesim.statics(sc)
+    assert calls == [2]
