@@ -437,8 +437,9 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     if argv[:1] == ["--record"]:
         # the workload in a process of its own on an empty cache: what it compiles is the record
+        # (and not precompiled from the old record, which would carry its stale kernels over)
         with tempfile.TemporaryDirectory(prefix="rfesim-record-") as cache:
-            env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+            env = dict(os.environ, NUMBA_CACHE_DIR=cache, RFESIM_PRECOMPILE="0")
             return subprocess.call([sys.executable, "-m", "rfesim._precompile", "--record-here"], env=env,
                                    cwd=os.path.dirname(PACKAGE))
     if argv[:1] == ["--record-here"]:
