@@ -9,9 +9,11 @@ as soon as its callees are in the cache, where another process loads them from.
 ``KERNELS`` (``rfesim/data/kernel_signatures.json``) lists the argument types of every
 kernel a run of the shipped scenarios reaches (statics, dynamics with each integrator,
 modes; ``python -m rfesim._precompile --record``; ``tests/test_precompile.py`` fails when
-it is stale). ``precompile(processes)`` starts that many processes; each takes the next kernel
-whose callees are done (claimed by an exclusive file create in a scratch folder), compiles
-it for its listed signatures (numba writes the cache) and marks it done. The callees of a
+it is stale). ``precompile(processes)`` takes the recorded kernels not in the cache yet and
+works on them in that many processes; each takes the next kernel whose callees are done
+(claimed by an exclusive file create in a scratch folder), compiles it for its listed
+signatures (numba writes the cache) and marks it done. Precompiles of one cache take turns
+on a file lock. The callees of a
 kernel are the rfesim kernels its code names (its globals, or attributes of a module it
 names): an over-count only orders the work, an under-count only means a process compiles
 a callee itself. A kernel whose signature cannot be rebuilt (another numba version) is
@@ -21,8 +23,8 @@ from __future__ import annotations
 
 import hashlib
 import importlib
-import os
 import json
+import os
 import subprocess
 import sys
 import tempfile
