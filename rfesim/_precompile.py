@@ -389,32 +389,32 @@ def precompile(processes: int | None = None, only: set[str] | None = None,
         return 0
     lock = _lock()
     try:
-        todo = uncached(sigs, table)
-        if not todo:
+        wanted = uncached(sigs, table)
+        if not wanted:
             return 0
         # run from the folder holding this rfesim, so that the processes compile the same
         # package into the same cache (numba names a cache folder after the source's path):
         # from a checkout with rfesim installed beside it, the checkout's copy would come first
         cmd = [sys.executable, "-c", "import sys; from rfesim._precompile import main; sys.exit(main(sys.argv[1:]))",
-               "--package", PACKAGE, "--only", ",".join(sorted(todo)), "--work"]
+               "--package", PACKAGE, "--only", ",".join(sorted(wanted)), "--work"]
         with tempfile.TemporaryDirectory(prefix="rfesim-precompile-") as folder:
             env = dict(os.environ, PYTHONPATH=os.pathsep.join(
                 [os.path.dirname(PACKAGE)] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]))
             others = []
-            for _ in range(min(processes, len(todo)) - 1):
+            for _ in range(min(processes, len(wanted)) - 1):
                 try:
                     others.append(subprocess.Popen(cmd + [folder], env=env, stdin=subprocess.DEVNULL,
                                                    cwd=os.path.dirname(PACKAGE)))
                 except OSError:        # no more processes: this one does the rest
                     break
             try:
-                work(folder, todo, progress)
+                work(folder, wanted, progress)
             finally:
                 for p in others:
                     p.wait()
             if progress is not None:     # the others' last kernels
-                progress(min(len(todo), sum(1 for name in os.listdir(folder) if name.endswith(".done"))), len(todo))
-        return len(todo)
+                progress(min(len(wanted), sum(1 for name in os.listdir(folder) if name.endswith(".done"))), len(wanted))
+        return len(wanted)
     finally:
         if lock is not None:
             lock.close()
