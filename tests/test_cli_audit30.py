@@ -208,7 +208,7 @@ def test_bench_help_shows_the_runner_options(capsys):
         main(["bench", "--help"])
     assert info.value.code == 0
     out = capsys.readouterr().out
-    assert "--only {h1,h2,scaling,startup,validation,formulations,slay,crane,build}" in out
+    assert "--only {h1,h2,scaling,startup,validation,formulations,slay,crane,build,compile}" in out
     assert "--quick" in out and "--no-moordyn" in out
 
 

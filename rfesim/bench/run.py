@@ -376,7 +376,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--quick", action="store_true", help="a small grid (a few minutes)")
     p.add_argument("--no-moordyn", action="store_true", help="skip the MoorDyn comparison")
     p.add_argument("--only", choices=["h1", "h2", "scaling", "startup", "validation", "formulations", "slay",
-                                        "crane", "build"],
+                                        "crane", "build", "compile"],
                    action="append",
                    help="run only these parts (repeatable)")
     p.add_argument("--output", default=str(DOCS / "benchmarks.md"), help="report file (its core section is replaced)")
@@ -438,6 +438,12 @@ def main(argv=None) -> int:
         # the column crane in irregular waves (issue 5): its own section and "crane" entry of benchmarks.json
         from .run_crane import run_crane_and_write
         print(run_crane_and_write(args.quick, out_path))
+        if not parts & {"h1", "scaling", "startup", "formulations"}:
+            return 0
+    if "compile" in parts:
+        # the cold-cache compile, one process against rfesim.precompile's two: its own section and "compile" entry
+        from .run_compile import run_compile_and_write
+        print(run_compile_and_write(args.quick, out_path))
         if not parts & {"h1", "scaling", "startup", "formulations"}:
             return 0
     if "build" in parts:
