@@ -21,7 +21,7 @@ import statistics
 import time
 from pathlib import Path
 
-from .run import ROOT, log, store_entry, write_marked_section
+from .run import ROOT, log, write_part
 
 MARK_BEGIN = "<!-- build-bench -->"
 MARK_END = "<!-- /build-bench -->"
@@ -96,7 +96,4 @@ def report(b: dict) -> str:
 
 def run_build_and_write(quick: bool, report_path: Path) -> str:
     b = run_build(quick)
-    text = report(b)
-    write_marked_section(text, report_path, MARK_BEGIN, MARK_END)
-    store_entry(report_path, "build", b)
-    return text
+    return write_part("build", b, report(b), report_path, MARK_BEGIN, MARK_END)

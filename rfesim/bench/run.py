@@ -341,6 +341,14 @@ def write_marked_section(text: str, path: Path, begin: str, end: str) -> None:
     path.write_text(new)
 
 
+def write_part(key: str, b: dict, text: str, report_path: Path, begin: str, end: str) -> str:
+    """A benchmark part's results: its section ``text`` (between ``begin`` and ``end``) into the
+    report and ``b`` as its benchmarks.json entry ``key``; returns ``text``."""
+    write_marked_section(text, report_path, begin, end)
+    store_entry(report_path, key, b)
+    return text
+
+
 def store_entry(report_path: Path, key: str, value) -> None:
     """Set one entry of benchmarks.json (next to the report), keeping the others."""
     json_path = report_path.parent / "benchmarks.json"

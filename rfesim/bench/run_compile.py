@@ -15,7 +15,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from .run import ROOT, log, store_entry, write_marked_section
+from .run import ROOT, log, write_part
 
 MARK_BEGIN = "<!-- compile-bench -->"
 MARK_END = "<!-- /compile-bench -->"
@@ -88,7 +88,4 @@ def report(b: dict) -> str:
 
 def run_compile_and_write(quick: bool, report_path: Path) -> str:
     b = run_bench(quick)
-    text = report(b)
-    write_marked_section(text, report_path, MARK_BEGIN, MARK_END)
-    store_entry(report_path, "compile", b)
-    return text
+    return write_part("compile", b, report(b), report_path, MARK_BEGIN, MARK_END)
