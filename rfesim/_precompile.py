@@ -298,11 +298,16 @@ def work(folder: str, only: set[str] | None = None,
                 return
             progress(min(n, len(plan)), len(plan))
 
+    def settled(j: int) -> bool:        # remembered once true: the poll looks at each file once
+        if j not in done and _settled(folder, j):
+            done.add(j)
+        return j in done
+
     while pending:
         ready = None
         for i in list(pending):
             k, deps = plan[i]
-            if all(index[d] in done or _settled(folder, index[d]) for d in deps):
+            if all(settled(index[d]) for d in deps):
                 pending.remove(i)
                 if _claim(folder, i):
                     ready = i
