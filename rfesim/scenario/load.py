@@ -41,10 +41,23 @@ def _unwrap(tp):
         return tp
 
 
+def _type_tag(tp) -> str:
+    """The name pydantic gives a type in an error location ("float", "list[list[float]]",
+    "dict[str,float]"), without spaces."""
+    tp = _unwrap(tp)
+    origin = typing.get_origin(tp)
+    if origin is not None and origin is not Literal:
+        return f"{getattr(origin, '__name__', str(origin))}[{','.join(_type_tag(a) for a in typing.get_args(tp))}]"
+    return getattr(tp, "__name__", str(tp))
+
+
 def _union_member(tp, tag):
     """The member of a union that pydantic's location tag ``tag`` names, or None."""
     for member in typing.get_args(tp):
         m = _unwrap(member)
+        if isinstance(tag, str) and typing.get_origin(m) in (list, dict, tuple) and \
+                tag.replace(" ", "") == _type_tag(m):
+            return m
         if isinstance(m, type) and issubclass(m, BaseModel):
             kind = m.model_fields.get("kind") or m.model_fields.get("method") or m.model_fields.get("type")
             if kind is not None and tag in typing.get_args(_unwrap(kind.annotation)):
@@ -202,7 +215,8 @@ def _reason(err: dict, owner: type | None = None, key: Any = None, tp: Any = Non
         expected = ctx.get("expected_tags") or ", ".join(f"'{k}'" for k in _kinds(tp))
         if typ == "union_tag_not_found":
             return field, f"required field is missing (one of: {expected})"
-        return field, f"unknown {field} '{ctx.get('tag')}' (use one of: {expected})"
+        tag = "null" if isinstance(got, dict) and field in got and got[field] is None else f"'{ctx.get('tag')}'"
+        return field, f"unknown {field} {tag} (use one of: {expected})"
     if typ == "literal_error":
         return "", f"must be {ctx.get('expected', 'one of the allowed values')} (got {_show(got)})"
     if typ in ("too_short", "too_long"):
@@ -211,6 +225,8 @@ def _reason(err: dict, owner: type | None = None, key: Any = None, tp: Any = Non
         if typ == "too_short":
             return "", f"needs at least {lo} entries, got {n}"
         return "", f"allows at most {hi} entries, got {n}"
+    if typ == "int_parsing_size":
+        return "", f"must be a whole number of a usable size, got {_show(got)}"
     if typ == "string_too_long":
         return "", f"is too long (at most {ctx.get('max_length')} characters)"
     if typ in _TYPE_REASONS:
@@ -243,7 +259,7 @@ def validation_errors(exc: ValidationError, prefix: tuple = (), root: type = Sce
     is the location in the Scenario of what was validated (e.g. ``("pipelay",)``), or
     ``root`` the model validated on its own (a data file's RaoTable)."""
     by_path: dict[str, list[str]] = {}
-    not_text: set[str] = set()         # a mapping given where a union takes a name or a model
+    not_text: set[str] = set()         # a mapping (a list) given where a union takes a name (a number) or a model (a list)
     for err in exc.errors():
         loc = tuple(prefix) + tuple(err.get("loc", ()))
         parts, owner, tp = _resolve(loc, root)
@@ -256,13 +272,16 @@ def validation_errors(exc: ValidationError, prefix: tuple = (), root: type = Sce
         if extra:
             parts = parts + [extra]
         path = ".".join(parts)
-        if err.get("type") == "string_type" and isinstance(err.get("input"), dict):
+        if err.get("type") == "string_type" and isinstance(err.get("input"), dict) or \
+                err.get("type") in ("float_type", "float_parsing", "int_type", "int_parsing") and \
+                isinstance(err.get("input"), (list, tuple)):
             not_text.add(path)
         reasons = by_path.setdefault(path, [])
         if reason not in reasons:
             reasons.append(reason)
     # a mapping that failed inside the model of a union (a crane's payload: a body name or a
-    # body) is not also told it is no name
+    # body) is not also told it is no name, nor a list that failed inside the list member of a
+    # union (an angle profile: a number or a table) that it is no number
     for path in not_text:
         if any(p.startswith(path + ".") for p in by_path) and len(by_path[path]) == 1:
             del by_path[path]

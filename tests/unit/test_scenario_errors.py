@@ -11,6 +11,7 @@ from __future__ import annotations
 import copy
 import json
 import math
+from pathlib import Path
 
 import pydantic
 import pytest
@@ -606,3 +607,39 @@ def test_no_pydantic_error_leaks():
         rfesim.Scenario.model_validate({"lines": {"pipe": {"length": "x"}}})
     assert info.value.__cause__ is None and info.value.__suppress_context__
     assert isinstance(info.value, ValueError)
+
+
+@pytest.mark.parametrize("value, expected", [
+    # a table row too short: the row is named by its index, not by pydantic's union tag
+    # ("slewing_deg.list[list[float]].0"), and the number alternative is not also blamed
+    ([[0.0], [10.0, 90.0]], [("cranes.crane.slewing_deg.0", "needs at least 2 entries, got 1")]),
+    ([[0.0, 80.0], [10.0, "x"]], [("cranes.crane.slewing_deg.1.1", "must be a number, got 'x'")]),
+    # neither alternative fits: both are named on the field
+    ("x", [("cranes.crane.slewing_deg", "must be a number, got 'x'; or must be a list, got 'x'")]),
+])
+def test_angle_profile_errors_name_the_row(value, expected):
+    folder = Path(__file__).resolve().parents[2] / "scenarios"
+    data = json.loads((folder / "column_crane.json").read_text())
+    data["cranes"]["crane"]["slewing_deg"] = value
+    with pytest.raises(ScenarioError) as info:
+        rfesim.load_scenario(data, base_dir=folder)
+    assert info.value.errors == expected
+
+
+def test_oversized_integer_is_named():
+    # pydantic's own words were "Unable to parse input string as an integer, exceeded maximum size"
+    data = copy.deepcopy(BASE)
+    data["lines"]["pipe"]["elements"] = 1e30
+    with pytest.raises(ScenarioError) as info:
+        rfesim.load_scenario(data)
+    assert info.value.errors == [("lines.pipe.elements", "must be a whole number of a usable size, got 1e+30")]
+
+
+def test_null_kind_is_called_null():
+    # a null kind was reported as the text 'None'
+    data = copy.deepcopy(BASE)
+    data["vessels"] = {"ship": {"position": [0.0, 0.0, 0.0], "motion": {"kind": None}}}
+    with pytest.raises(ScenarioError) as info:
+        rfesim.load_scenario(data)
+    assert info.value.errors == [("vessels.ship.motion.kind",
+                                  "unknown kind null (use one of: 'fixed', 'harmonic', 'table', 'rao', 'csv')")]
