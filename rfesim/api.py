@@ -315,6 +315,30 @@ def _catenary_retry(system: System, sc: Scenario, exc: SolverError, excess, save
     return state, info
 
 
+START_IMBALANCE = 10.0     # a start shape out of balance by more than this x the force scale is named on a failure
+
+
+def _start_imbalance(system: System, state) -> str | None:
+    """With analysis.statics.enabled false the dynamics start from the scenario's start shape:
+    when that is out of balance by more than START_IMBALANCE x the scene's force scale (its
+    largest weight or point load), what a failed run's SolverError adds as a hint (None
+    otherwise): the largest out-of-balance force, where, and what to do. Evaluated before the
+    run (a winch's payout rewrites the model as it runs)."""
+    out = np.zeros_like(state.q)
+    system.static_residual(state.q, state.ref, 1.0, out)
+    force = np.abs(out[:, :3]).max(axis=1) if out.size else np.zeros(0)
+    if force.size == 0 or not np.isfinite(force).all():
+        return None
+    i = int(np.argmax(force))
+    scale = system.force_scale(state)
+    if force[i] <= START_IMBALANCE * scale:
+        return None
+    return (f"analysis.statics.enabled is false, so the dynamics started from the scenario's start shape, which is "
+            f"out of balance by up to {force[i] / 1e3:.4g} kN ({force[i] / scale:.3g} times the largest weight or "
+            f"load, {scale / 1e3:.4g} kN) at {system.model.describe_rfe(i)}: enable the statics "
+            f"(analysis.statics.enabled: true) to start from the equilibrium")
+
+
 STATICS_WARNING = "; statics warning: "     # what precedes each statics warning in a results' message
 
 
@@ -470,6 +494,7 @@ def simulate(scenario, *, progress=None):
                           kind="statics", **meta)
         res.message += _breaking_load_message(sc, res)
         return _with_modes(sc, res)
+    unbalanced = None if an.statics.enabled else _start_imbalance(system, state)
     try:
         state, rec, counters = run_dynamics(system, state, dyn, progress=progress, counters=counters)
     except SolverError as exc:
@@ -477,6 +502,12 @@ def simulate(scenario, *, progress=None):
             exc.results.scenario_json = meta["scenario_json"]
             exc.results.version = __version__
             exc.results.message = _with_warnings(exc.results.message, info) + _dynamic_warnings(model, exc.results, sc)
+        if unbalanced is not None:
+            hint = "; ".join(h for h in (exc.hint, unbalanced) if h)
+            if exc.results is not None:
+                exc.results.message += f"; {unbalanced}"
+            raise SolverError(exc.message, time=exc.time, element=exc.element, quantity=exc.quantity,
+                              results=exc.results, hint=hint) from None
         raise
     except (CancelledError, KeyboardInterrupt) as exc:
         # a progress callback that raised (CancelledError, status CANCELLED) or Ctrl-C (or
