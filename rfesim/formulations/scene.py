@@ -33,6 +33,7 @@ import numpy as np
 from ..errors import SolverError
 from ..results import JointResults, LineResults, Results
 from ..scenario.chains import line_frame, planar_axes
+from . import energy_check
 from . import planar as pl
 from . import planar_kernels as pk
 from . import tree
@@ -50,6 +51,7 @@ from .chain import (
     simulate_chain,
 )
 from .classical import ClassicalLink, linear_modes
+from .energy_check import open_terms
 from .links import BeamProperties, RigidLink
 from .modified import ModifiedLink
 from .transforms import SPHERICAL
@@ -179,6 +181,7 @@ class ChainUnit:
     linear_clamped: bool = False  # a clamped classical-linear line on a fixed base: sparse modes
     joints: dict = field(default_factory=dict)   # joint name -> coordinate indices
     cache: dict = field(default_factory=dict)
+    open: list = field(default_factory=list)     # what feeds or drains its energy (energy_check.open_terms)
 
 
 @dataclass
@@ -219,9 +222,16 @@ def compile_scene(sc) -> Scene:
         chains.append(ChainUnit(f"lines.{name}", model, np.zeros(model.nq), np.zeros(model.nq), [out],
                                 linear_clamped=(ln.formulation == "classical-linear" and kind == "fixed"
                                                 and ln.end_a.attach == "fixed")))
+        chains[-1].open = open_terms(chains[-1], _moving(sc, ln.end_a.attach))
     for cname, spec in getattr(sc, "chains", {}).items():
         chains.append(_chain_unit(sc, cname, spec, gvec))
+        chains[-1].open = open_terms(chains[-1], _moving(sc, spec.base))
     return Scene(chains, planars, g)
+
+
+def _moving(sc, attach: str) -> bool:
+    """True when a unit's base moves: on a vessel whose motion is not ``fixed``."""
+    return attach != "fixed" and getattr(sc.vessels[attach].motion, "kind", None) != "fixed"
 
 
 def _chain_unit(sc, cname, spec, gvec) -> ChainUnit:
@@ -839,6 +849,8 @@ def simulate(sc, progress=None):
                 raise SolverError(msg, time=t_fail, element=label,
                                   results=_partial(sc, scene, times, hist, n_keep, f"{msg} at t = {t_fail:.6g} s",
                                                    counters))
+            energy_warnings = _energy_growth(sc, scene, times, hist, counters, wall0,
+                                             "tighten analysis.dynamics.integrator.rtol / atol or set max_step")
         else:
             T = float(dyn.duration)
             step = integ.time_step
@@ -906,6 +918,8 @@ def simulate(sc, progress=None):
                 raise SolverError(msg, time=t_fail, element=label,
                                   results=_partial(sc, scene, times, hist, n_keep, f"{msg} at t = {t_fail:.6g} s",
                                                    counters))
+            energy_warnings = _energy_growth(sc, scene, times, hist, counters, wall0,
+                                             _step_remedy(scene, states, step, integ))
     except _Cancel as exc:
         # the progress callback raised (the service's cancel): the time span all units
         # reached goes with the CancelledError, as with an interruption
@@ -920,8 +934,59 @@ def simulate(sc, progress=None):
         exc.results = _interrupted(sc, scene, states, rates, recorded, counters, per_out, failure)
         raise
     counters["wall_time"] = _time.perf_counter() - wall0
-    return _results(sc, scene, times, hist, kind="dynamics", message=f"finished: {counters.get('steps', 0)} steps",
-                    counters=counters, version=__version__)
+    from ..api import DYNAMICS_WARNING
+    message = f"finished: {counters.get('steps', 0)} steps" + "".join(DYNAMICS_WARNING + w for w in energy_warnings)
+    return _results(sc, scene, times, hist, kind="dynamics", message=message, counters=counters,
+                    version=__version__)
+
+
+def _step_remedy(scene, states, step: float, integ) -> str:
+    """What to change when a fixed-step run of the scene gained energy: the step (against the
+    RK4 stability limit where the integrator is RK4), or rho_inf for generalized-alpha."""
+    limit = ""
+    if integ.kind == "rk4" or scene.chains:
+        try:
+            w = _omega_max(scene, states)
+            if w > 0.0:
+                limit = f" (its RK4 stability limit is about {RK4_LIMIT / w:.3g} s)"
+        except SolverError:
+            pass
+    text = f"shorten analysis.dynamics.integrator.time_step ({step:.4g} s){limit}"
+    if integ.kind != "rk4" and scene.planars:
+        text += ", or lower analysis.dynamics.integrator.rho_inf for the planar lines"
+    return text
+
+
+def _energy_growth(sc, scene, times, hist, counters, wall0, remedy: str) -> list[str]:
+    """The energy check of the closed units after their integration (energy_check): a unit
+    whose mechanical energy grew past ENERGY_STOP of its scale stops the run (SolverError,
+    the outputs up to that output, status 1); past ENERGY_WARN the warnings returned."""
+    from ..solvers.dynamics import ENERGY_STOP, ENERGY_WARN
+    out = []
+    checks = []
+    n = len(times)
+    for unit, (Q, QD, _) in zip(scene.chains, hist):
+        if not unit.open:
+            kin_el, pot, floor = energy_check.chain_energies(unit.model, times, Q[:n], QD[:n])
+            checks.append(energy_check.growth(unit.label, kin_el, pot, floor))
+    for u, (Q, QD, _) in zip(scene.planars, hist[len(scene.chains):]):
+        kin_el, pot, floor = energy_check.planar_energies(u.model, Q[:n], QD[:n])
+        checks.append(energy_check.growth(u.label, kin_el, pot, floor))
+    stops = [(g.first_over(ENERGY_STOP), g) for g in checks]
+    stops = [(k, g) for k, g in stops if k is not None]
+    if stops:
+        k, g = min(stops, key=lambda x: x[0])
+        t = float(times[k])
+        why = f"{g.describe(k, t)} - {remedy}"
+        counters["wall_time"] = _time.perf_counter() - wall0
+        raise SolverError("the run diverged", time=t, element=g.label, quantity="energy growth", hint=why,
+                          results=_partial(sc, scene, times, hist, k + 1,
+                                           f"energy growth at t = {t:.6g} s in {g.label}; {why}", counters))
+    for g in checks:
+        k = int(np.argmax(g.ratio)) if g.ratio.size else 0
+        if g.ratio.size and g.ratio[k] > ENERGY_WARN:
+            out.append(f"{g.describe(k, float(times[k]))} - {remedy}")
+    return out
 
 
 def _dop853(rhs, y0, times, kw, progress=None):
