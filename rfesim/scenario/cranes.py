@@ -54,7 +54,7 @@ from .schema import (COEFFICIENT_LIMIT, DAMPING_LIMIT, DENSITY_LIMIT, FORCE_LIMI
                      MASS_PER_LENGTH_LIMIT, MAX_COEFFICIENT, MAX_DAMPING, MAX_DENSITY, MAX_FORCE, MAX_MASS,
                      MAX_MASS_PER_LENGTH, MAX_MODULUS, MAX_SECTION_STIFFNESS, MAX_STIFFNESS, MIN_MASS_PER_LENGTH,
                      MODULUS_LIMIT, SECTION_STIFFNESS_LIMIT, STIFFNESS_LIMIT, FieldError, Vector3, Vessel, _Strict,
-                     _units)
+                     _units, DENSITY_FLOOR, MIN_DENSITY, MIN_MODULUS, MODULUS_FLOOR)
 from .tuggers import TuggerElastic, TuggerTension
 from .winches import TemplateWinch
 
@@ -137,10 +137,10 @@ class MemberSpec(_Strict):
     wall_thickness: float | None = _units("m", "Tube wall thickness, less than outer_diameter/2", default=None,
                                           ge=MIN_WALL_THICKNESS,
                                           floor=WALL_THICKNESS_FLOOR)
-    youngs_modulus: float = _units("Pa", "Young's modulus", default=STEEL_E, gt=0.0,
-                                   le=MAX_MODULUS, limit=MODULUS_LIMIT)
-    density: float = _units("kg/m^3", "Density of the steel", default=STEEL_DENSITY, gt=0.0,
-                            le=MAX_DENSITY, limit=DENSITY_LIMIT)
+    youngs_modulus: float = _units("Pa", "Young's modulus", default=STEEL_E, ge=MIN_MODULUS,
+                                   le=MAX_MODULUS, limit=MODULUS_LIMIT, floor=MODULUS_FLOOR)
+    density: float = _units("kg/m^3", "Density of the steel", default=STEEL_DENSITY, ge=MIN_DENSITY,
+                            le=MAX_DENSITY, limit=DENSITY_LIMIT, floor=DENSITY_FLOOR)
     EA: float | None = _units("N", "Axial stiffness (instead of a tube)", default=None, gt=0.0,
                               le=MAX_SECTION_STIFFNESS, limit=SECTION_STIFFNESS_LIMIT)
     EI: float | None = _units("N*m^2", "Bending stiffness (instead of a tube)", default=None, gt=0.0,

@@ -44,7 +44,7 @@ from pydantic import Field, TypeAdapter, ValidationError, model_validator
 from .schema import (COEFFICIENT_LIMIT, DAMPING_LIMIT, DENSITY_LIMIT, FORCE_LIMIT, MAX_COEFFICIENT, MAX_DAMPING,
                      MAX_DENSITY, MAX_FORCE, MAX_MODULUS, MAX_STIFFNESS, MIN_SEABED_STIFFNESS, MODULUS_LIMIT,
                      SEABED_STIFFNESS_FLOOR, STIFFNESS_LIMIT, FieldError, PayoutConstantTension, PayoutTable, Vector3,
-                     Vessel, _Strict, _units)
+                     Vessel, _Strict, _units, DENSITY_FLOOR, MIN_DENSITY, MIN_MODULUS, MODULUS_FLOOR)
 
 # API 5L specified minimum yield strength (Pa)
 GRADE_YIELD = {"X52": 359e6, "X56": 386e6, "X60": 414e6, "X65": 448e6, "X70": 483e6, "X80": 552e6}
@@ -78,10 +78,10 @@ class PipeSpec(_Strict):
                           "Default: elastoplastic for reel-lay, elastic otherwise")
     hardening_ratio: float = _units("1", "Bilinear hardening E_t/E of an elastoplastic pipe", default=0.01,
                                     ge=0.0, lt=1.0)
-    youngs_modulus: float = _units("Pa", "Young's modulus of the steel", default=STEEL_E, gt=0.0,
-                                   le=MAX_MODULUS, limit=MODULUS_LIMIT)
-    density: float = _units("kg/m^3", "Steel density", default=STEEL_DENSITY, gt=0.0,
-                            le=MAX_DENSITY, limit=DENSITY_LIMIT)
+    youngs_modulus: float = _units("Pa", "Young's modulus of the steel", default=STEEL_E, ge=MIN_MODULUS,
+                                   le=MAX_MODULUS, limit=MODULUS_LIMIT, floor=MODULUS_FLOOR)
+    density: float = _units("kg/m^3", "Steel density", default=STEEL_DENSITY, ge=MIN_DENSITY,
+                            le=MAX_DENSITY, limit=DENSITY_LIMIT, floor=DENSITY_FLOOR)
     coating_thickness: float = _units("m", "Coating thickness (concrete, insulation); the hydrodynamic and "
                                       "contact diameter is outer_diameter + 2 coating_thickness", default=0.0,
                                       ge=0.0)

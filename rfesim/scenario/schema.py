@@ -60,6 +60,10 @@ def _units(u: str, description: str, limit: str | None = None, floor: str | None
 # which the arithmetic with them overflows (float64 ends at 1.8e308; the SDE stiffness grows as
 # E I / dx^3 with dx down to MIN_SEGMENT = 1e-6 m): a number past them has the wrong units.
 MAX_MODULUS = 1.0e20                # Pa
+MIN_MODULUS = 1.0e5                 # Pa
+MODULUS_FLOOR = ("a tenth of the softest rubber (about 1e6 Pa), far below any pipe, rope, cable or member "
+                 "(polyurethane 1e7 to 1e8 Pa, polyester rope fibre 1e10 Pa, steel 2.1e11 Pa): a line that soft "
+                 "has no static shape to converge to (check the units, Pa)")
 MODULUS_LIMIT = ("1e8 times the stiffest material (diamond, 1.2e12 Pa), room enough for a 'rigid' stand-in (1e15 Pa "
                  "passes), and the element stiffness E*I/dx^3 stays far from overflow (check the units, Pa)")
 MAX_SECTION_STIFFNESS = 1.0e22      # N (EA, GA), N*m^2 (EI, GJ)
@@ -1272,8 +1276,8 @@ class LineType(_Strict):
                                                 "slender (check the units, metres)")
     wall_thickness: float | None = _units("m", "Wall thickness of a pipe, less than outer_diameter/2",
                                           default=None, gt=0.0)
-    youngs_modulus: float | None = _units("Pa", "Young's modulus", default=None, gt=0.0,
-                                          le=MAX_MODULUS, limit=MODULUS_LIMIT)
+    youngs_modulus: float | None = _units("Pa", "Young's modulus", default=None, ge=MIN_MODULUS,
+                                          le=MAX_MODULUS, limit=MODULUS_LIMIT, floor=MODULUS_FLOOR)
     poisson_ratio: float = _units("1", "Poisson's ratio", default=0.3, gt=-1.0, lt=0.5)
     density: float | None = _units("kg/m^3", "Material density of the pipe wall", default=None, ge=MIN_DENSITY,
                                    le=MAX_DENSITY, limit=DENSITY_LIMIT, floor=DENSITY_FLOOR)

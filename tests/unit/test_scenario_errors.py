@@ -218,7 +218,7 @@ CASES = [
     ("poisson-too-small", put(line_types__pipe12__poisson_ratio=-1.5), "line_types.pipe12.poisson_ratio",
      "greater than -1"),
     ("youngs-zero", put(line_types__pipe12__youngs_modulus=0.0), "line_types.pipe12.youngs_modulus",
-     "greater than 0"),
+     "greater than or equal to 100000 Pa"),
     ("youngs-absurd", put(line_types__pipe12__youngs_modulus=1e307, line_types__pipe12__outer_diameter=100.0,
                           line_types__pipe12__wall_thickness=10.0),
      "line_types.pipe12.youngs_modulus", "stiffness"),

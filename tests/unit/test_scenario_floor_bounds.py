@@ -416,8 +416,9 @@ def test_json_schema_states_the_unit_bounds():
     assert (heading["minimum"], heading["maximum"]) == (-1e6, 1e6)
     ramp = defs["HarmonicMotion"]["properties"]["ramp_duration"]        # its own minimum stays
     assert (ramp["minimum"], ramp["maximum"]) == (0.0, 1e7)
-    modulus = defs["LineType"]["properties"]["youngs_modulus"]          # its own bound stays
-    assert "diamond" in modulus["limit"] and "minimum" not in json.dumps(modulus)
+    modulus = defs["LineType"]["properties"]["youngs_modulus"]          # its own bounds stay
+    assert "diamond" in modulus["limit"] and "rubber" in modulus["floor"]
+    assert modulus["anyOf"][0]["minimum"] == 1e5 and modulus["anyOf"][0]["maximum"] == 1e20
 
 
 
@@ -435,3 +436,22 @@ def test_table_units_read_numbers_and_tables():
     assert table_units("s, m/s") == (None, ["s", "m/s"])
     assert table_units("[1, Pa]") == (None, ["1", "Pa"])
     assert table_units("m") == ("m", None)
+
+
+@pytest.mark.parametrize("name, path", [
+    ("s_lay", "line_types.x65.youngs_modulus"),
+    ("column_crane", "cranes.crane.boom.youngs_modulus"),
+    ("j_lay", "pipelay.lay.pipe.youngs_modulus"),
+])
+def test_youngs_modulus_floor(name, path):
+    # 1e-12 Pa used to reach the statics, which failed with "Newton did not converge"
+    reason = errors_of(name, {path: 1e-12})[path]
+    assert reason.startswith("must be greater than or equal to 100000 Pa (got 1e-12): a tenth of the softest rubber")
+    load(name, {path: 1e9})                      # a soft polymer passes
+
+
+@pytest.mark.parametrize("name, path", [("column_crane", "cranes.crane.boom.density"),
+                                        ("j_lay", "pipelay.lay.pipe.density")])
+def test_template_steel_density_floor(name, path):
+    reason = errors_of(name, {path: 1e-3})[path]
+    assert reason.startswith("must be greater than or equal to 1 kg/m^3 (got 0.001): about the density of air")
