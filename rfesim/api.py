@@ -179,7 +179,44 @@ def _statics_hint(sc: Scenario, model=None) -> str | None:
     shapeless = _no_static_shape(sc, model)
     if shapeless:
         return shapeless[0]
-    return _shear_hint(model)
+    shear = _shear_hint(model)
+    if shear is not None:
+        return shear
+    neutral = _neutral_lines(sc)
+    if neutral:
+        name, w, dry = neutral[0]
+        more = f" (and {len(neutral) - 1} more)" if len(neutral) > 1 else ""
+        return (f"line '{name}'{more} is nearly neutrally buoyant: its submerged weight is {w:.4g} N/m, "
+                f"{100 * abs(w) / dry:.2g} % of its {dry:.4g} N/m in air, so it hardly settles anywhere (on the "
+                f"seabed, on rollers or in a sag) and the contacts it barely touches switch Newton from step to "
+                f"step; check the line type's density, contents_density and coating (the weight the water "
+                f"does not carry), or set analysis.statics.enabled to false")
+    return None
+
+
+NEUTRAL_BUOYANCY = 0.02   # a line whose submerged weight is within this fraction of its dry weight
+
+
+def _neutral_lines(sc: Scenario) -> list[tuple[str, float, float]]:
+    """Lines in water whose submerged weight per length is within NEUTRAL_BUOYANCY of their
+    weight in air: (name, submerged weight N/m, weight in air N/m)."""
+    from .model.compile import _submerged_weight
+    from .model.sections import section_from_type
+
+    g = sc.environment.gravity
+    if sc.environment.water is None or g <= 0.0:
+        return []
+    out = []
+    for name, line in sc.lines.items():
+        lt = sc.line_types.get(line.type)
+        if lt is None:
+            continue
+        sec = section_from_type(lt)
+        dry = sec.mass_per_length * g
+        w = _submerged_weight(sec, sc)
+        if dry > 0.0 and abs(w) < NEUTRAL_BUOYANCY * dry:
+            out.append((name, w, dry))
+    return out
 
 
 def _no_static_shape(sc: Scenario, model) -> list[str]:
