@@ -182,6 +182,20 @@ def _statics_hint(sc: Scenario, model=None) -> str | None:
     shear = _shear_hint(model)
     if shear is not None:
         return shear
+    slack = _slack_ropes(model)
+    if slack:
+        name, length, chord, lower = slack[0]
+        more = f" (and {len(slack) - 1} more)" if len(slack) > 1 else ""
+        field = f"lines.{name}.length"
+        origins = getattr(sc, "_origins", None) or {}
+        if origins:
+            from .scenario.pipelay import template_path
+            field = template_path(field, origins)
+        return (f"rope '{name}'{more} is {length - chord:.4g} m longer than the distance between its ends at the "
+                f"start ({chord:.6g} m{lower}), one end nearly above the other: it starts slack along its whole "
+                f"length, with no axial stiffness to guide Newton to its hanging shape (a loop below the lower "
+                f"end); give {field} at most {chord:.6g} m for a taut rope, or set analysis.statics.enabled to "
+                f"false and start the dynamics from the given shape")
     neutral = _neutral_lines(sc)
     if neutral:
         name, w, dry = neutral[0]
@@ -192,6 +206,38 @@ def _statics_hint(sc: Scenario, model=None) -> str | None:
                 f"step; check the line type's density, contents_density and coating (the weight the water "
                 f"does not carry), or set analysis.statics.enabled to false")
     return None
+
+
+VERTICAL = 0.1     # a rope's ends within this ratio of horizontal to vertical distance: one above the other
+
+
+def _slack_ropes(model) -> list[tuple[str, float, float, str]]:
+    """Ropes (lines of tension-only SDEs) longer than the distance between their ends at the
+    start by more than EXCESS_LENGTH whose start shape compresses them (one end above the
+    other: the catenary start degenerates and bows the rope sideways, every element slack):
+    (name, length, distance, where end B is held). A slack rope between ends apart
+    sideways starts from its catenary, taut, and is not listed."""
+    if model is None:
+        return []
+    km = model.km
+    candidates = [li for li in model.lines
+                  if li.chord is not None and li.length > li.chord * (1.0 + EXCESS_LENGTH)
+                  and li.sde_stop > li.sde_start and np.all(km.sde_tension_only[li.sde_start:li.sde_stop] == 1)]
+    if not candidates:
+        return []
+    system = System(model)
+    system.evaluate(model.initial)
+    eps, r = system.ws.eps[:, 0], system.ws.r
+    out = []
+    for li in candidates:
+        d = r[li.rfe_stop - 1] - r[li.rfe_start]          # the end RFEs' centres
+        if not (np.all(eps[li.sde_start:li.sde_stop] < 0.0) and math.hypot(d[0], d[1]) < VERTICAL * abs(d[2])):
+            continue
+        held = li.end_b.attach if li.end_b is not None else None
+        bodies = {b.name for b in (getattr(model, "bodies", None) or [])}
+        lower = f", end B at body '{held}'" if held in bodies else ""
+        out.append((li.name, float(li.length), float(li.chord), lower))
+    return out
 
 
 NEUTRAL_BUOYANCY = 0.02   # a line whose submerged weight is within this fraction of its dry weight
