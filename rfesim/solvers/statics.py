@@ -540,6 +540,7 @@ def _solve(system: System, state: State | None, tolerance: float, max_iterations
     total_its = 0
     nsteps = 0
     rn = np.inf
+    tried = None                # (load factor, least residual) of the last increment that failed
     while True:
         lam = min(1.0, lam_done + dlam)
         ok = False
@@ -647,6 +648,10 @@ def _solve(system: System, state: State | None, tolerance: float, max_iterations
             if progress is not None:
                 progress(min(0.999, lam_done + dlam * 0.5), st.t)
         nsteps += 1
+        if not ok and np.isfinite(rn):
+            # where this increment left the residual: its size and the RFE it is largest on
+            system.static_residual(st.q, st.ref, lam, r)
+            tried = (lam, rn, int(np.argmax(np.abs(r).max(axis=1))))
         if ok:
             lam_done = lam
             q_good[:] = st.q
@@ -665,7 +670,7 @@ def _solve(system: System, state: State | None, tolerance: float, max_iterations
             lam_fail = max(lam_done, dlam)
             system.static_residual(st.q, st.ref, lam_fail, r)
             rn = _norm(r, mask, ls, force_ref)
-            elem = int(np.argmax(np.abs(r).max(axis=1)))
+            elem = int(np.argmax(np.abs(r).max(axis=1))) if tried is None or lam_done <= 0.0 else tried[2]
             # a tensioner or reel whose grips all slip: its capacity, not an element, is the cause
             held = capacity_hint(system, lam_fail)
             if total_its >= max_iterations:
@@ -675,8 +680,11 @@ def _solve(system: System, state: State | None, tolerance: float, max_iterations
             else:
                 why = (f"the load increment was halved below 1e-4 of the full load after {total_its} iterations: "
                        f"Newton failed on every smaller increment")
+            # the residual where Newton failed, not at the load factor it reached (there it converged)
+            stuck = (f"at load factor {tried[0]:.4g} the residual stayed at {tried[1]:.3g}" if tried is not None
+                     and lam_done > 0.0 else f"residual {rn:.3g}")
             raise SolverError("static equilibrium not found: Newton did not converge "
-                              f"(load factor {lam_done:.4g} reached, residual {rn:.3g} x force scale {force_ref:.3g} N; "
+                              f"(load factor {lam_done:.4g} reached, {stuck} x force scale {force_ref:.3g} N; "
                               f"{why})" + (f"; {held[0]}" if held else ""),
                               time=st.t, element=model.describe_rfe(elem), quantity="static residual",
                               hint=held[1] if held else None)
