@@ -616,7 +616,7 @@ def _half_track(tpl, track: float, what: str) -> str:
     came from: without tensioner.length the track is 10 m and at least three elements
     (_track_length), so with long elements it is longer than the 10 m default (100 m J-lay
     elements: a 292 m collar, reported as "half the collar (147 m)" without a word why)."""
-    if tpl.tensioner.length is not None:
+    if tpl.tensioner.length is not None or track <= 10.0 * (1.0 + 1e-9):
         return f"half the {what} ({0.5 * track:.3g} m)"
     return (f"half the {what} ({0.5 * track:.3g} m; without tensioner.length the {what} is 10 m long and at "
             f"least three elements, so these elements stretch it to {track:.4g} m)")
@@ -1081,8 +1081,10 @@ def _reel_lay(tpl, pipe, vpos, heading, z_bed) -> dict:
                      f"of at most {ALIGNER_ELEMENT_FRACTION * tpl.aligner_radius:.4g} m (an eighteenth of the "
                      f"aligner radius)"),
         max_element=min(layer, 0.5 * track, 0.25 * reel_radius, 0.25 * tpl.aligner_radius),
-        max_element_reason=f"bending boundary layer sqrt(EI/H) = {layer:.3g} m, half the tensioner, a quarter "
-                           f"of the reel and aligner radii must each span at least one element",
+        max_element_reason=f"bending boundary layer sqrt(EI/H) = {layer:.3g} m, "
+                           f"{_half_track(tpl, track, 'tensioner')}, a quarter of the reel radius "
+                           f"({0.25 * reel_radius:.3g} m) and a quarter of the aligner radius "
+                           f"({0.25 * tpl.aligner_radius:.3g} m) must each span at least one element",
         supports={
             "reel": {"kind": "reel", "centre": [take_off[0], take_off[1], take_off[2] - reel_radius],
                      "axis": [0.0, -1.0, 0.0], "direction": [1.0, 0.0, 0.0], "radius": reel_radius,

@@ -34,3 +34,18 @@ def test_given_collar_length_is_named_plainly():
     with pytest.raises(ScenarioError) as err:
         rfesim.load_scenario(d, base_dir=SCENARIOS)
     assert "half the collar (20 m) must" in str(err.value)
+
+
+def test_reel_lay_names_each_limit_and_the_default_track_plainly():
+    # the reel-lay message said "a quarter of the reel and aligner radii" without their sizes,
+    # and a default 10 m tensioner that no element stretched was explained as stretched
+    d = json.loads((SCENARIOS / "reel_lay.json").read_text())
+    d["pipelay"]["lay"]["element_length"] = 3.0
+    with pytest.raises(ScenarioError) as err:
+        rfesim.load_scenario(d, base_dir=SCENARIOS)
+    text = str(err.value)
+    radius = d["pipelay"]["lay"]["aligner_radius"]
+    assert "elements of 2.99 m are longer than 2.04 m" in text
+    assert "half the tensioner (5 m), a quarter of the reel radius (2.04 m)" in text
+    assert f"a quarter of the aligner radius ({0.25 * radius:.3g} m)" in text
+    assert "stretch" not in text
