@@ -196,6 +196,15 @@ def _statics_hint(sc: Scenario, model=None) -> str | None:
                 f"length, with no axial stiffness to guide Newton to its hanging shape (a loop below the lower "
                 f"end); give {field} at most {chord:.6g} m for a taut rope, or set analysis.statics.enabled to "
                 f"false and start the dynamics from the given shape")
+    surfacing = _buoyant_at_surface(sc, model)
+    if surfacing:
+        name, w, rise = surfacing[0]
+        more = f" (and {len(surfacing) - 1} more)" if len(surfacing) > 1 else ""
+        return (f"line '{name}'{more} is buoyant (its submerged weight is {w:.4g} N/m: it floats up) and held at "
+                f"both ends under the surface, and its arch between them reaches the surface (its start shape "
+                f"rises {rise:.3g} m above it): there it floats, half submerged, and the length beyond what can "
+                f"arch under the surface lies along it with no unique static shape; give the line weight (its line "
+                f"type's density, contents_density or coating), shorten it, or set analysis.statics.enabled to false")
     neutral = _neutral_lines(sc)
     if neutral:
         name, w, dry = neutral[0]
@@ -237,6 +246,38 @@ def _slack_ropes(model) -> list[tuple[str, float, float, str]]:
         bodies = {b.name for b in (getattr(model, "bodies", None) or [])}
         lower = f", end B at body '{held}'" if held in bodies else ""
         out.append((li.name, float(li.length), float(li.chord), lower))
+    return out
+
+
+def _buoyant_at_surface(sc: Scenario, model) -> list[tuple[str, float, float]]:
+    """Buoyant lines with both ends placed under water whose start shape (the catenary of their
+    net buoyancy, arched up) reaches the surface: (name, submerged weight N/m (< 0), the height
+    of the start shape's top above the surface less the line's radius, m)."""
+    from .model.compile import _submerged_weight
+    from .model.sections import section_from_type
+
+    water = sc.environment.water
+    if model is None or water is None or sc.environment.gravity <= 0.0:
+        return []
+    candidates = []
+    for li in model.lines:
+        line = sc.lines.get(li.name)
+        lt = sc.line_types.get(line.type) if line is not None else None
+        if lt is None or li.chord is None:
+            continue
+        w = _submerged_weight(section_from_type(lt), sc)
+        if w < 0.0:
+            candidates.append((li, w))
+    if not candidates:
+        return []
+    system = System(model)
+    system.evaluate(model.initial)
+    out = []
+    for li, w in candidates:
+        r = system.ws.r[li.rfe_start:li.rfe_stop]
+        rise = float(r[:, 2].max()) + 0.5 * li.section.outer_diameter - water.surface_level
+        if rise >= 0.0 and float(r[0, 2]) < water.surface_level and float(r[-1, 2]) < water.surface_level:
+            out.append((li.name, w, rise))
     return out
 
 

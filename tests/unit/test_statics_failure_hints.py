@@ -17,7 +17,7 @@ from pathlib import Path
 import pytest
 
 import rfesim
-from rfesim.api import NEUTRAL_BUOYANCY, _compiled, _neutral_lines, _slack_ropes
+from rfesim.api import NEUTRAL_BUOYANCY, _buoyant_at_surface, _compiled, _neutral_lines, _slack_ropes
 
 SCENARIOS = Path(__file__).resolve().parents[2] / "scenarios"
 G, RHO_W = 9.81, 1025.0
@@ -94,3 +94,32 @@ def test_failed_statics_names_the_slack_rope_and_the_length_that_holds():
 def test_taut_rope_is_not_slack():
     sc = rfesim.load_scenario(liftoff(4.0), base_dir=SCENARIOS)      # the shipped geometry
     assert _slack_ropes(_compiled(sc)) == []
+
+
+def riser(water_density: float) -> dict:
+    data = json.loads((SCENARIOS / "catenary_riser.json").read_text())
+    data["environment"]["water"]["density"] = water_density
+    data["analysis"]["dynamics"]["enabled"] = False
+    return data
+
+
+def test_failed_statics_names_the_buoyant_line_that_reaches_the_surface():
+    # water 1.5 x as dense: the 12 in riser floats up (-58 N/m) between its anchor 200 m down
+    # and the FPSO's 15 m down, and its 600 m arch over 535 m reaches the surface (with the
+    # steel's E at 0.7 x its statics fails; at 1 x it happens to converge)
+    data = riser(1537.5)
+    data["line_types"]["pipe12"]["youngs_modulus"] = 1.449e11
+    lt = data["line_types"]["pipe12"]
+    D, t = lt["outer_diameter"], lt["wall_thickness"]
+    w = (lt["density"] * math.pi * (D - t) * t - 1537.5 * math.pi * D * D / 4.0) * G
+    sc = rfesim.load_scenario(data, base_dir=SCENARIOS)
+    (name, weight, rise), = _buoyant_at_surface(sc, _compiled(sc))
+    assert name == "riser" and weight == pytest.approx(w, rel=1e-9) and rise > 0.0
+    with pytest.raises(rfesim.SolverError) as info:
+        rfesim.statics(sc)
+    assert info.value.hint.startswith(f"line 'riser' is buoyant (its submerged weight is {w:.4g} N/m")
+
+
+def test_heavy_riser_does_not_reach_the_surface():
+    sc = rfesim.load_scenario(riser(1025.0), base_dir=SCENARIOS)
+    assert _buoyant_at_surface(sc, _compiled(sc)) == []
