@@ -136,9 +136,10 @@ def deck_arrays(sc, infos: list[BodyInfo], attachment_names: list[str]) -> dict:
 
 
 DECK_SEAT = 0.01        # m: a body whose underside starts within this of its deck is seated on it
+DECK_DEEP = 0.1         # m: a body whose underside starts deeper than this in its deck is refused
 
 
-def deck_anchors(model, gravity: float) -> np.ndarray:
+def deck_anchors(model, gravity: float, sc=None) -> np.ndarray:
     """(nb, 4, 3) m: the corners of each decked body's footprint at the model's initial state,
     in its deck vessel's frame at t = 0 (the statics stick anchors, rfesim.loads.deck).
 
@@ -146,7 +147,12 @@ def deck_anchors(model, gravity: float) -> np.ndarray:
     natural input) is first seated: moved along the deck normal to the penetration its own
     weight gives, W / k + delta_0 / 2 (model.initial is changed in place). Statics then
     starts where the contact has its full stiffness; at zero penetration the smooth onset
-    has none, and Newton's first step would be wild."""
+    has none, and Newton's first step would be wild.
+
+    A body whose underside starts more than DECK_DEEP inside its deck is refused
+    (ScenarioError on its position, named as the user wrote it with ``sc``): the contact would
+    throw it out with its stiffness times that depth, hundreds of times its weight at the
+    default stiffness (the weight over 5 mm), and statics could not settle it."""
     from ..kinematics import rot_zyx
     from ..loads.deck import DECK_ONSET
     from ..vessel_kernel import attachment_kinematics, vessel_spec
@@ -166,12 +172,34 @@ def deck_anchors(model, gravity: float) -> np.ndarray:
         corners = X[i] + q[i, :3] + km.body_deck_corner[j] @ Rb.T
         delta = -((corners - (att.p[a] + km.body_deck_z[j] * n)) @ n)
         low = float(delta.max())
+        if low > DECK_DEEP:
+            _deck_too_deep(model, sc, j, low, float(km.body_deck_z[j]), float(km.rfe_mass[i]) * gravity,
+                           float(km.body_deck_k[j]))
         if abs(low) < DECK_SEAT and km.body_deck_k[j] > 0.0:
             seat = km.rfe_mass[i] * gravity / km.body_deck_k[j] + 0.5 * DECK_ONSET
             X[i] -= (seat - low) * n
             corners = corners - (seat - low) * n
         out[j] = (corners - att.p[a]) @ att.R[a]
     return out
+
+
+def _deck_too_deep(model, sc, j: int, depth: float, deck_z: float, weight: float, k: float) -> None:
+    """Raise the ScenarioError of a body that starts ``depth`` m inside its deck."""
+    from ..errors import ScenarioError
+    info = next((b for b in (getattr(model, "bodies", None) or []) if b.index == j), None)
+    name = info.name if info is not None else str(j)
+    field = f"bodies.{name}.position"
+    deck_field = f"bodies.{name}.deck.height"
+    origins = getattr(sc, "_origins", None) or {}
+    if origins:
+        from ..scenario.pipelay import template_path
+        field, deck_field = template_path(field, origins), template_path(deck_field, origins)
+    vessel = model.attachment_names[int(model.km.body_deck_att[j])]
+    times = f" ({k * depth / weight:.3g} times its weight)" if weight > 0.0 else ""
+    raise ScenarioError([(field, f"the body's underside starts {depth:.4g} m inside the deck of vessel '{vessel}' "
+                                 f"({deck_field} = {deck_z:.6g} m in its frame): the deck would push it out with "
+                                 f"{k * depth / 1e3:.4g} kN{times}; raise the body by {depth:.4g} m to stand on "
+                                 f"the deck, or lower {deck_field}")])
 
 
 def append_body(sc, name: str, index: int, line, pose, line_coefficients: np.ndarray, end_length: float,

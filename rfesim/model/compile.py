@@ -1016,7 +1016,7 @@ def compile_scenario(sc, start: str | None = None) -> Model:
         model.winches = compile_winches(sc, model)
     if km.has_deck:
         from .bodies import deck_anchors
-        model.km = model.km._replace(body_deck_anchor=deck_anchors(model, float(env.gravity)))
+        model.km = model.km._replace(body_deck_anchor=deck_anchors(model, float(env.gravity), sc))
     if getattr(sc, "tuggers", None):
         from .tuggers import tugger_arrays
         arrays, model.tuggers = tugger_arrays(sc, model)

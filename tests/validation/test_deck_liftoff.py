@@ -5,7 +5,9 @@ two springs in series (rope and deck contact) predict; the kernel equals a reada
 numpy reference; a deck on an unknown vessel is refused naming the field."""
 from __future__ import annotations
 
+import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -138,3 +140,34 @@ def test_deck_on_an_unknown_vessel_is_refused():
     with pytest.raises(ScenarioError) as err:
         rfesim.simulate(data)
     assert "bodies.box.deck.vessel" in str(err.value) and "unknown vessel 'tug'" in str(err.value)
+
+
+@pytest.mark.parametrize("deck, refused", [(2.05, False), (2.09, False), (2.5, True), (4.0, True)])
+def test_body_started_inside_its_deck_is_refused(deck, refused):
+    # the box's underside is at z = 2 m; a deck above it used to reach the statics, which the
+    # contact's push (its stiffness, the weight over 5 mm, times the depth) made fail
+    data = scene([[0.0, 0.0]])
+    data["bodies"]["box"]["deck"]["height"] = deck
+    sc = rfesim.load_scenario(data)
+    if not refused:
+        rfesim.api.check_model(sc)
+        return
+    with pytest.raises(ScenarioError) as err:
+        rfesim.api.check_model(sc)
+    depth = deck - 2.0
+    (field, reason), = err.value.errors
+    assert field == "bodies.box.position"
+    assert reason.startswith(f"the body's underside starts {depth:.4g} m inside the deck of vessel 'supply' "
+                             f"(bodies.box.deck.height = {deck:.6g} m in its frame)")
+    assert f"({depth / 0.005:.3g} times its weight)" in reason
+
+
+def test_crane_payload_inside_its_deck_names_the_template_fields():
+    folder = Path(__file__).resolve().parents[2] / "scenarios"
+    data = json.loads((folder / "column_crane_liftoff.json").read_text())
+    data["cranes"]["crane"]["payload"]["deck"]["height"] = 4.5
+    with pytest.raises(ScenarioError) as err:
+        rfesim.api.check_model(rfesim.load_scenario(data, base_dir=folder))
+    (field, reason), = err.value.errors
+    assert field == "cranes.crane.payload.position"
+    assert "(cranes.crane.payload.deck.height = 4.5 m in its frame)" in reason and "1.5 m" in reason
