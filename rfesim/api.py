@@ -770,6 +770,8 @@ def _dynamic_warnings(model, results, sc=None, recorder=None) -> str:
         duration = float(results.time[-1] - results.time[0]) if len(results.time) else 0.0
         warnings += [w for w in (check.warning() if check is not None else None,
                                  halving_warning(results.counters or {}, duration)) if w]
+        recovery = getattr(recorder, "recovery", None)
+        warnings += recovery.warnings() if recovery is not None else []
     for w in warnings:
         log.warning("dynamics: %s", w)
     # a duration the output interval does not divide: logged when the run was scheduled

@@ -1977,6 +1977,12 @@ class GeneralizedAlphaSettings(_Strict):
     jacobian: Literal["analytic", "finite-difference"] = Field(
         "analytic", description="Jacobian of the SDEs: analytic tangent (fast) or coloured finite differences "
                                 "(the reference)")
+    recovery_halvings: int = _units("1", "A step that fails even in 64 substeps (a slack rope snatched taut): the "
+                                         "run goes back to its last checkpoint 0.5 to 2.5 s before the failure and "
+                                         "takes the stretch to 2 s past it at half the step, halving again on a "
+                                         "further failure down to time_step / 2^recovery_halvings, and says so in "
+                                         "the results' message; 0 stops the run at the failure",
+                                    default=3, ge=0, le=6)
 
 
 Integrator = Annotated[Union[RK4Settings, AdaptiveSettings, GeneralizedAlphaSettings], Field(discriminator="kind")]

@@ -926,11 +926,122 @@ class EnergyCheck:
         return self.describe() if self.on and self.worst > ENERGY_WARN else None
 
 
+class _Recover(Exception):
+    """A generalized-alpha step failed in every substep (Newton) and ``Recovery`` can go back."""
+
+    def __init__(self, time: float, status: int):
+        super().__init__(time)
+        self.time = time
+        self.status = status
+
+
+class Recovery:
+    """Going back past a failure of generalized-alpha (docs/theory.md, "Going back past a
+    failure"): a step whose Newton iteration fails even in 64 substeps is often one the run
+    reached in a state its step could not resolve (a slack rope snatched taut among ringing
+    elements); a whole run at half the step passes it. So at output times CHECKPOINT_SPACING
+    apart (or at every output, for longer output intervals) the run keeps a checkpoint (the state, the committed history,
+    every model and workspace array, the winch controllers, the recorder's row, the energy
+    check), and on such a failure it goes back to the newest checkpoint at least REWIND before
+    it and takes the stretch at half the step, up to RECOVERY_SPAN past the failure, then
+    returns to its step; a failure within that stretch halves the step again, down to
+    time_step / 2^halvings (``analysis.dynamics.integrator.recovery_halvings``, 0: off, the
+    run stops at the failure as before). The outputs keep their times; those between the
+    checkpoint and the end of the stretch come from the finer step, and the results' message
+    says where (``warnings``)."""
+
+    CHECKPOINT_SPACING = 2.0    # s simulated between checkpoints (at least one output interval)
+    REWIND = 0.5                # s: the checkpoint gone back to lies at least this before the failure
+    RECOVERY_SPAN = 2.0         # s past the failure taken at the finer step
+    KEEP = 4                    # checkpoints kept
+
+    def __init__(self, system, recorder, energy, halvings: int, h: float, out_dt: float):
+        self.system, self.recorder, self.energy = system, recorder, energy
+        self.halvings = max(0, int(halvings))
+        self.on = self.halvings > 0
+        self.h = h
+        self.out_dt = out_dt
+        self.level = 0
+        self.fine_until = -math.inf
+        self.checkpoints = []
+        self.events = []            # (t of the failure, t gone back to, the finer step)
+        self.last = -math.inf
+
+    def due(self, t: float) -> bool:
+        return t - self.last >= self.CHECKPOINT_SPACING - 1e-9 * max(1.0, abs(t)) or not self.checkpoints
+
+    def outputs_to_checkpoint(self, t: float) -> int:
+        """How many output intervals a compiled chunk may run before the next checkpoint is due."""
+        if not self.on:
+            return 1 << 30
+        return max(1, int(math.ceil((self.last + self.CHECKPOINT_SPACING - t) / self.out_dt - 1e-9)))
+
+    def checkpoint(self, st, k_out: int, qdd_prev) -> None:
+        system = self.system
+        km, ws = system.km, system.ws
+        arrays = [(a, a.copy()) for a in (*(getattr(km, f) for f in km._fields), *(getattr(ws, f) for f in ws._fields),
+                                         system.length_scale, qdd_prev) if isinstance(a, np.ndarray)]
+        energy = dict(vars(self.energy))
+        energy["history"] = list(energy.get("history", []))
+        self.checkpoints.append({"t": float(st.t), "k_out": k_out, "state": st.copy(), "history": system.history(),
+                                 "controllers": [c.save() for c in (getattr(system, "controllers", None) or ())],
+                                 "rec_k": self.recorder.k, "arrays": arrays, "energy": energy})
+        del self.checkpoints[:-self.KEEP]
+        self.last = float(st.t)
+
+    def can_recover(self, t_fail: float) -> bool:
+        return self.on and self.level < self.halvings and bool(self.checkpoints)
+
+    def rewind(self, t_fail: float, qdd_prev):
+        """Restore the checkpoint to go back to; returns (state, k_out) and halves the step."""
+        system = self.system
+        usable = [c for c in self.checkpoints if c["t"] <= t_fail - self.REWIND] or self.checkpoints[:1]
+        ck = usable[-1]
+        self.checkpoints = [c for c in self.checkpoints if c["t"] <= ck["t"]]
+        for a, saved in ck["arrays"]:
+            a[...] = saved
+        system.set_history(ck["history"])
+        for c, saved in zip(getattr(system, "controllers", None) or (), ck["controllers"]):
+            c.restore(saved)
+        self.recorder.k = ck["rec_k"]
+        self.energy.__dict__.update(ck["energy"])
+        self.energy.history = list(ck["energy"].get("history", []))
+        self.level += 1
+        self.fine_until = max(self.fine_until, t_fail + self.RECOVERY_SPAN)
+        self.events.append((t_fail, ck["t"], self.h / 2 ** self.level))
+        self.last = ck["t"]
+        log.info("dynamics: Newton failed at t = %.6g s; going back to t = %.6g s at a step of %.3g s",
+                 t_fail, ck["t"], self.h / 2 ** self.level)
+        return ck["state"].copy(), ck["k_out"]
+
+    def back_to_nominal(self, t: float) -> float:
+        self.level = 0
+        self.fine_until = -math.inf
+        return self.h
+
+    def warnings(self) -> list[str]:
+        if not self.events:
+            return []
+        first = self.events[0]
+        finest = min(e[2] for e in self.events)
+        more = (f"; {len(self.events)} such recoveries in all, at t = "
+                + ", ".join(f"{e[0]:.6g}" for e in self.events[:10]) + (" ..." if len(self.events) > 10 else "")
+                + " s") if len(self.events) > 1 else ""
+        return [f"Newton failed at t = {first[0]:.6g} s at the time step {self.h:.4g} s even in 64 substeps (a slack "
+                f"rope snatched taut, or another shock the step does not resolve); the run went back to t = "
+                f"{first[1]:.6g} s and took the stretch to {first[0] + self.RECOVERY_SPAN:.6g} s at {first[2]:.4g} s "
+                f"steps, then went on at its own step{more} (finest step {finest:.4g} s): the outputs there come "
+                f"from the finer step (analysis.dynamics.integrator.recovery_halvings: 0 stops at the failure "
+                f"instead)"]
+
+
 def halving_warning(counters: dict, duration: float) -> str | None:
     """More than a tenth of the generalized-alpha steps taken in substeps (Newton failed at
     the full step): the step is too long for what the scene does."""
     h = float(counters.get("time_step") or 0.0)
     n = int(round(duration / h)) if h > 0.0 else 0
+    # a run that went back past a failure (Recovery) took the stretches it went back over again
+    n += int(counters.get("recovery_steps", 0))
     halved = int(counters.get("step_halvings", 0))
     if n <= 0 or halved <= 0.1 * n:
         return None
@@ -1325,7 +1436,7 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
                                system.qd_buf, system.A_buf, system.qp, system.rp, system.hs, flags, stats, fail,
                                analytic, system.Ks, system.Kds, system.T, system.Fsde, system.Msde, qdd_prev)
 
-            def redo(saved, saved_history, nsteps, status):
+            def redo(saved, saved_history, nsteps, status, h):
                 """The output interval from ``saved`` again, step by step, halving a failing step
                 down to h/64; the step that failed (Newton) starts at h/2: at h it was just given
                 two attempts with fresh Jacobians, and a third one at h fails the same way."""
@@ -1372,9 +1483,21 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
                     if not ok:
                         st.t = t_step0
                         counters.add(stats)
-                        _raise(system, fail, status, make_results)
+                        stats[:] = 0
+                        interval_failed(status)
                     st.t = t_step0 + h
                 return st
+
+            recovery = recorder.recovery = Recovery(system, recorder, energy,
+                                                    int(getattr(integ, "recovery_halvings", 0) or 0), h, out_dt)
+            h_step = h                      # the step in use: h, or h / 2^level while a failure is passed
+
+            def interval_failed(status):
+                """A step that failed in every substep: go back and take the stretch at half the
+                step (``Recovery``), or stop with the results so far."""
+                if int(fail[2]) == Q_NEWTON and recovery.can_recover(float(fail[0])):
+                    raise _Recover(float(fail[0]), status)
+                _raise(system, fail, status, make_results)
 
             fast = recorder.kernel_records()
             if fast:
@@ -1386,14 +1509,22 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
                 hist = system.history()
                 done = np.zeros(1, np.int64)
                 per_out = int(round(out_dt / h))
+            fast_allowed = fast
             k_out = 1
             chunk = 4
             while k_out <= n_out:
+              try:
+                if recovery.on and recovery.due(st.t):
+                    recovery.checkpoint(st, k_out, qdd_prev)
+                if recovery.level and st.t >= recovery.fine_until - 1e-9 * h:
+                    h_step = recovery.back_to_nominal(st.t)
+                    flags[0] = 0           # the factorised Jacobian belongs to the finer step
+                    fast = fast_allowed
                 if fast:
                     # the compiled run records a chunk of output intervals (rfesim.solvers.recording);
                     # an interval that fails comes back rolled back, for the redo below
                     row0 = recorder.k
-                    m = min(chunk, n_out - k_out + 1, recorder.nt - row0)
+                    m = min(chunk, n_out - k_out + 1, recorder.nt - row0, recovery.outputs_to_checkpoint(st.t))
                     if m <= 0:
                         fast = False        # the recorder is full (a recorder handed in): Python from here
                     else:
@@ -1429,7 +1560,8 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
                     # winches: one step at a time with the controllers' hooks (rfesim.solvers.controlled)
                     from .controlled import advance_controlled
                     try:
-                        st, status, t_fail = advance_controlled(system, st, t_target, h, one_step, flags, counters)
+                        st, status, t_fail = advance_controlled(system, st, t_target, h_step, one_step, flags,
+                                                                counters)
                     except SolverError as exc:
                         if exc.results is None:
                             counters.add(stats)
@@ -1438,29 +1570,39 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
                     counters.add(stats)
                     stats[:] = 0
                     if status != 0:
-                        _raise(system, fail, status, make_results)
+                        interval_failed(status)
                     if output(st):
                         flags[0] = 0           # the factorised Jacobian belongs to the old rest rotation
                     k_out += 1
                     continue
-                nsteps = int(round((t_target - st.t) / h))
+                nsteps = int(round((t_target - st.t) / h_step))
                 if not fast:
                     saved = st.copy()
                     saved_history = system.history()
-                    status = ga_call(km, vs, att, ws, st.q, st.qd, st.qdd, st.aux, st.ref, st.t, h, nsteps, am, af,
+                    status = ga_call(km, vs, att, ws, st.q, st.qd, st.qdd, st.aux, st.ref, st.t, h_step, nsteps, am, af,
                                      beta, gamma, tol, integ.max_iterations, integ.jacobian_reuse, mask,
                                      system.length_scale, force_ref, system.J, system.Fac, system.Q0, system.V0,
                                      system.r, system.dq, system.qd_buf, system.A_buf, system.qp, system.rp, system.hs,
                                      flags, stats, fail, analytic, system.Ks, system.Kds, system.T, system.Fsde,
                                      system.Msde, qdd_prev)
                 if status != 0:
-                    st = redo(saved, saved_history, nsteps, status)
+                    st = redo(saved, saved_history, nsteps, status, h_step)
                 st.t = t_target
                 counters.add(stats)
                 stats[:] = 0
                 if output(st):
                     flags[0] = 0           # the factorised Jacobian belongs to the old rest rotation
                 k_out += 1
+              except _Recover as failed:
+                # back to a checkpoint about a second before the failure, at half the step
+                st, k_out = recovery.rewind(failed.time, qdd_prev)
+                h_step = h / 2 ** recovery.level
+                counters["recovery_steps"] = counters.get("recovery_steps", 0) + \
+                    int(round((recovery.fine_until - st.t) / h_step))
+                flags[:] = 0
+                stats[:] = 0
+                fast = False
+                counters["step_recoveries"] = counters.get("step_recoveries", 0) + 1
         elif integ.kind == "rk4":
             k_q, k_v = z(4, n, 6), z(4, n, 6)
             qs, vbuf, acc = z(n, 6), z(n, 6), z(n, 6)

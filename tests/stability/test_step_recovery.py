@@ -1,0 +1,87 @@
+"""Going back past a generalized-alpha failure (rfesim.solvers.dynamics.Recovery).
+
+Found by varying the shipped crane scenarios by factors 0.5-2: at their 0.05 s step the column
+crane with a 5 t payload (10 t shipped) lowered into an irregular sea failed at 29.2 s, a
+slack rope snatched taut that Newton could not pass even in 64 substeps, where the same run at
+0.025 s steps went through. A run now goes back to a checkpoint and takes the stretch at half
+the step; with recovery_halvings 0 it stops at the failure as before."""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import rfesim
+from rfesim.api import _compiled
+from rfesim.crane_results import crane_summary
+from rfesim.solvers.dynamics import EnergyCheck, Recorder, Recovery
+from rfesim.solvers.system import System
+
+SCENARIOS = Path(__file__).resolve().parents[2] / "scenarios"
+
+
+def light_payload(halvings: int | None, duration: float = 31.0) -> rfesim.Scenario:
+    data = json.loads((SCENARIOS / "column_crane.json").read_text())
+    data["cranes"]["crane"]["payload"]["mass"] = 5000.0
+    dyn = data["analysis"]["dynamics"]
+    dyn["duration"] = duration
+    if halvings is not None:
+        dyn["integrator"]["recovery_halvings"] = halvings
+    return rfesim.load_scenario(data, base_dir=SCENARIOS)
+
+
+def test_a_failure_is_passed_at_half_the_step_and_said():
+    with pytest.raises(rfesim.SolverError) as info:
+        rfesim.simulate(light_payload(0))
+    failed = info.value
+    assert failed.quantity == "Newton iteration did not converge" and 29.0 < failed.time < 29.5
+    res = rfesim.simulate(light_payload(None))          # the default: up to 3 halvings
+    assert res.status == 0 and res.counters["step_recoveries"] >= 1
+    # the output times are the run's own, every 0.1 s to the end
+    assert np.allclose(res.time, np.arange(311) * 0.1, atol=1e-9, rtol=0.0)
+    message = res.message
+    assert f"Newton failed at t = {failed.time:.6g} s at the time step 0.05 s" in message
+    assert "the run went back to t = 28 s" in message and "at 0.025 s steps" in message
+    # before the checkpoint the run is the failed one's, bit for bit
+    early = res.time <= 28.0 + 1e-9
+    a = crane_summary(res, "crane")["rope_tension"][early]
+    b = crane_summary(failed.results, "crane")["rope_tension"][failed.results.time <= 28.0 + 1e-9]
+    assert a.shape == b.shape and np.array_equal(a, b)
+
+
+def test_rewind_restores_every_array_and_the_recorder():
+    sc = light_payload(3)
+    system = System(_compiled(sc))
+    state = system.model.initial.copy()
+    recorder = Recorder(system, 4)
+    recorder.record(state, state.qdd)
+    energy = EnergyCheck(system, state)
+    qdd_prev = np.zeros_like(state.q)
+    rec = Recovery(system, recorder, energy, 3, 0.05, 0.1)
+    km, ws = system.km, system.ws
+    before_km = {f: getattr(km, f).copy() for f in km._fields if isinstance(getattr(km, f), np.ndarray)}
+    before_ws = {f: getattr(ws, f).copy() for f in ws._fields if isinstance(getattr(ws, f), np.ndarray)}
+    rec.checkpoint(state, 7, qdd_prev)
+    # what a run changes: the model's arrays (a winch's payout), the workspace, the recorder
+    km.rfe_length[:] *= 1.5
+    ws.fric_anchor[:] += 1.0
+    qdd_prev[:] = 3.0
+    recorder.record(state, state.qdd)
+    back, k_out = rec.rewind(10.0, qdd_prev)
+    assert k_out == 7 and recorder.k == 1 and rec.level == 1 and rec.fine_until == pytest.approx(12.0)
+    assert np.array_equal(back.q, state.q) and back.t == state.t
+    assert all(np.array_equal(getattr(km, f), v) for f, v in before_km.items())
+    assert all(np.array_equal(getattr(ws, f), v) for f, v in before_ws.items())
+    assert not qdd_prev.any()
+    assert rec.can_recover(11.0) and Recovery(system, recorder, energy, 0, 0.05, 0.1).can_recover(11.0) is False
+
+
+def test_recovery_halvings_is_checked():
+    data = json.loads((SCENARIOS / "column_crane.json").read_text())
+    data["analysis"]["dynamics"]["integrator"]["recovery_halvings"] = 7
+    with pytest.raises(rfesim.ScenarioError) as info:
+        rfesim.load_scenario(data, base_dir=SCENARIOS)
+    assert info.value.errors == [("analysis.dynamics.integrator.recovery_halvings",
+                                  "must be less than or equal to 6 (got 7)")]
