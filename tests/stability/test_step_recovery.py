@@ -85,3 +85,27 @@ def test_recovery_halvings_is_checked():
         rfesim.load_scenario(data, base_dir=SCENARIOS)
     assert info.value.errors == [("analysis.dynamics.integrator.recovery_halvings",
                                   "must be less than or equal to 6 (got 7)")]
+
+
+def thin_riser(halvings: int) -> rfesim.Scenario:
+    data = json.loads((SCENARIOS / "h1_riser_heave.json").read_text())
+    data["line_types"]["steel_pipe"]["wall_thickness"] = 0.01       # 0.02 shipped
+    dyn = data["analysis"]["dynamics"]
+    dyn["duration"] = 6.0
+    dyn["integrator"]["recovery_halvings"] = halvings
+    return rfesim.load_scenario(data, base_dir=SCENARIOS)
+
+
+def test_the_compiled_recording_goes_back_too():
+    # a scene without winches runs in the compiled recording (rfesim.solvers.recording): its
+    # chunks stop at the checkpoints
+    with pytest.raises(rfesim.SolverError) as info:
+        rfesim.simulate(thin_riser(0))
+    assert 4.0 < info.value.time < 4.3
+    res = rfesim.simulate(thin_riser(3))
+    assert res.status == 0 and res.counters["step_recoveries"] >= 1
+    assert res.time[-1] == pytest.approx(6.0) and np.all(np.diff(res.time) > 0.0)
+    assert "the run went back to t = " in res.message
+    failed = info.value.results
+    n = int(np.searchsorted(failed.time, 2.0 + 1e-9))          # up to the checkpoint at 2 s
+    assert np.array_equal(res.line("riser").tension[:n], failed.line("riser").tension[:n])
