@@ -185,7 +185,7 @@ def _statics_hint(sc: Scenario, model=None) -> str | None:
     slack = _slack_ropes(model)
     if slack:
         name, length, chord, lower = slack[0]
-        more = f" (and {len(slack) - 1} more)" if len(slack) > 1 else ""
+        more = _and_more(slack)
         field = f"lines.{name}.length"
         origins = getattr(sc, "_origins", None) or {}
         if origins:
@@ -199,7 +199,7 @@ def _statics_hint(sc: Scenario, model=None) -> str | None:
     surfacing = _buoyant_at_surface(sc, model)
     if surfacing:
         name, w, rise = surfacing[0]
-        more = f" (and {len(surfacing) - 1} more)" if len(surfacing) > 1 else ""
+        more = _and_more(surfacing)
         return (f"line '{name}'{more} is buoyant (its submerged weight is {w:.4g} N/m: it floats up) and held at "
                 f"both ends under the surface, and its arch between them reaches the surface (its start shape "
                 f"rises {rise:.3g} m above it): there it floats, half submerged, and the length beyond what can "
@@ -208,13 +208,18 @@ def _statics_hint(sc: Scenario, model=None) -> str | None:
     neutral = _neutral_lines(sc)
     if neutral:
         name, w, dry = neutral[0]
-        more = f" (and {len(neutral) - 1} more)" if len(neutral) > 1 else ""
+        more = _and_more(neutral)
         return (f"line '{name}'{more} is nearly neutrally buoyant: its submerged weight is {w:.4g} N/m, "
                 f"{100 * abs(w) / dry:.2g} % of its {dry:.4g} N/m in air, so it hardly settles anywhere (on the "
                 f"seabed, on rollers or in a sag) and the contacts it barely touches switch Newton from step to "
                 f"step; check the line type's density, contents_density and coating (the weight the water "
                 f"does not carry), or set analysis.statics.enabled to false")
     return None
+
+
+def _and_more(found: list) -> str:
+    """" (and N more)" after the first of several lines a hint names."""
+    return f" (and {len(found) - 1} more)" if len(found) > 1 else ""
 
 
 VERTICAL = 0.1     # a rope's ends within this ratio of horizontal to vertical distance: one above the other

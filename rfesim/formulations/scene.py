@@ -899,13 +899,7 @@ def simulate(sc, progress=None):
             counters.update({"steps": nsteps, "time_step": step})
             if failure is not None:
                 label, t_fail, why = failure
-                limit = ""
-                try:
-                    w = _omega_max(scene, states)
-                    if w > 0.0:
-                        limit = f" (its RK4 stability limit is about {RK4_LIMIT / w:.3g} s)"
-                except SolverError:
-                    pass
+                limit = _rk4_limit_text(scene, states)
                 msg = (f"{label}: the state diverged ({why}) with the time step {step:.4g} s{limit}; reduce "
                        f"analysis.dynamics.integrator.time_step")
                 counters["wall_time"] = _time.perf_counter() - wall0
@@ -940,17 +934,20 @@ def simulate(sc, progress=None):
                     version=__version__)
 
 
+def _rk4_limit_text(scene, states) -> str:
+    """" (its RK4 stability limit is about ... s)" from the scene's highest frequency, or ""
+    where it is zero or too costly to find (_omega_max)."""
+    try:
+        w = _omega_max(scene, states)
+    except SolverError:
+        return ""
+    return f" (its RK4 stability limit is about {RK4_LIMIT / w:.3g} s)" if w > 0.0 else ""
+
+
 def _step_remedy(scene, states, step: float, integ) -> str:
     """What to change when a fixed-step run of the scene gained energy: the step (against the
     RK4 stability limit where the integrator is RK4), or rho_inf for generalized-alpha."""
-    limit = ""
-    if integ.kind == "rk4" or scene.chains:
-        try:
-            w = _omega_max(scene, states)
-            if w > 0.0:
-                limit = f" (its RK4 stability limit is about {RK4_LIMIT / w:.3g} s)"
-        except SolverError:
-            pass
+    limit = _rk4_limit_text(scene, states) if integ.kind == "rk4" or scene.chains else ""
     text = f"shorten analysis.dynamics.integrator.time_step ({step:.4g} s){limit}"
     if integ.kind != "rk4" and scene.planars:
         text += ", or lower analysis.dynamics.integrator.rho_inf for the planar lines"
