@@ -929,10 +929,9 @@ class EnergyCheck:
 class _Recover(Exception):
     """A generalized-alpha step failed in every substep (Newton) and ``Recovery`` can go back."""
 
-    def __init__(self, time: float, status: int):
+    def __init__(self, time: float):
         super().__init__(time)
         self.time = time
-        self.status = status
 
 
 class Recovery:
@@ -940,15 +939,15 @@ class Recovery:
     failure"): a step whose Newton iteration fails even in 64 substeps is often one the run
     reached in a state its step could not resolve (a slack rope snatched taut among ringing
     elements); a whole run at half the step passes it. So at output times CHECKPOINT_SPACING
-    apart (or at every output, for longer output intervals) the run keeps a checkpoint (the state, the committed history,
-    every model and workspace array, the winch controllers, the recorder's row, the energy
-    check), and on such a failure it goes back to the newest checkpoint at least REWIND before
-    it and takes the stretch at half the step, up to RECOVERY_SPAN past the failure, then
-    returns to its step; a failure within that stretch halves the step again, down to
-    time_step / 2^halvings (``analysis.dynamics.integrator.recovery_halvings``, 0: off, the
-    run stops at the failure as before). The outputs keep their times; those between the
-    checkpoint and the end of the stretch come from the finer step, and the results' message
-    says where (``warnings``)."""
+    apart (at every output, for longer output intervals) the run keeps a checkpoint (the
+    state, the committed history, every model and workspace array, the winch controllers, the
+    recorder's row, the energy check), and on such a failure it goes back to the newest
+    checkpoint at least REWIND before it and takes the stretch at half the step, up to
+    RECOVERY_SPAN past the failure, then returns to its step; a failure within that stretch
+    halves the step again, down to time_step / 2^halvings
+    (``analysis.dynamics.integrator.recovery_halvings``; 0: off, the run stops at the failure
+    as before). The outputs keep their times; those between the checkpoint and the end of the
+    stretch come from the finer step, and the results' message says where (``warnings``)."""
 
     CHECKPOINT_SPACING = 2.0    # s simulated between checkpoints (at least one output interval)
     REWIND = 0.5                # s: the checkpoint gone back to lies at least this before the failure
@@ -989,7 +988,7 @@ class Recovery:
         del self.checkpoints[:-self.KEEP]
         self.last = float(st.t)
 
-    def can_recover(self, t_fail: float) -> bool:
+    def can_recover(self) -> bool:
         return self.on and self.level < self.halvings and bool(self.checkpoints)
 
     def rewind(self, t_fail: float, qdd_prev):
@@ -1014,7 +1013,8 @@ class Recovery:
                  t_fail, ck["t"], self.h / 2 ** self.level)
         return ck["state"].copy(), ck["k_out"]
 
-    def back_to_nominal(self, t: float) -> float:
+    def back_to_nominal(self) -> float:
+        """The stretch is passed: the run's own step again."""
         self.level = 0
         self.fine_until = -math.inf
         return self.h
@@ -1495,8 +1495,8 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
             def interval_failed(status):
                 """A step that failed in every substep: go back and take the stretch at half the
                 step (``Recovery``), or stop with the results so far."""
-                if int(fail[2]) == Q_NEWTON and recovery.can_recover(float(fail[0])):
-                    raise _Recover(float(fail[0]), status)
+                if int(fail[2]) == Q_NEWTON and recovery.can_recover():
+                    raise _Recover(float(fail[0]))
                 _raise(system, fail, status, make_results)
 
             fast = recorder.kernel_records()
@@ -1513,96 +1513,96 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
             k_out = 1
             chunk = 4
             while k_out <= n_out:
-              try:
-                if recovery.on and recovery.due(st.t):
-                    recovery.checkpoint(st, k_out, qdd_prev)
-                if recovery.level and st.t >= recovery.fine_until - 1e-9 * h:
-                    h_step = recovery.back_to_nominal(st.t)
-                    flags[0] = 0           # the factorised Jacobian belongs to the finer step
-                    fast = fast_allowed
-                if fast:
-                    # the compiled run records a chunk of output intervals (rfesim.solvers.recording);
-                    # an interval that fails comes back rolled back, for the redo below
-                    row0 = recorder.k
-                    m = min(chunk, n_out - k_out + 1, recorder.nt - row0, recovery.outputs_to_checkpoint(st.t))
-                    if m <= 0:
-                        fast = False        # the recorder is full (a recorder handed in): Python from here
-                    else:
-                        tw = _time.perf_counter()
-                        status = run_call(km, vs, att, ws, st.q, st.qd, st.qdd, st.aux, st.ref, t_start, out_dt,
-                                          k_out, m, h, per_out, am, af, beta, gamma, tol, integ.max_iterations,
-                                          integ.jacobian_reuse, mask, system.length_scale, force_ref, system.J,
-                                          system.Fac, system.Q0, system.V0, system.r, system.dq, system.qd_buf,
-                                          system.A_buf, system.qp, system.rp, system.hs, flags, stats, fail, analytic,
-                                          system.Ks, system.Kds, system.T, system.Fsde, system.Msde, qdd_prev, save,
-                                          hist, rec, row0, done)
-                        nd = int(done[0])
-                        recorder.finish_rows(row0, row0 + nd)
-                        recorder.k = row0 + nd
-                        k_out += nd
-                        st.t = t_start + (k_out - 1) * out_dt
+                try:
+                    if recovery.on and recovery.due(st.t):
+                        recovery.checkpoint(st, k_out, qdd_prev)
+                    if recovery.level and st.t >= recovery.fine_until - 1e-9 * h:
+                        h_step = recovery.back_to_nominal()
+                        flags[0] = 0           # the factorised Jacobian belongs to the finer step
+                        fast = fast_allowed
+                    if fast:
+                        # the compiled run records a chunk of output intervals (rfesim.solvers.recording);
+                        # an interval that fails comes back rolled back, for the redo below
+                        row0 = recorder.k
+                        m = min(chunk, n_out - k_out + 1, recorder.nt - row0, recovery.outputs_to_checkpoint(st.t))
+                        if m <= 0:
+                            fast = False        # the recorder is full (a recorder handed in): Python from here
+                        else:
+                            tw = _time.perf_counter()
+                            status = run_call(km, vs, att, ws, st.q, st.qd, st.qdd, st.aux, st.ref, t_start, out_dt,
+                                              k_out, m, h, per_out, am, af, beta, gamma, tol, integ.max_iterations,
+                                              integ.jacobian_reuse, mask, system.length_scale, force_ref, system.J,
+                                              system.Fac, system.Q0, system.V0, system.r, system.dq, system.qd_buf,
+                                              system.A_buf, system.qp, system.rp, system.hs, flags, stats, fail,
+                                              analytic, system.Ks, system.Kds, system.T, system.Fsde, system.Msde,
+                                              qdd_prev, save, hist, rec, row0, done)
+                            nd = int(done[0])
+                            recorder.finish_rows(row0, row0 + nd)
+                            recorder.k = row0 + nd
+                            k_out += nd
+                            st.t = t_start + (k_out - 1) * out_dt
+                            counters.add(stats)
+                            stats[:] = 0
+                            if status == 0:
+                                # chunks of about a tenth of a second of wall time between progress reports
+                                # (and cancellations): grown at most twofold a call, cut at once when the
+                                # intervals get dearer
+                                per = (_time.perf_counter() - tw) / max(nd, 1)
+                                chunk = max(1, min(2 * chunk, 4096, int(0.1 / per) if per > 0.0 else 4096))
+                                check_energy(st)        # at the chunk's last output time
+                                report(st.t)
+                                continue
+                            # the failed interval (state, history and counters rolled back) is redone below
+                            saved = st.copy()
+                            saved_history = system.history()
+                    t_target = t_start + k_out * out_dt
+                    if controllers:
+                        # winches: one step at a time with the controllers' hooks (rfesim.solvers.controlled)
+                        from .controlled import advance_controlled
+                        try:
+                            st, status, t_fail = advance_controlled(system, st, t_target, h_step, one_step, flags,
+                                                                    counters)
+                        except SolverError as exc:
+                            if exc.results is None:
+                                counters.add(stats)
+                                exc.results = make_results(status=1, message=str(exc))
+                            raise
                         counters.add(stats)
                         stats[:] = 0
-                        if status == 0:
-                            # chunks of about a tenth of a second of wall time between progress reports
-                            # (and cancellations): grown at most twofold a call, cut at once when the
-                            # intervals get dearer
-                            per = (_time.perf_counter() - tw) / max(nd, 1)
-                            chunk = max(1, min(2 * chunk, 4096, int(0.1 / per) if per > 0.0 else 4096))
-                            check_energy(st)        # at the chunk's last output time
-                            report(st.t)
-                            continue
-                        # the failed interval (state, history and counters rolled back) is redone below
+                        if status != 0:
+                            interval_failed(status)
+                        if output(st):
+                            flags[0] = 0           # the factorised Jacobian belongs to the old rest rotation
+                        k_out += 1
+                        continue
+                    nsteps = int(round((t_target - st.t) / h_step))
+                    if not fast:
                         saved = st.copy()
                         saved_history = system.history()
-                t_target = t_start + k_out * out_dt
-                if controllers:
-                    # winches: one step at a time with the controllers' hooks (rfesim.solvers.controlled)
-                    from .controlled import advance_controlled
-                    try:
-                        st, status, t_fail = advance_controlled(system, st, t_target, h_step, one_step, flags,
-                                                                counters)
-                    except SolverError as exc:
-                        if exc.results is None:
-                            counters.add(stats)
-                            exc.results = make_results(status=1, message=str(exc))
-                        raise
+                        status = ga_call(km, vs, att, ws, st.q, st.qd, st.qdd, st.aux, st.ref, st.t, h_step, nsteps,
+                                         am, af, beta, gamma, tol, integ.max_iterations, integ.jacobian_reuse, mask,
+                                         system.length_scale, force_ref, system.J, system.Fac, system.Q0, system.V0,
+                                         system.r, system.dq, system.qd_buf, system.A_buf, system.qp, system.rp,
+                                         system.hs, flags, stats, fail, analytic, system.Ks, system.Kds, system.T,
+                                         system.Fsde, system.Msde, qdd_prev)
+                    if status != 0:
+                        st = redo(saved, saved_history, nsteps, status, h_step)
+                    st.t = t_target
                     counters.add(stats)
                     stats[:] = 0
-                    if status != 0:
-                        interval_failed(status)
                     if output(st):
                         flags[0] = 0           # the factorised Jacobian belongs to the old rest rotation
                     k_out += 1
-                    continue
-                nsteps = int(round((t_target - st.t) / h_step))
-                if not fast:
-                    saved = st.copy()
-                    saved_history = system.history()
-                    status = ga_call(km, vs, att, ws, st.q, st.qd, st.qdd, st.aux, st.ref, st.t, h_step, nsteps, am, af,
-                                     beta, gamma, tol, integ.max_iterations, integ.jacobian_reuse, mask,
-                                     system.length_scale, force_ref, system.J, system.Fac, system.Q0, system.V0,
-                                     system.r, system.dq, system.qd_buf, system.A_buf, system.qp, system.rp, system.hs,
-                                     flags, stats, fail, analytic, system.Ks, system.Kds, system.T, system.Fsde,
-                                     system.Msde, qdd_prev)
-                if status != 0:
-                    st = redo(saved, saved_history, nsteps, status, h_step)
-                st.t = t_target
-                counters.add(stats)
-                stats[:] = 0
-                if output(st):
-                    flags[0] = 0           # the factorised Jacobian belongs to the old rest rotation
-                k_out += 1
-              except _Recover as failed:
-                # back to a checkpoint about a second before the failure, at half the step
-                st, k_out = recovery.rewind(failed.time, qdd_prev)
-                h_step = h / 2 ** recovery.level
-                counters["recovery_steps"] = counters.get("recovery_steps", 0) + \
-                    int(round((recovery.fine_until - st.t) / h_step))
-                flags[:] = 0
-                stats[:] = 0
-                fast = False
-                counters["step_recoveries"] = counters.get("step_recoveries", 0) + 1
+                except _Recover as failed:
+                    # back to a checkpoint about a second before the failure, at half the step
+                    st, k_out = recovery.rewind(failed.time, qdd_prev)
+                    h_step = h / 2 ** recovery.level
+                    counters["recovery_steps"] = counters.get("recovery_steps", 0) + \
+                        int(round((recovery.fine_until - st.t) / h_step))
+                    flags[:] = 0
+                    stats[:] = 0
+                    fast = False
+                    counters["step_recoveries"] = counters.get("step_recoveries", 0) + 1
         elif integ.kind == "rk4":
             k_q, k_v = z(4, n, 6), z(4, n, 6)
             qs, vbuf, acc = z(n, 6), z(n, 6), z(n, 6)

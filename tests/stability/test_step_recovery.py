@@ -75,7 +75,7 @@ def test_rewind_restores_every_array_and_the_recorder():
     assert all(np.array_equal(getattr(km, f), v) for f, v in before_km.items())
     assert all(np.array_equal(getattr(ws, f), v) for f, v in before_ws.items())
     assert not qdd_prev.any()
-    assert rec.can_recover(11.0) and Recovery(system, recorder, energy, 0, 0.05, 0.1).can_recover(11.0) is False
+    assert rec.can_recover() and Recovery(system, recorder, energy, 0, 0.05, 0.1).can_recover() is False
 
 
 def test_recovery_halvings_is_checked():
