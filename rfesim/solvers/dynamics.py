@@ -939,7 +939,8 @@ class Recovery:
     failure"): a step whose Newton iteration fails even in 64 substeps is often one the run
     reached in a state its step could not resolve (a slack rope snatched taut among ringing
     elements); a whole run at half the step passes it. So at output times CHECKPOINT_SPACING
-    apart (at every output, for longer output intervals) the run keeps a checkpoint (the
+    apart (at every output, for longer output intervals; between the chunks of outputs of the
+    compiled recording, which grow to about 0.1 s of wall time) the run keeps a checkpoint (the
     state, the committed history, every model and workspace array, the winch controllers, the
     recorder's row, the energy check), and on such a failure it goes back to the newest
     checkpoint at least REWIND before it and takes the stretch at half the step, up to
@@ -968,12 +969,6 @@ class Recovery:
 
     def due(self, t: float) -> bool:
         return t - self.last >= self.CHECKPOINT_SPACING - 1e-9 * max(1.0, abs(t)) or not self.checkpoints
-
-    def outputs_to_checkpoint(self, t: float) -> int:
-        """How many output intervals a compiled chunk may run before the next checkpoint is due."""
-        if not self.on:
-            return 1 << 30
-        return max(1, int(math.ceil((self.last + self.CHECKPOINT_SPACING - t) / self.out_dt - 1e-9)))
 
     def checkpoint(self, st, k_out: int, qdd_prev) -> None:
         system = self.system
@@ -1524,7 +1519,7 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
                         # the compiled run records a chunk of output intervals (rfesim.solvers.recording);
                         # an interval that fails comes back rolled back, for the redo below
                         row0 = recorder.k
-                        m = min(chunk, n_out - k_out + 1, recorder.nt - row0, recovery.outputs_to_checkpoint(st.t))
+                        m = min(chunk, n_out - k_out + 1, recorder.nt - row0)
                         if m <= 0:
                             fast = False        # the recorder is full (a recorder handed in): Python from here
                         else:
