@@ -33,7 +33,11 @@ CONVERGED = 0.002
 OUTPUT_INTERVAL = 0.4            # s, a multiple of both time steps (the driver shortens a step that does not divide it)
 TARGET_WALL = 180.0
 LIMITS = (
-    "This table (2026-11-28, an AMD EPYC machine, about 20 % faster than the last one: the reference took "
+    "This table (2026-12-07) runs the code of the one before with the checkpoints for going back past a failure "
+    "(docs/theory.md, 'Going back past a failure'), on a slower machine: the reference, its steps, Newton "
+    "iterations and moment the same to the last digit, took 142.1 s against 103.4 s; over 900 s with the "
+    "checkpoints and without, alternately, 10.16-10.55 s against 10.42-11.45 s, the same moments to every digit. "
+    "The table before (2026-11-28, an AMD EPYC machine, about 20 % faster than the last one: the reference took "
     "103.4 s against 130.0 s) is the first with the seabed friction's stick damper (docs/theory.md, 'Stick "
     "damper'; critically damped by default). The production run without it (friction_damping_ratio 0) on this"
     " machine, the same day: 108040 steps, 40 halvings, 492020 Newton iterations, 61805 Jacobians, 80.9-84.7 "
