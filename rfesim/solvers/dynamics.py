@@ -1019,12 +1019,16 @@ class Recovery:
             return []
         first = self.events[0]
         finest = min(e[2] for e in self.events)
+        rec = self.recorder
+        end = first[0] + self.RECOVERY_SPAN
+        if rec.k:
+            end = min(end, float(rec.time[rec.k - 1]))       # the run may end within the stretch
         more = (f"; {len(self.events)} such recoveries in all, at t = "
                 + ", ".join(f"{e[0]:.6g}" for e in self.events[:10]) + (" ..." if len(self.events) > 10 else "")
                 + " s") if len(self.events) > 1 else ""
         return [f"Newton failed at t = {first[0]:.6g} s at the time step {self.h:.4g} s even in 64 substeps (a slack "
                 f"rope snatched taut, or another shock the step does not resolve); the run went back to t = "
-                f"{first[1]:.6g} s and took the stretch to {first[0] + self.RECOVERY_SPAN:.6g} s at {first[2]:.4g} s "
+                f"{first[1]:.6g} s and took the stretch to {end:.6g} s at {first[2]:.4g} s "
                 f"steps, then went on at its own step{more} (finest step {finest:.4g} s): the outputs there come "
                 f"from the finer step (analysis.dynamics.integrator.recovery_halvings: 0 stops at the failure "
                 f"instead)"]
