@@ -628,6 +628,17 @@ def compile_scenario(sc, start: str | None = None) -> Model:
             if d < 1e-9 * L:
                 problems.append((f"{base}.end_b.position", "end B coincides with end A"))
                 continue
+            if d > 1.02 * L:
+                # an end placed only here (a join's parent end, a body): the check validation makes
+                # of ends placed in the scenario (rfesim.scenario.load), in the user's field
+                field = f"{base}.length"
+                origins = getattr(sc, "_origins", None) or {}
+                if origins:
+                    from ..scenario.pipelay import template_path
+                    field = template_path(field, origins)
+                problems.append((field, f"{L:.6g} m is shorter than the distance between its ends at the start "
+                                        f"({d:.6g} m): the line would be stretched by {100 * (d / L - 1):.3g} %"))
+                continue
             if d >= L * (1.0 - 1e-9) or start == "straight" or env.gravity == 0.0:
                 curve = _straight(A, chord, L, stretch=d / L)
             else:

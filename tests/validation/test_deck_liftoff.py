@@ -171,3 +171,18 @@ def test_crane_payload_inside_its_deck_names_the_template_fields():
     (field, reason), = err.value.errors
     assert field == "cranes.crane.payload.position"
     assert "(cranes.crane.payload.deck.height = 4.5 m in its frame)" in reason and "1.5 m" in reason
+
+
+def test_crane_rope_that_cannot_reach_its_payload_is_refused():
+    # the rope's ends are placed only when the model is built (the boom tip, the body): a
+    # payload set 61 m from the tip of a 35.35 m rope used to reach the statics, which failed
+    folder = Path(__file__).resolve().parents[2] / "scenarios"
+    data = json.loads((folder / "column_crane_liftoff.json").read_text())
+    data["cranes"]["crane"]["slewing_deg"] = 180.0
+    data["cranes"]["crane"]["payload"]["position"][1] = 58.4146
+    with pytest.raises(ScenarioError) as err:
+        rfesim.api.check_model(rfesim.load_scenario(data, base_dir=folder))
+    (field, reason), = err.value.errors
+    assert field == "cranes.crane.rope.length"
+    assert reason.startswith("35.35 m is shorter than the distance between its ends at the start (60.9")
+    assert reason.endswith("the line would be stretched by 72.4 %")
