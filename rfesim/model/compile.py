@@ -35,6 +35,7 @@ log = logging.getLogger("rfesim")
 
 LEAD_SHARE = 0.1          # clamped ends' straight leads longer than this share of the line: no leads
 LEAD_CHORD = 1e-3         # ... nor when the chord between their inner ends is shorter than this share
+BUILT_STRETCH = 1.1       # a line whose ends, placed when the model is built, lie further apart than this x its length
 SHEAR_MARGIN = 1.0        # a line expected above this share of its fem shear limit defaults to kruszewski
 NEARLY_FLEXIBLE = 1e-6     # 12 EI / Delta^3 below this fraction of GA / Delta: default to kruszewski
 
@@ -628,9 +629,10 @@ def compile_scenario(sc, start: str | None = None) -> Model:
             if d < 1e-9 * L:
                 problems.append((f"{base}.end_b.position", "end B coincides with end A"))
                 continue
-            if d > 1.02 * L:
-                # an end placed only here (a join's parent end, a body): the check validation makes
-                # of ends placed in the scenario (rfesim.scenario.load), in the user's field
+            if d > BUILT_STRETCH * L:
+                # ends placed only here (a join's parent end, a body): a line that cannot reach
+                # between them, in the user's field (validation refuses placed ends past 2 %,
+                # rfesim.scenario.load; a soft line from a chain point may be pre-stretched more)
                 field = f"{base}.length"
                 origins = getattr(sc, "_origins", None) or {}
                 if origins:
