@@ -182,7 +182,8 @@ def _statics_hint(sc: Scenario, model=None) -> str | None:
     shear = _shear_hint(model)
     if shear is not None:
         return shear
-    slack = _slack_ropes(model)
+    start = _StartShape(model)          # the start shape evaluated once for the two checks below
+    slack = _slack_ropes(model, start)
     if slack:
         name, length, chord, lower = slack[0]
         more = _and_more(slack)
@@ -196,7 +197,7 @@ def _statics_hint(sc: Scenario, model=None) -> str | None:
                 f"length, with no axial stiffness to guide Newton to its hanging shape (a loop below the lower "
                 f"end); give {field} at most {chord:.6g} m for a taut rope, or set analysis.statics.enabled to "
                 f"false and start the dynamics from the given shape")
-    surfacing = _buoyant_at_surface(sc, model)
+    surfacing = _buoyant_at_surface(sc, model, start)
     if surfacing:
         name, w, rise = surfacing[0]
         more = _and_more(surfacing)
@@ -222,10 +223,26 @@ def _and_more(found: list) -> str:
     return f" (and {len(found) - 1} more)" if len(found) > 1 else ""
 
 
+class _StartShape:
+    """The model's start shape evaluated (RFE positions, SDE strains) on first use."""
+
+    def __init__(self, model):
+        self.model = model
+        self._ws = None
+
+    @property
+    def ws(self):
+        if self._ws is None:
+            system = System(self.model)
+            system.evaluate(self.model.initial)
+            self._ws = system.ws
+        return self._ws
+
+
 VERTICAL = 0.1     # a rope's ends within this ratio of horizontal to vertical distance: one above the other
 
 
-def _slack_ropes(model) -> list[tuple[str, float, float, str]]:
+def _slack_ropes(model, start: _StartShape | None = None) -> list[tuple[str, float, float, str]]:
     """Ropes (lines of tension-only SDEs) longer than the distance between their ends at the
     start by more than EXCESS_LENGTH whose start shape compresses them (one end above the
     other: the catenary start degenerates and bows the rope sideways, every element slack):
@@ -239,22 +256,21 @@ def _slack_ropes(model) -> list[tuple[str, float, float, str]]:
                   and li.sde_stop > li.sde_start and np.all(km.sde_tension_only[li.sde_start:li.sde_stop] == 1)]
     if not candidates:
         return []
-    system = System(model)
-    system.evaluate(model.initial)
-    eps, r = system.ws.eps[:, 0], system.ws.r
+    ws = (start or _StartShape(model)).ws
+    eps, r = ws.eps[:, 0], ws.r
+    bodies = {b.name for b in (getattr(model, "bodies", None) or [])}
     out = []
     for li in candidates:
         d = r[li.rfe_stop - 1] - r[li.rfe_start]          # the end RFEs' centres
         if not (np.all(eps[li.sde_start:li.sde_stop] < 0.0) and math.hypot(d[0], d[1]) < VERTICAL * abs(d[2])):
             continue
         held = li.end_b.attach if li.end_b is not None else None
-        bodies = {b.name for b in (getattr(model, "bodies", None) or [])}
         lower = f", end B at body '{held}'" if held in bodies else ""
         out.append((li.name, float(li.length), float(li.chord), lower))
     return out
 
 
-def _buoyant_at_surface(sc: Scenario, model) -> list[tuple[str, float, float]]:
+def _buoyant_at_surface(sc: Scenario, model, start: _StartShape | None = None) -> list[tuple[str, float, float]]:
     """Buoyant lines with both ends placed under water whose start shape (the catenary of their
     net buoyancy, arched up) reaches the surface: (name, submerged weight N/m (< 0), the height
     of the start shape's top above the surface less the line's radius, m)."""
@@ -275,11 +291,10 @@ def _buoyant_at_surface(sc: Scenario, model) -> list[tuple[str, float, float]]:
             candidates.append((li, w))
     if not candidates:
         return []
-    system = System(model)
-    system.evaluate(model.initial)
+    ws = (start or _StartShape(model)).ws
     out = []
     for li, w in candidates:
-        r = system.ws.r[li.rfe_start:li.rfe_stop]
+        r = ws.r[li.rfe_start:li.rfe_stop]
         rise = float(r[:, 2].max()) + 0.5 * li.section.outer_diameter - water.surface_level
         if rise >= 0.0 and float(r[0, 2]) < water.surface_level and float(r[-1, 2]) < water.surface_level:
             out.append((li.name, w, rise))
