@@ -187,11 +187,8 @@ def _statics_hint(sc: Scenario, model=None) -> str | None:
     if slack:
         name, length, chord, lower = slack[0]
         more = _and_more(slack)
-        field = f"lines.{name}.length"
-        origins = getattr(sc, "_origins", None) or {}
-        if origins:
-            from .scenario.pipelay import template_path
-            field = template_path(field, origins)
+        from .scenario.pipelay import user_field
+        field = user_field(sc, f"lines.{name}.length")
         return (f"rope '{name}'{more} is {length - chord:.4g} m longer than the distance between its ends at the "
                 f"start ({chord:.6g} m{lower}), one end nearly above the other: it starts slack along its whole "
                 f"length, with no axial stiffness to guide Newton to its hanging shape (a loop below the lower "

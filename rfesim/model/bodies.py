@@ -188,12 +188,8 @@ def _deck_too_deep(model, sc, j: int, depth: float, deck_z: float, weight: float
     from ..errors import ScenarioError
     info = next((b for b in (getattr(model, "bodies", None) or []) if b.index == j), None)
     name = info.name if info is not None else str(j)
-    field = f"bodies.{name}.position"
-    deck_field = f"bodies.{name}.deck.height"
-    origins = getattr(sc, "_origins", None) or {}
-    if origins:
-        from ..scenario.pipelay import template_path
-        field, deck_field = template_path(field, origins), template_path(deck_field, origins)
+    from ..scenario.pipelay import user_field
+    field, deck_field = user_field(sc, f"bodies.{name}.position"), user_field(sc, f"bodies.{name}.deck.height")
     vessel = model.attachment_names[int(model.km.body_deck_att[j])]
     times = f" ({k * depth / weight:.3g} times its weight)" if weight > 0.0 else ""
     raise ScenarioError([(field, f"the body's underside starts {depth:.4g} m inside the deck of vessel '{vessel}' "

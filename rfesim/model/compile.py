@@ -633,11 +633,8 @@ def compile_scenario(sc, start: str | None = None) -> Model:
                 # ends placed only here (a join's parent end, a body): a line that cannot reach
                 # between them, in the user's field (validation refuses placed ends past 2 %,
                 # rfesim.scenario.load; a soft line from a chain point may be pre-stretched more)
-                field = f"{base}.length"
-                origins = getattr(sc, "_origins", None) or {}
-                if origins:
-                    from ..scenario.pipelay import template_path
-                    field = template_path(field, origins)
+                from ..scenario.pipelay import user_field
+                field = user_field(sc, f"{base}.length")
                 problems.append((field, f"{L:.6g} m is shorter than the distance between its ends at the start "
                                         f"({d:.6g} m): the line would be stretched by {100 * (d / L - 1):.3g} %"))
                 continue

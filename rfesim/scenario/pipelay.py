@@ -462,6 +462,13 @@ def record_origin(path: str, field: str = "", copy_of: str | None = None, genera
         origins[path] = Origin(template, field, copy_of, tuple(generated), dict(keys or {}))
 
 
+def user_field(sc, path: str) -> str:
+    """``path`` of the expanded scenario ``sc`` as the user wrote it (``template_path`` with the
+    scenario's recorded template origins; the path itself without templates)."""
+    origins = getattr(sc, "_origins", None) or {}
+    return template_path(path, origins) if origins else path
+
+
 def template_path(path: str, origins: dict) -> str:
     """The field the user wrote for an error at ``path`` of the expanded scenario: in a copy
     of the user's own entry, its path in the template (``winches.crane_winch.mode.rows.1`` ->
