@@ -11,7 +11,7 @@ from . import __version__
 from .errors import CancelledError, SolverError
 from .model.compile import compile_scenario
 from .scenario import Scenario, load_scenario
-from .solvers.buckling import buckling_warnings, dynamic_shear_warnings, shear_warnings
+from .solvers.buckling import buckling_warnings, dynamic_shear_warnings, fold_warnings, shear_warnings
 from .solvers.dynamics import Counters, Recorder, run_dynamics
 from .solvers.modal import (ModalResults, join_notes, locked_note, modal_analysis, statics_disabled_note,
                             statics_failed)
@@ -81,8 +81,14 @@ def _seabed_folds(model) -> list[str]:
     for li in model.lines if model is not None else []:
         if li.seabed_fold is None:
             continue
-        length, span, height, limit = li.seabed_fold
-        if height <= 1e-3 * length + 0.5 * li.section.outer_diameter:
+        length, span, height, limit, drop = li.seabed_fold
+        if drop > 0.0:
+            out.append(f"line '{li.name}' hangs from two points {drop:.4g} m and {height:.4g} m above the seabed, "
+                       f"{span:.4g} m apart, and is {length - limit:.4g} m longer ({length:.6g} m) than can hang "
+                       f"vertically from both and lie straight on the seabed between them ({limit:.6g} m): the rest "
+                       f"folds on the seabed, which has no unique static shape; shorten the line, move its ends "
+                       f"apart, or set analysis.statics.enabled to false")
+        elif height <= 1e-3 * length + 0.5 * li.section.outer_diameter:
             apart = f"{span:.6g} m apart" if abs(limit - span) <= 1e-6 * limit else \
                 f"{limit:.6g} m apart along the seabed"
             out.append(f"line '{li.name}' has both ends on the seabed and {length - limit:.4g} m of slack "
@@ -407,7 +413,8 @@ def _static_state(system: System, sc: Scenario, progress=None):
         if system.km.has_reels:
             state, info = settle_back_tension(system, sc, state, info, resolve)
     info.warnings = (list(getattr(sc, "_template_warnings", [])) + _no_static_shape(sc, system.model)
-                     + list(info.warnings) + buckling_warnings(system, state) + shear_warnings(system, state))
+                     + list(info.warnings) + buckling_warnings(system, state) + shear_warnings(system, state)
+                     + fold_warnings(system, state))
     for w in info.warnings:
         log.warning("statics: %s", w)
     log.info("statics: %s, %.3g s", info.message, _time.perf_counter() - wall0)

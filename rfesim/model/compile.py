@@ -59,8 +59,8 @@ class LineInfo:
     chord: float | None = None   # m, distance between the ends at t = 0 when both are placed
     tension_estimate: float = 0.0   # N, its largest static tension expected before statics (fem lines:
                                     #   _tension_estimate), against its fem shear limit (shear_limit)
-    seabed_fold: tuple | None = None   # (length, horizontal span, height, limit) m of a heavy line from the seabed
-                                       #   longer than can hang and lie straight (_seabed_fold)
+    seabed_fold: tuple | None = None   # (length, horizontal span, height, limit, lower end's height) m of a heavy
+                                       #   line longer than can hang onto the seabed and lie straight (_seabed_fold)
     held_length: float = 0.0   # m from end A to the last support point of its start shape (reel, rollers,
                                #   tensioner track): the pipe there cannot fold on the seabed (_held_end)
 
@@ -217,7 +217,8 @@ def _point_loads(line) -> float:
 
 def _tension_estimate(lname: str, line, sec: Section, sc, A, B) -> float:
     """N, the largest static tension of a line expected before statics: the elastic
-    catenary's between its ends when both are placed, or the stretch between ends farther
+    catenary's between its ends when both are placed (the U of ``_two_touchdowns`` when it
+    sags onto the seabed from two ends above it), or the stretch between ends farther
     apart than its length, else its wet weight; with its point loads and what hangs from its
     end B (a body, joined lines: ``_hung_below``)."""
     from ..catenary import solve_catenary
@@ -240,6 +241,13 @@ def _tension_estimate(lname: str, line, sec: Section, sc, A, B) -> float:
                 tension = max(cat.top_tension, cat.anchor_tension)
             except (ValueError, ArithmeticError):
                 pass                # no catenary for these sizes: the wet weight stands
+            zb = sc.environment.seabed_z_at(float(lo[0]), float(lo[1]))
+            if not on_seabed and zb is not None and _submerged_weight(sec, sc) > 0.0:
+                # both ends above the seabed, sagging onto it: the U of _two_touchdowns
+                level = zb + 0.5 * sec.outer_diameter
+                u = _two_touchdowns(float(lo[2] - level), float(hi[2] - level), span, line.length, w, n=3)
+                if u is not None:
+                    tension = float(u[3].max())
     return tension + extra
 
 
@@ -266,13 +274,15 @@ def _held_end(curve: _Curve, held: list) -> tuple[float, np.ndarray] | None:
 
 
 def _seabed_fold(line, sec: Section, sc, A, B, held: tuple[float, np.ndarray] | None = None) -> tuple | None:
-    """(length, horizontal span, height, limit) of a heavy line between placed ends, its lower
-    end on the seabed, that is longer than ``limit``: what can hang vertically from the upper
-    end down to the seabed under it and lie straight along the seabed to the lower end (on a
-    flat seabed the horizontal span plus the height; on a slope or a profile the drop to the
-    seabed under the upper end plus the length along the seabed). The rest would fold back
-    on the seabed, which has no unique static shape (its start shape bunches it up). None
-    otherwise.
+    """(length, horizontal span, height, limit, lower end's height) of a heavy line between
+    placed ends that is longer than ``limit``: what can hang vertically from the upper end
+    down to the seabed under it and lie straight along the seabed to the lower end (on a flat
+    seabed the horizontal span plus the height; on a slope or a profile the drop to the
+    seabed under the upper end plus the length along the seabed). When the lower end is above
+    the seabed too, the line can also hang vertically from it (a U whose bottom lies on the
+    seabed: _two_touchdowns), and the limit adds that drop, the fifth entry (0 for a lower
+    end on the seabed). The rest would fold back on the seabed, which has no unique static
+    shape (its start shape bunches it up). None otherwise.
 
     ``held`` (``_held_end``: arc length from end A and point of the last support of the start
     shape, end A upper): the line hangs free only from there, so span and height are taken
@@ -284,24 +294,30 @@ def _seabed_fold(line, sec: Section, sc, A, B, held: tuple[float, np.ndarray] | 
     if held is not None and B[2] <= A[2]:
         s_held, A = held
     lo, hi = (A, B) if A[2] <= B[2] else (B, A)
-    if not _grounded(lo, sec, sc, line.length):
+    env = sc.environment
+    if env.seabed is None:
         return None
     span = float(np.hypot(*(hi - lo)[:2]))
     height = float(hi[2] - lo[2])
-    env = sc.environment
-    # the seabed path from the lower end to under the upper end, at the lower end's height
-    # above the seabed (profiles are piecewise linear: sample finely enough for their kinks)
-    n = 1 if sc.environment.seabed.profile is None else max(64, 8 * len(env.seabed.profile))
+    # the seabed path from under the lower end to under the upper end (profiles are piecewise
+    # linear: sample finely enough for their kinks)
+    n = 1 if env.seabed.profile is None else max(64, 8 * len(env.seabed.profile))
     f = np.linspace(0.0, 1.0, n + 1)
     x = lo[0] + f * (hi[0] - lo[0])
     y = lo[1] + f * (hi[1] - lo[1])
     zb = np.array([env.seabed_z_at(float(a), float(b)) for a, b in zip(x, y)])
     along = float(np.sum(np.sqrt(np.diff(x) ** 2 + np.diff(y) ** 2 + np.diff(zb) ** 2)))
-    hang = height - float(zb[-1] - zb[0])
-    limit = s_held + max(hang, 0.0) + along
+    contact = 0.5 * sec.outer_diameter
+    if _grounded(lo, sec, sc, line.length):
+        # from the lower end's height above the seabed
+        drop_lo, hang = 0.0, height - float(zb[-1] - zb[0])
+    else:
+        # both ends above the seabed: the line may hang down from each onto it (a U)
+        drop_lo, hang = float(lo[2] - contact - zb[0]), float(hi[2] - contact - zb[-1])
+    limit = s_held + drop_lo + max(hang, 0.0) + along
     if line.length <= limit * (1.0 + 1e-3):
         return None
-    return line.length, span, max(hang, 0.0), limit
+    return line.length, span, max(hang, 0.0), limit, drop_lo
 
 
 def _plane_above_water(sc, centres: np.ndarray, lines) -> tuple[str, str] | None:
@@ -415,6 +431,71 @@ def _straight(start: np.ndarray, direction: np.ndarray, length: float, stretch: 
     return _Curve(s, np.vstack([start, start + stretch * length * d]))
 
 
+class _TwoTouchdownTension:
+    """Tension along a ``_two_touchdowns`` shape, as CatenarySolution.tension gives it."""
+
+    def __init__(self, s: np.ndarray, tension: np.ndarray):
+        self.s, self.T = s, tension
+
+    def tension(self, arc):
+        return np.interp(arc, self.s, self.T)
+
+
+def _two_touchdowns(h_lo: float, h_hi: float, span: float, length: float, weight: float,
+                    n: int = 2001) -> tuple | None:
+    """A heavy line between two ends ``h_lo`` and ``h_hi`` above a flat seabed, ``span`` apart
+    horizontally, that hangs down to the seabed on both sides and lies on it in between: two
+    touchdown catenaries of the same horizontal tension H = w a (no friction along the laid
+    part), each from a height h with suspended length sqrt(h^2 + 2 h a) and horizontal reach
+    a acosh(1 + h / a) (the catenary z = a (cosh(x / a) - 1) from its touchdown), and the laid
+    length span - reach_lo - reach_hi between them; a is the root of
+
+        sum_i [sqrt(h_i^2 + 2 h_i a) - a acosh(1 + h_i / a)] + span = length,
+
+    between a -> 0 (left side: h_lo + h_hi + span, the longest line that can hang vertically
+    and lie straight, _seabed_fold) and the a at which the laid part vanishes (the free
+    catenary touching the seabed at one point). Inextensible; the start shape's joints add
+    the strain T / EA (_Curve.joints).
+
+    Returns (arc s from the lower end, horizontal distance x, height z above the seabed,
+    tension T) on ``n`` points, or None when no such shape exists (the line is too long, so
+    its slack folds, or too short to reach the seabed)."""
+    import scipy.optimize
+
+    if min(h_lo, h_hi) <= 0.0 or weight <= 0.0:
+        return None
+
+    def reach(a):
+        return a * math.acosh(1.0 + h_lo / a) + a * math.acosh(1.0 + h_hi / a)
+
+    def excess(a):
+        hang = math.sqrt(h_lo * h_lo + 2.0 * h_lo * a) + math.sqrt(h_hi * h_hi + 2.0 * h_hi * a)
+        return hang + span - reach(a) - length
+
+    tiny = 1e-9 * max(h_lo, h_hi, span)
+    if reach(tiny) >= span or excess(tiny) <= 0.0:
+        return None
+    big = max(h_lo, h_hi, span)
+    while reach(big) < span:
+        big *= 2.0
+    a_touch = scipy.optimize.brentq(lambda a: reach(a) - span, tiny, big, xtol=1e-12 * big)
+    if excess(a_touch) >= 0.0:
+        return None
+    a = scipy.optimize.brentq(excess, tiny, a_touch, xtol=1e-13 * a_touch)
+    s_lo = math.sqrt(h_lo * h_lo + 2.0 * h_lo * a)
+    x_lo = a * math.acosh(1.0 + h_lo / a)
+    laid = span - reach(a)
+    s = np.linspace(0.0, length, n)
+    # arc from each touchdown (negative on the laid part), and the catenary there
+    sig = np.where(s < s_lo, s_lo - s, np.maximum(s - s_lo - laid, 0.0))
+    u = a * np.arcsinh(sig / a)
+    x = np.where(s < s_lo, x_lo - u, np.where(s <= s_lo + laid, x_lo + (s - s_lo), x_lo + laid + u))
+    z = np.sqrt(a * a + sig * sig) - a
+    tension = weight * (a + z)
+    x[-1], z[-1] = span, h_hi
+    return s, x, z, tension
+
+
 def _catenary_curve(A: np.ndarray, B: np.ndarray, length: float, weight: float, EA: float,
                     seabed_z: float | None, contact_radius: float, seabed_k: float = 0.0) -> _Curve | None:
     """Elastic catenary in the vertical plane through A and B (None if not applicable).
@@ -446,6 +527,15 @@ def _catenary_curve(A: np.ndarray, B: np.ndarray, length: float, weight: float, 
     x, z = sol.profile(s)
     eh = np.array([dh[0], dh[1], 0.0]) / span
     X = lo[None, :] + x[:, None] * eh[None, :] + z[:, None] * np.array([0.0, 0.0, 1.0])[None, :]
+    if seabed_z is not None and not on_seabed and float(X[:, 2].min()) < seabed_z + contact_radius - 1e-6 * length:
+        # both ends above the seabed and the free catenary sags through it: it lies on the
+        # seabed between two touchdowns (clipping the free sag to the seabed would bunch it up)
+        u = _two_touchdowns(float(lo[2] - seabed_z - contact_radius), float(hi[2] - seabed_z - contact_radius),
+                            span, length, weight)
+        if u is not None:
+            s, x, z, tension = u
+            X = np.column_stack([lo[0] + x * eh[0], lo[1] + x * eh[1], seabed_z + contact_radius + z])
+            sol = _TwoTouchdownTension(s, tension)
     if seabed_z is not None:
         rest = seabed_z + contact_radius - (weight / seabed_k if seabed_k > 0 else 0.0)
         # grounded: at the level of the lower end (the catenary's seabed), which may sit a

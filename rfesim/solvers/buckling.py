@@ -85,6 +85,7 @@ NOISE_FRACTION = 1e-3   # compression below this fraction of the force scale is 
 NOISE_ROUNDOFF = 1e3    # ... or below this multiple of the force resolution (System.roundoff_force)
 STRAIGHT = 1e-2         # a stretch whose centres lie within this fraction of its length from its chord is straight
 KINK = 4.0 * STRAIGHT   # rad: two joined lines whose ends turn by more than this are a corner, not one column
+FOLD = 0.5 * math.pi    # rad: an SDE of a line bent more than this is folded back (fold_warnings)
 
 
 @dataclass(frozen=True)
@@ -377,6 +378,40 @@ def shear_warnings(system: System, state: State) -> list[str]:
                        f"equilibrium is spurious; set lines.{li.name}.shear_stiffness to kruszewski (eq. 8.88), or "
                        f"give many more elements (Delta well below sqrt(12 EI / T), with T the line's true tension, "
                        f"which this equilibrium understates)")
+    return out
+
+
+def fold_warnings(system: System, state: State) -> list[str]:
+    """One message per line that statics left folded back on itself: an SDE of the line (not
+    a joint between lines) bent by more than ``FOLD`` (its two RFEs turned more than a right
+    angle against each other, eq. 8.75). No line of any stiffness takes that shape over one
+    element in a static equilibrium; it is slack bunched up where the start shape put more
+    line than the path holds (elements overlapping, some in compression), and its tensions
+    are not the line's: 300 m of chain sagging onto the seabed from two ends, started from
+    the free catenary clipped to the seabed, converged folded at 173 deg in two places with
+    four times the horizontal tension of its U (docs/theory.md, section 6, 'A U onto the
+    seabed')."""
+    st = state.copy()
+    st.qd[:] = 0.0
+    system.evaluate(st)
+    eps = system.ws.eps
+    out = []
+    for li in system.model.lines:
+        if li.sde_stop <= li.sde_start:
+            continue
+        bend = np.hypot(eps[li.sde_start:li.sde_stop, 4], eps[li.sde_start:li.sde_stop, 5])
+        folds = np.nonzero(bend > FOLD)[0]
+        if folds.size == 0:
+            continue
+        arcs = li.sde_arc_length[folds]
+        k = int(np.argmax(bend[folds]))
+        where = (f"at arc length {arcs[0]:.4g} m" if folds.size == 1 else
+                 f"at {folds.size} SDEs between arc length {arcs.min():.4g} and {arcs.max():.4g} m")
+        out.append(f"line '{li.name}' lies folded back on itself {where} (its elements meet at up to "
+                   f"{math.degrees(float(bend[folds][k])):.4g} deg, at arc length {arcs[k]:.4g} m): this equilibrium "
+                   f"has slack bunched up, and its tensions are not the line's; check that the line is not longer "
+                   f"than its path can hold (on the seabed: than can hang down onto it and lie straight), or "
+                   f"start statics from another shape (analysis.statics.start)")
     return out
 
 

@@ -60,7 +60,8 @@ def test_slack_beyond_the_supports_is_still_found():
     data["lines"]["lay"]["length"] += 40.0
     data["lines"]["lay"]["elements"] += 20
     model = _compiled(rfesim.load_scenario(data))
-    length, span, height, limit = model.lines[0].seabed_fold
+    length, span, height, limit, drop = model.lines[0].seabed_fold
+    assert drop == 0.0                      # its lower end lies on the seabed
     held = model.lines[0].held_length
     # 40 m less the 12.3 m by which the template's catenary (317.7 m hanging 315 m over a
     # 15.0 m span) is shorter than hanging vertically and lying straight

@@ -69,7 +69,8 @@ def test_the_fold_warning_measures_along_the_slope():
     res = rfesim.statics(rfesim.load_scenario(onto_slope(10.0)))
     assert "folds on the seabed" not in res.message
     down = compile_scenario(rfesim.load_scenario(onto_slope(-20.0, length=160.0))).lines[0]
-    length, span, height, limit = down.seabed_fold
+    length, span, height, limit, drop = down.seabed_fold
+    assert drop == 0.0
     # end A at 30 m + 60 tan 20 over z = 0, the seabed under it at 40 tan 20, end B 0.149 m over
     # it: a 37.13 m hang, then 100 m / cos 20 deg along the slope (143.55 m; the flat formula
     # gave the span plus the height of the ends, 173.5 m)
