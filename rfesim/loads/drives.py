@@ -12,7 +12,8 @@ the rest rotation a prescribed function of time,
 
 with a_k the drive axes in the body frame of the SDE's left RFE (the parent line's end)
 and dphi_k(t) = phi_k(t) - phi_k(0) the drive angles relative to the start, phi_k a
-monotone cubic (PCHIP) through an angle table, so the drive rate is continuous. The angular
+monotone cubic (PCHIP) through an angle table, so the drive rate is continuous (from rest at
+a first row at t >= 0: rfesim.model.supports.drive_slopes). The angular
 velocity of R0 relative to RFE a (in a's body frame) is
 
     omega0 = sum_k (Rot(a_1, dphi_1) ... Rot(a_{k-1}, dphi_{k-1})) a_k dphi_k/dt
@@ -42,7 +43,7 @@ from .sde import sde_moment_change_into
 @njit(cache=True)
 def drive_table(ts, ps, vs, t):
     """(value, slope) at t of the cubic Hermite through (ts, ps) with slopes vs (monotone
-    PCHIP slopes from the compile step), constant beyond the ends (slope 0 there). Also the
+    PCHIP slopes from the compile step, rfesim.model.supports.drive_slopes), constant beyond the ends (slope 0 there). Also the
     payout curve of tensioners and reels (``rfesim.loads.tensioner._table``)."""
     n = ts.shape[0]
     if t <= ts[0]:

@@ -385,7 +385,7 @@ def joint_arrays(nsde: int, rest=None, drives=()) -> dict:
     rotations compose (R0(t) = Rot(a_1, dphi_1) Rot(a_2, dphi_2) ... sde_rest[s]); the rows
     are sorted stably by SDE. ``sde_has_rest`` is 2 for driven SDEs, 1 for a constant rest
     rotation that is not the identity, 0 otherwise."""
-    from .supports import _pchip_slopes
+    from .supports import drive_slopes
     from ..loads.drives import drive_table
     R0 = _identities(nsde)
     if rest is not None:
@@ -420,7 +420,7 @@ def joint_arrays(nsde: int, rest=None, drives=()) -> dict:
         out["drive_axis"][j] = ax / norm
         out["drive_t"][j, :c] = table[:, 0]
         out["drive_angle"][j, :c] = table[:, 1]
-        out["drive_slope"][j, :c] = _pchip_slopes(table[:, 0], table[:, 1])
+        out["drive_slope"][j, :c] = drive_slopes(table[:, 0], table[:, 1])
         out["drive_count"][j] = c
         out["drive_phi0"][j] = drive_table(table[:, 0], table[:, 1], out["drive_slope"][j, :c], 0.0)[0]
     out.update(sde_rest=R0, sde_has_rest=flags, has_drives=nd > 0)
@@ -481,7 +481,7 @@ def new_attachment_state(natt: int) -> AttachmentState:
 def motor_arrays(motors: list[dict]) -> dict:
     """KernelModel fields of the servo motors: dicts {"sde", "table": [[t s, angle rad], ...],
     "stiffness", "damping", "max_torque"}."""
-    from .supports import _pchip_slopes
+    from .supports import drive_slopes
     nm = len(motors)
     K = max([2] + [len(m["table"]) for m in motors])
     out = dict(motor_sde=np.zeros(nm, np.int64), motor_t=np.zeros((nm, K)), motor_angle=np.zeros((nm, K)),
@@ -495,7 +495,7 @@ def motor_arrays(motors: list[dict]) -> dict:
         out["motor_sde"][j] = int(m["sde"])
         out["motor_t"][j, :c] = table[:, 0]
         out["motor_angle"][j, :c] = table[:, 1]
-        out["motor_slope"][j, :c] = _pchip_slopes(table[:, 0], table[:, 1])
+        out["motor_slope"][j, :c] = drive_slopes(table[:, 0], table[:, 1])
         out["motor_count"][j] = c
         out["motor_stiffness"][j] = float(m["stiffness"])
         out["motor_damping"][j] = float(m["damping"])

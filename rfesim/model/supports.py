@@ -256,6 +256,24 @@ def _pchip_slopes(t: np.ndarray, d: np.ndarray) -> np.ndarray:
     return PchipInterpolator(t, d).derivative()(t)
 
 
+def drive_slopes(t: np.ndarray, d: np.ndarray) -> np.ndarray:
+    """Slopes at the rows of a drive's angle table (joint drives, servo motors; the cubic
+    Hermite of ``rfesim.loads.drives.drive_table``): the monotone PCHIP slopes, but 0 at the
+    first row when that is at t >= 0. The structure starts at rest (statics), and the drive
+    holds its first angle before the table, so it starts from rest too: PCHIP's own end
+    slope, extrapolated from the first two segments, made the rate jump at the first row, a
+    shock (an A-frame tilt table
+    starting at -4.16 deg/s failed at 0.106 s, its rope snatched slack and taut). A zero end
+    slope keeps the Hermite monotone (Fritsch-Carlson: alpha = 0 with a smaller
+    alpha^2 + beta^2) and passes through every row. A table begun before t = 0 is moving at
+    t = 0 whatever its first slope, and keeps PCHIP's. The last row keeps PCHIP's slope too: a
+    table that ends while moving stops dead there, as it says (add a row to stop smoothly)."""
+    v = _pchip_slopes(t, d)
+    if len(v) and t[0] >= 0.0:
+        v[0] = 0.0
+    return v
+
+
 def table_slopes(t: np.ndarray, d: np.ndarray) -> np.ndarray:
     """Slopes (payout speeds) at the rows of a payout table for the cubic Hermite of
     ``rfesim.loads.tensioner._table``: the monotone PCHIP slopes for three rows or more;

@@ -100,18 +100,20 @@ def _check_profile(value, field: str, lo: float, hi: float, unit: str = "deg") -
 
 
 def _initial(value) -> float:
-    """The profile's value at t = 0 as its drive follows it: the monotone cubic (PCHIP) through
-    the table (rfesim.model.joins), held constant before the first row and after the last."""
+    """The profile's value at t = 0 as its drive follows it: the cubic Hermite through the
+    table with the drive's slopes (rfesim.model.supports.drive_slopes), held constant before
+    the first row and after the last."""
     if isinstance(value, (int, float)):
         return float(value)
-    ts = [float(r[0]) for r in value]
-    vs = [float(r[1]) for r in value]
+    ts = np.array([float(r[0]) for r in value])
+    vs = np.array([float(r[1]) for r in value])
     if 0.0 <= ts[0]:
-        return vs[0]
+        return float(vs[0])
     if ts[-1] <= 0.0:
-        return vs[-1]
-    from scipy.interpolate import PchipInterpolator
-    return float(PchipInterpolator(ts, vs)(0.0))
+        return float(vs[-1])
+    from ..loads.drives import drive_table
+    from ..model.supports import drive_slopes
+    return float(drive_table(ts, vs, drive_slopes(ts, vs), 0.0)[0])
 
 
 def _table(value) -> list[list[float]]:

@@ -1405,7 +1405,8 @@ class Drive(_Strict):
     axis: Vector3 = _units("1", "Rotation axis, global at t = 0 (any length, not zero); it turns with the parent "
                                 "line's end")
     angle: list[DriveAngleRow] = _units("s, deg", "Rows [t, angle], times strictly increasing: monotone cubic "
-                                                  "(PCHIP) between rows, held beyond the ends", min_length=1)
+                                                  "(PCHIP) between rows, from rest at a first row at t >= 0, held "
+                                                  "beyond the ends", min_length=1)
 
     @model_validator(mode="after")
     def _check(self):
@@ -1425,8 +1426,8 @@ class Motor(_Strict):
     name: str = Field("slewing", min_length=1, max_length=100, description="Name of the drive (output column)")
     angle: list[DriveAngleRow] = _units("s, deg", "Set angle rows [t, angle], times strictly increasing, angles "
                                                   "within +-36000 (100 turns): monotone cubic (PCHIP) between "
-                                                  "rows, held beyond the ends; the join turns by angle(t) - "
-                                                  "angle(0)", min_length=1)
+                                                  "rows, from rest at a first row at t >= 0, held beyond the "
+                                                  "ends; the join turns by angle(t) - angle(0)", min_length=1)
     max_torque: float = _units("N*m", "Largest torque the motor gives (both directions)", gt=0.0,
                                le=MAX_FORCE, limit=FORCE_LIMIT)
     stiffness: float = _units("N*m/rad", "Servo gain on the angle error (the joint's torsional stiffness)", gt=0.0,

@@ -213,6 +213,8 @@ def test_drive_rows(model):
     np.testing.assert_allclose(km.drive_phi0, np.radians([10.0, 0.0]))
     from scipy.interpolate import PchipInterpolator
     slopes = PchipInterpolator([0, 10, 20], np.radians([10, 40, 100])).derivative()([0, 10, 20])
+    assert slopes[0] > 0.0
+    slopes[0] = 0.0             # from rest at its first row (rfesim.model.supports.drive_slopes)
     np.testing.assert_allclose(km.drive_slope[0, :3], slopes, rtol=1e-12)
 
 
