@@ -209,6 +209,15 @@ def _statics_hint(sc: Scenario, model=None) -> str | None:
                 f"rises {rise:.3g} m above it): there it floats, half submerged, and the length beyond what can "
                 f"arch under the surface lies along it with no unique static shape; give the line weight (its line "
                 f"type's density, contents_density or coating), shorten it, or set analysis.statics.enabled to false")
+    stiff = _stiff_u_lines(model)
+    if stiff:
+        name, H, a, bend = stiff[0]
+        more = _and_more(stiff)
+        return (f"line '{name}'{more} sags onto the seabed in a U from two ends above it with a horizontal tension "
+                f"of only {H / 1e3:.4g} kN, where its bending stiffness governs its shape: its bending length "
+                f"sqrt(EI / H) = {bend:.4g} m against the catenary's radius {a:.4g} m at the touchdowns, so the "
+                f"catenary it starts from is far from its shape; shorten the line (more tension), move its ends "
+                f"apart, or set analysis.statics.enabled to false (the dynamics settle from the U)")
     neutral = _neutral_lines(sc)
     if neutral:
         name, w, dry = neutral[0]
@@ -219,6 +228,28 @@ def _statics_hint(sc: Scenario, model=None) -> str | None:
                 f"step; check the line type's density, contents_density and coating (the weight the water "
                 f"does not carry), or set analysis.statics.enabled to false")
     return None
+
+
+STIFF_U = 3.0     # a U onto the seabed whose bending length exceeds this many touchdown radii is bending-governed
+
+
+def _stiff_u_lines(model) -> list[tuple[str, float, float, float]]:
+    """Lines that sag onto the seabed in a U from two ends above it (LineInfo.seabed_u) so
+    slack that their bending stiffness, not their weight, shapes them: the bending length
+    sqrt(EI / H) more than ``STIFF_U`` times the catenary's touchdown radius a = H / w. Their
+    start shape, the U of two catenaries (rfesim.model.compile._two_touchdowns), bends them
+    far beyond their shape at the touchdowns: the H1 riser pipe (EI 3.6e7 N m^2) between ends
+    100 m and 190 m above the seabed converged at 480 m (4.5 radii) and failed at 500 m (12).
+    (name, H N, a m, bending length m)."""
+    out = []
+    for li in model.lines if model is not None else []:
+        if li.seabed_u is None:
+            continue
+        H, a, _top = li.seabed_u
+        bend = math.sqrt(li.section.EI_min / H) if H > 0.0 else math.inf
+        if bend > STIFF_U * a:
+            out.append((li.name, H, a, bend))
+    return out
 
 
 def _and_more(found: list) -> str:

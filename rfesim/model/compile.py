@@ -63,6 +63,8 @@ class LineInfo:
                                        #   line longer than can hang onto the seabed and lie straight (_seabed_fold)
     held_length: float = 0.0   # m from end A to the last support point of its start shape (reel, rollers,
                                #   tensioner track): the pipe there cannot fold on the seabed (_held_end)
+    seabed_u: tuple | None = None   # (H N, a = H / w m, top tension N) of a heavy line sagging onto the seabed
+                                    #   from two ends above it (_seabed_u)
 
     @property
     def nrfe(self) -> int:
@@ -241,14 +243,30 @@ def _tension_estimate(lname: str, line, sec: Section, sc, A, B) -> float:
                 tension = max(cat.top_tension, cat.anchor_tension)
             except (ValueError, ArithmeticError):
                 pass                # no catenary for these sizes: the wet weight stands
-            zb = sc.environment.seabed_z_at(float(lo[0]), float(lo[1]))
-            if not on_seabed and zb is not None and _submerged_weight(sec, sc) > 0.0:
-                # both ends above the seabed, sagging onto it: the U of _two_touchdowns
-                level = zb + 0.5 * sec.outer_diameter
-                u = _two_touchdowns(float(lo[2] - level), float(hi[2] - level), span, line.length, w, n=3)
-                if u is not None:
-                    tension = float(u[3].max())
+            u = None if on_seabed else _seabed_u(line, sec, sc, A, B)
+            if u is not None:
+                tension = u[2]          # both ends above the seabed, sagging onto it: the U
     return tension + extra
+
+
+def _seabed_u(line, sec: Section, sc, A, B) -> tuple[float, float, float] | None:
+    """(H N, a = H / w m, top tension N) of a heavy line between placed ends above the seabed
+    that sags onto it in a U (``_two_touchdowns``, on the seabed under its lower end, as its
+    start shape takes it); None otherwise."""
+    w = _submerged_weight(sec, sc)
+    if A is None or B is None or w <= 0.0:
+        return None
+    lo, hi = (A, B) if A[2] <= B[2] else (B, A)
+    zb = sc.environment.seabed_z_at(float(lo[0]), float(lo[1]))
+    if zb is None or _grounded(lo, sec, sc, line.length):
+        return None
+    level = zb + 0.5 * sec.outer_diameter
+    span = float(np.hypot(*(hi - lo)[:2]))
+    u = _two_touchdowns(float(lo[2] - level), float(hi[2] - level), span, line.length, w, n=3)
+    if u is None:
+        return None
+    H = float(u[3].min())
+    return H, H / w, float(u[3].max())
 
 
 def _grounded(p: np.ndarray, sec: Section, sc, length: float) -> bool:
@@ -946,7 +964,8 @@ def compile_scenario(sc, start: str | None = None) -> Model:
                               sde_stop=nsde_total + nseg, length=L, elements=nseg, dx=dx, section=sec,
                               shear_model=shear_model, end_a=line.end_a, end_b=line.end_b, chord=end_distance,
                               tension_estimate=tension, seabed_fold=_seabed_fold(line, sec, sc, A, B, held),
-                              held_length=held[0] if held is not None else 0.0))
+                              held_length=held[0] if held is not None else 0.0,
+                              seabed_u=_seabed_u(line, sec, sc, A, B) if held is None else None))
         end_b_of[lname] = dict(rfe=n_total + nseg, point=centres[-1] + 0.5 * lengths[-1] * frames[-1][:, 0],
                                frame=frames[-1].copy(), dx=dx, length=lengths[-1], section=sec,
                                shear_model=shear_model, damping=lt.damping, mass=masses[-1], inertia=inertia[-1])

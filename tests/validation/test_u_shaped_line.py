@@ -94,3 +94,30 @@ def test_a_u_too_long_to_lie_straight_says_it_folds():
     msg = str(err.value)
     assert (f"line 'l' hangs from two points {HA:.4g} m and {HB:.4g} m above the seabed, {SPAN:.4g} m apart, "
             f"and is {330.0 - limit:.4g} m longer (330 m) than can hang vertically from both") in msg
+
+
+def _stiff_riser(length: float) -> dict:
+    """scenarios/h1_riser_heave.json (a 0.3 m steel pipe, EI 3.64e7 N m^2) in 200 m of water:
+    its ends 100 m and 190 m above the seabed, 250 m apart; statics only."""
+    import json
+    from pathlib import Path
+    d = json.loads((Path(__file__).resolve().parents[2] / "scenarios" / "h1_riser_heave.json").read_text())
+    d["environment"]["water"]["depth"] = 200.0
+    d["lines"]["riser"]["length"] = length
+    d["analysis"].pop("dynamics", None)
+    return d
+
+
+def test_a_slack_u_of_a_stiff_pipe_says_its_bending_governs():
+    """At 500 m (40 m short of the fold) H is 4.75 kN: the bending length is 12 touchdown radii,
+    the catenary start is far from the pipe's shape and statics fails; the hint says so, and its
+    advice, a shorter line, converges."""
+    with pytest.raises(rfesim.SolverError) as err:
+        rfesim.simulate(rfesim.load_scenario(_stiff_riser(500.0)))
+    msg = str(err.value)
+    assert "line 'riser' sags onto the seabed in a U from two ends above it with a horizontal tension of only " in msg
+    bend = float(msg.split("sqrt(EI / H) = ")[1].split(" m")[0])
+    radius = float(msg.split("the catenary's radius ")[1].split(" m")[0])
+    assert bend == pytest.approx(87.5, abs=0.5) and radius == pytest.approx(7.38, abs=0.05)
+    res = rfesim.simulate(rfesim.load_scenario(_stiff_riser(450.0)))
+    assert res.message.startswith("statics only")
