@@ -11,8 +11,10 @@ from . import __version__
 from .errors import CancelledError, SolverError
 from .model.compile import compile_scenario
 from .scenario import Scenario, load_scenario
-from .solvers.buckling import buckling_warnings, dynamic_shear_warnings, fold_warnings, shear_warnings
-from .solvers.dynamics import Counters, Recorder, run_dynamics
+from .solvers.buckling import buckling_warnings, dynamic_shear_warnings, fold_warnings, shear_warnings, \
+    through_rope_warnings
+from .solvers.dynamics import QUANTITY, Counters, Recorder, run_dynamics
+from .solvers.kernels import Q_THROUGH
 from .solvers.modal import (ModalResults, join_notes, locked_note, modal_analysis, statics_disabled_note,
                             statics_failed)
 from .solvers.statics import solve_statics
@@ -446,6 +448,8 @@ def _static_state(system: System, sc: Scenario, progress=None):
     info.warnings = (list(getattr(sc, "_template_warnings", [])) + _no_static_shape(sc, system.model)
                      + list(info.warnings) + buckling_warnings(system, state) + shear_warnings(system, state)
                      + fold_warnings(system, state))
+    info.through = through_rope_warnings(system, state, sc)
+    info.warnings += info.through
     for w in info.warnings:
         log.warning("statics: %s", w)
     log.info("statics: %s, %.3g s", info.message, _time.perf_counter() - wall0)
@@ -681,6 +685,11 @@ def simulate(scenario, *, progress=None):
             exc.results.scenario_json = meta["scenario_json"]
             exc.results.version = __version__
             exc.results.message = _with_warnings(exc.results.message, info) + _dynamic_warnings(model, exc.results, sc)
+        if info is not None and info.through and exc.quantity == QUANTITY[Q_THROUGH]:
+            # the statics left the rope so: say that, not what drives one through in a run
+            hint = f"the static equilibrium it started from had them: {info.through[0]}"
+            raise SolverError(exc.message, time=exc.time, element=exc.element, quantity=exc.quantity,
+                              results=exc.results, hint=hint) from None
         if unbalanced is not None:
             hint = "; ".join(h for h in (exc.hint, unbalanced) if h)
             if exc.results is not None:

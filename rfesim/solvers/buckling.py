@@ -415,6 +415,49 @@ def fold_warnings(system: System, state: State) -> list[str]:
     return out
 
 
+def through_rope_warnings(system: System, state: State, sc=None) -> list[str]:
+    """One message per rope (tension-only SDEs) that statics left with elements pushed through
+    one another: the axial gap of an SDE (eps_x, eq. 8.85) below ROPE_THROUGH_STRAIN, the
+    state the dynamics stop on (rfesim.solvers.kernels.check_ropes). A slack rope SDE carries
+    no force, so Newton may leave one inverted at the bottom of a slack bight: a column
+    crane's 35.35 m rope from a 21 m boom's tip to a payload on a deck 4.7 m aside converged
+    with two 1.18 m elements overlapping by 1.66 m at arc length 31.2 m, and its dynamics
+    stopped in their first substep, blaming a whipping drive. ``sc``
+    (the scenario) names the length field as the user wrote it."""
+    from .kernels import ROPE_THROUGH_STRAIN
+    km = system.km
+    if not km.has_tension_only:
+        return []
+    st = state.copy()
+    st.qd[:] = 0.0
+    system.evaluate(st)
+    ws = system.ws
+    out = []
+    for li in system.model.lines:
+        rows = np.arange(li.sde_start, li.sde_stop)
+        rows = rows[km.sde_tension_only[rows] == 1]
+        bad = rows[ws.eps[rows, 0] < ROPE_THROUGH_STRAIN]
+        if bad.size == 0:
+            continue
+        k = int(bad[np.argmin(ws.eps[bad, 0])])
+        a = ws.r[li.rfe_start] - 0.5 * li.dx * ws.R[li.rfe_start, :, 0]
+        b = ws.r[li.rfe_stop - 1] + 0.5 * li.dx * ws.R[li.rfe_stop - 1, :, 0]
+        chord = float(np.linalg.norm(b - a))
+        field = f"lines.{li.name}.length"
+        if sc is not None:
+            from ..scenario.pipelay import user_field
+            field = user_field(sc, field)
+        slack = (f"; it is {li.length - chord:.4g} m longer than the distance between its ends ({chord:.4g} m): "
+                 f"give {field} nearer that" if li.length > chord * 1.001 else "")
+        out.append(f"rope '{li.name}' lies with elements pushed through one another at arc length "
+                   f"{li.sde_arc_length[k - li.sde_start]:.4g} m (overlapping by {-float(ws.eps[k, 0]):.4g} m, its "
+                   f"elements being {li.dx:.4g} m long"
+                   f"{f', and {bad.size - 1} more SDEs' if bad.size > 1 else ''}): its slack part is folded inside "
+                   f"an element, no shape of the rope, and a dynamic run from here stops at once{slack}, or "
+                   f"set analysis.statics.enabled to false")
+    return out
+
+
 def dynamic_shear_warnings(model, results) -> list[str]:
     """One message per line in the fem shear stiffness whose tension, at any output time of a
     run, exceeds the limit 12 EI / Delta^2 that shear holds in line (``shear_warnings`` after

@@ -39,6 +39,8 @@ class StaticsInfo:
     converged: bool
     message: str
     warnings: list[str] = field(default_factory=list)   # what the user should know about the equilibrium
+    through: list[str] = field(default_factory=list)    # of them, ropes left pushed through themselves
+                                                        #   (rfesim.solvers.buckling.through_rope_warnings)
 
 
 def _norm(r: np.ndarray, mask: np.ndarray, length_scale: np.ndarray, force_ref: float) -> float:
