@@ -601,6 +601,8 @@ def _payload(out: dict, name: str, tpl, raw: dict, tip, rope_length: float) -> t
     top = 0.5 * tpl.payload.vertical_extent()
     attach = list(tpl.payload_attachment) if tpl.payload_attachment is not None else [0.0, 0.0, top]
     generated = ()
+    if body.get("position") is not None:
+        _off_lead(tpl, tip, attach)
     if body.get("position") is None:
         # the attachment is in the body frame: turn it by the payload's orientation_deg (the
         # same ZYX rotation the model gives the body, rfesim.model.bodies.body_rotation) so
@@ -612,6 +614,35 @@ def _payload(out: dict, name: str, tpl, raw: dict, tip, rope_length: float) -> t
     bname = f"{name}_payload"
     _add(out, "bodies", bname, body, "payload", copy_of="payload", generated=generated)
     return bname, attach
+
+
+OFF_LEAD_DEG = 5.0      # a rope starting further than this from the vertical under its sheave is warned
+
+
+def _off_lead(tpl, tip, attach) -> None:
+    """A template warning when an inline payload placed by the user hangs its rope's end more
+    than ``OFF_LEAD_DEG`` off the vertical under the sheave at the start (``tip``): the lift
+    begins with a side pull, and the payload swings out under the sheave as it leaves the
+    deck or the water. Lifts keep the rope within a few degrees of vertical; the payload's
+    default position is straight under the sheave. The column crane lift-off luffed to 38.5
+    deg (55 shipped) without moving its payload starts 12 deg off lead: the rope's slack bight
+    then folded through itself at 13.8 s."""
+    from ..model.bodies import body_rotation
+    hook = np.asarray(tpl.payload.position, float) + body_rotation(tpl.payload) @ np.asarray(attach, float)
+    tip = np.asarray(tip, float)
+    aside = float(np.hypot(hook[0] - tip[0], hook[1] - tip[1]))
+    drop = float(tip[2] - hook[2])
+    if drop <= 0.0:
+        return
+    angle = math.degrees(math.atan2(aside, drop))
+    if angle > OFF_LEAD_DEG:
+        from .pipelay import template_warning
+        template_warning("payload.position",
+                         f"the rope's end on the payload starts {aside:.3g} m aside of the vertical under the "
+                         f"sheave, {angle:.3g} deg off lead over its {drop:.4g} m drop: the lift begins with a side "
+                         f"pull and the payload swings out under the sheave as it lifts (lifts keep the rope within "
+                         f"a few degrees of vertical); leave the position out to hang the payload straight under "
+                         f"the sheave, or place it there")
 
 
 def _rope_and_winch(out: dict, name: str, tpl, raw: dict, parent: str, tip, vname: str, foot: str) -> None:
