@@ -38,8 +38,12 @@ def test_a_failure_is_passed_at_half_the_step_and_said():
         rfesim.simulate(light_payload(0))
     failed = info.value
     assert failed.quantity == "Newton iteration did not converge" and 29.0 < failed.time < 29.5
-    res = rfesim.simulate(light_payload(None))          # the default: up to 3 halvings
+    seen = []
+    res = rfesim.simulate(light_payload(None), progress=lambda f, t: seen.append((f, t)))   # up to 3 halvings
     assert res.status == 0 and res.counters["step_recoveries"] >= 1
+    # the simulated time went back to the checkpoint, the progress fraction did not
+    fractions, times = np.array(seen).T
+    assert np.any(np.diff(times) < -0.5) and np.all(np.diff(fractions) >= 0.0) and fractions[-1] == 1.0
     # the output times are the run's own, every 0.1 s to the end
     assert np.allclose(res.time, np.arange(311) * 0.1, atol=1e-9, rtol=0.0)
     message = res.message
