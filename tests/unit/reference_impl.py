@@ -314,28 +314,49 @@ def gravity_force(mass, gravity, scale):
 
 def submerged_part(length, displaced_area, rotation, centre, surface_z):
     """Fraction of a straight RFE (axis = local x, centred at ``centre``) below the
-    surface and the centroid of that part.
+    surface and the centroid of that part, on the axis.
 
-    Points of the axis: centre + s t, s in [-l/2, l/2]; the submerged set is
-    {s : centre_z + s t_z <= surface_z}, an interval found by hand."""
+    The RFE is a cylinder of radius a = sqrt(A_d / pi): each cross-section (a disc normal to
+    the axis tangent t, its centre at centre + s t, s in [-l/2, l/2]) reaches c = a sqrt(1 -
+    t_z^2) above and below its centre, and the part of it below the surface is a circular
+    segment, the fraction phi(h / c) of its area with h the centre's height above the surface
+    (phi(u) = (acos u - u sqrt(1 - u^2)) / pi between -1 and 1). The fraction is the mean of
+    phi along the axis and the centroid the phi-weighted mean of s, both by adaptive
+    quadrature (scipy.integrate.quad) with the points where the disc touches the surface as
+    breakpoints. A vertical RFE (c = 0) is wet along its axis below the surface."""
+    from scipy.integrate import quad
+
     if displaced_area <= 0.0:
         return 0.0, centre.copy()
     tangent = rotation[:, 0]
     half = 0.5 * length
-    low_s, high_s = -half, half
-    if tangent[2] > 0.0:                       # z grows with s: submerged for s <= s_surface
-        high_s = min(high_s, (surface_z - centre[2]) / tangent[2])
-    elif tangent[2] < 0.0:                     # z falls with s: submerged for s >= s_surface
-        low_s = max(low_s, (surface_z - centre[2]) / tangent[2])
-    elif centre[2] > surface_z:                # horizontal and above the surface
+    c = math.sqrt(displaced_area / math.pi) * math.sqrt(max(0.0, 1.0 - tangent[2] ** 2))
+
+    def phi(s):
+        h = centre[2] + s * tangent[2] - surface_z
+        if c == 0.0:
+            return 1.0 if h <= 0.0 else 0.0
+        u = h / c
+        if u >= 1.0:
+            return 0.0
+        if u <= -1.0:
+            return 1.0
+        return (math.acos(u) - u * math.sqrt(1.0 - u * u)) / math.pi
+
+    breaks = []
+    if tangent[2] != 0.0:
+        for level in (-c, 0.0, c):
+            s = (surface_z + level - centre[2]) / tangent[2]
+            if -half < s < half:
+                breaks.append(s)
+    opts = dict(points=breaks or None, epsabs=1e-13, epsrel=1e-12, limit=200)
+    wet = quad(phi, -half, half, **opts)[0]
+    fraction = wet / length
+    if fraction <= 0.0:
         return 0.0, centre.copy()
-    submerged_length = max(0.0, high_s - low_s)
-    if submerged_length <= 0.0:
-        return 0.0, centre.copy()
-    fraction = submerged_length / length
-    if fraction >= 1.0:
+    if fraction >= 1.0 - 1e-15:
         return 1.0, centre.copy()
-    centroid_s = 0.5 * (low_s + high_s)
+    centroid_s = quad(lambda s: s * phi(s), -half, half, **opts)[0] / wet
     return fraction, centre + centroid_s * tangent
 
 

@@ -64,7 +64,8 @@ CASES = ["submerged", "dry", "partial_left_low", "partial_right_low"]
 
 
 def by_hand(length, R, centre, surface_z):
-    """Fraction and centroid written out for the four cases (the low end is submerged)."""
+    """Fraction and centroid of a vertical element written out (the axis alone is wet below
+    the surface; its section has no height): the low end is submerged."""
     t = R[:, 0]
     left, right = centre - 0.5 * length * t, centre + 0.5 * length * t
     if left[2] <= surface_z and right[2] <= surface_z:
@@ -79,6 +80,8 @@ def by_hand(length, R, centre, surface_z):
 
 @pytest.mark.parametrize("seed", SEEDS)
 def test_submergence(seed):
+    """Against the quadrature of reference_impl.submerged_part: random elements clear of the
+    surface, through it, and lying across it within their radius."""
     rng = np.random.default_rng(seed)
     rows = [element_crossing_surface(rng, case) for case in CASES for _ in range(3)]
     n = len(rows)
@@ -93,30 +96,77 @@ def test_submergence(seed):
     submergence(length, area, R, r, surface, fraction, point)
     for i in range(n):
         expected_fraction, expected_point = ref.submerged_part(length[i], area[i], R[i], r[i], surface[i])
-        assert fraction[i] == pytest.approx(expected_fraction, rel=ROUNDOFF, abs=ROUNDOFF)
-        np.testing.assert_allclose(point[i], expected_point, rtol=0, atol=ROUNDOFF * 10)
-        if area[i] > 0:
-            hand_fraction, hand_point = by_hand(length[i], R[i], r[i], surface[i])
-            assert fraction[i] == pytest.approx(hand_fraction, rel=ROUNDOFF, abs=ROUNDOFF)
-            np.testing.assert_allclose(point[i], hand_point, rtol=0, atol=ROUNDOFF * 10)
+        assert fraction[i] == pytest.approx(expected_fraction, rel=1e-9, abs=1e-11)
+        np.testing.assert_allclose(point[i], expected_point, rtol=0, atol=1e-9 * length[i])
     cases = [case for case in CASES for _ in range(3)]
+    radius = np.sqrt(area / np.pi)
     for i, case in enumerate(cases[:-1]):
-        if case == "submerged":
+        rise = 0.5 * length[i] * abs(R[i, 2, 0])
+        if case == "submerged" and r[i, 2] + rise + radius[i] <= surface[i]:
             assert fraction[i] == 1.0
-        elif case == "dry":
+        elif case == "dry" and r[i, 2] - rise - radius[i] >= surface[i]:
             assert fraction[i] == 0.0
-        else:
+        elif case.startswith("partial"):
             assert 0.0 < fraction[i] < 1.0
 
 
-def test_submergence_of_a_horizontal_element():
+def test_submergence_of_a_vertical_element_is_its_wet_axis():
+    rng = np.random.default_rng(7)
+    for z in (-3.0, -0.4, 0.0, 0.3, 2.0):
+        R = np.array([[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]]) @ np.diag([1.0, 1.0, 1.0])
+        R = R.T if rng.random() < 0.5 else R            # the axis up or down
+        r = np.array([[0.5, -1.0, z]])
+        fraction, point = np.zeros(1), np.zeros((1, 3))
+        submergence(np.array([2.0]), np.array([0.05]), R[None], r, np.zeros(1), fraction, point)
+        f, p = by_hand(2.0, R, r[0], 0.0)
+        assert fraction[0] == pytest.approx(f, abs=1e-14)
+        np.testing.assert_allclose(point[0], p, atol=1e-14)
+
+
+def test_submergence_of_a_horizontal_element_is_its_immersed_section():
+    """A horizontal element at axis height h: the circular segment's share of the disc,
+    (acos u - u sqrt(1 - u^2)) / pi with u = h / a: half at the surface, 1 and 0 a radius
+    below and above it, continuous between (the axis alone made it jump from 1 to 0)."""
+    a = 0.126157                                  # the radius of area 0.05
+    area = np.pi * a * a
     R = np.eye(3)[None]
-    for z, expected in ((-0.1, 1.0), (0.1, 0.0)):
+    for h, expected in ((-0.2, 1.0), (-a, 1.0), (-0.5 * a, None), (0.0, 0.5), (0.5 * a, None), (a, 0.0),
+                        (0.2, 0.0)):
         fraction = np.zeros(1)
         point = np.zeros((1, 3))
-        submergence(np.array([2.0]), np.array([0.05]), R, np.array([[1.0, 2.0, z]]), np.zeros(1), fraction, point)
-        assert fraction[0] == expected
-        np.testing.assert_array_equal(point[0], [1.0, 2.0, z])
+        submergence(np.array([2.0]), np.array([area]), R, np.array([[1.0, 2.0, h]]), np.zeros(1), fraction, point)
+        u = h / a
+        closed = 1.0 if u <= -1 else 0.0 if u >= 1 else (np.arccos(u) - u * np.sqrt(1 - u * u)) / np.pi
+        assert fraction[0] == pytest.approx(closed, abs=1e-14)
+        if expected is not None:
+            assert fraction[0] == pytest.approx(expected, abs=1e-14)
+        np.testing.assert_array_equal(point[0], [1.0, 2.0, h])
+    # the segment of u = -1/2: 1 - (pi/3 - sqrt(3)/4) / pi
+    fraction = np.zeros(1)
+    submergence(np.array([2.0]), np.array([area]), R, np.array([[1.0, 2.0, 0.5 * a]]), np.zeros(1), fraction,
+                np.zeros((1, 3)))
+    assert fraction[0] == pytest.approx((np.pi / 3 - np.sqrt(3) / 4) / np.pi, rel=1e-12)
+
+
+@pytest.mark.parametrize("h", [-0.15, -0.08, 0.0, 0.05, 0.11])
+def test_submergence_of_nearly_level_elements(h):
+    """Tilts from 1e-9 rad to 0.1 rad about level, across the switch from Gauss-Legendre to
+    the antiderivatives (|u_r - u_l| = SMALL_RISE): the reference's quadrature to 1e-9, and no
+    jump at the switch (the antiderivatives alone put the centroid of a level element at
+    random along it)."""
+    from rfesim.loads.hydro import SMALL_RISE
+    length, area = 2.0, 0.05
+    a = np.sqrt(area / np.pi)
+    switch = np.arcsin(SMALL_RISE * a / length)          # |u_r - u_l| = 2 hl sin(tilt) / (a cos(tilt))
+    for tilt in (1e-9, 1e-6, 0.999 * switch, 1.001 * switch, 1e-3, 1e-2, 0.1):
+        c, s_ = np.cos(tilt), np.sin(tilt)
+        R = np.array([[c, 0.0, -s_], [0.0, 1.0, 0.0], [s_, 0.0, c]])
+        centre = np.array([1.0, 2.0, h])
+        fraction, point = np.zeros(1), np.zeros((1, 3))
+        submergence(np.array([length]), np.array([area]), R[None], centre[None], np.zeros(1), fraction, point)
+        f_ref, p_ref = ref.submerged_part(length, area, R, centre, 0.0)
+        assert fraction[0] == pytest.approx(f_ref, abs=1e-9)
+        np.testing.assert_allclose(point[0], p_ref, atol=1e-9)
 
 
 @pytest.mark.parametrize("seed", SEEDS)
