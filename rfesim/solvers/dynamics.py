@@ -1405,14 +1405,14 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
         report(st.t)
         return rebased
 
-    done = [0.0]        # the fraction reported so far: a rewind (Recovery) runs over it again, and the
+    reported = [0.0]    # the fraction reported so far: a rewind (Recovery) runs over it again, and the
                         # fraction stays (a job's progress never goes back), the simulated time says where it is
 
     def report(t):
         if progress is not None:
-            done[0] = max(done[0], min(1.0, (t - t_start) / T) if T > 0 else 1.0)
+            reported[0] = max(reported[0], min(1.0, (t - t_start) / T) if T > 0 else 1.0)
             try:
-                progress(done[0], t)
+                progress(reported[0], t)
             except CancelledError:
                 raise
             except Exception as exc:  # a callback that raises stops the run as cancelled

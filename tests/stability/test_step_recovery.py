@@ -92,11 +92,18 @@ def test_recovery_halvings_is_checked():
                                   "must be less than or equal to 6 (got 7)")]
 
 
-def thin_riser(halvings: int) -> rfesim.Scenario:
-    data = json.loads((SCENARIOS / "h1_riser_heave.json").read_text())
-    data["line_types"]["steel_pipe"]["wall_thickness"] = 0.01       # 0.02 shipped
+def portal_without_winch(halvings: int) -> rfesim.Scenario:
+    """scenarios/a_frame.json without its winch (a scene the compiled recording runs, rfesim.
+    solvers.recording) and with the tilt table that stops the legs dead at 35 s: the payload
+    snatches its rope, which rings slack and taut. (The rope-free failures this test used
+    before, the H1 riser with half its wall at 4.16 s among them, were lines floating at the
+    surface, which now run: rfesim.loads.hydro.submergence.)"""
+    data = json.loads((SCENARIOS / "a_frame.json").read_text())
+    crane = data["cranes"]["aframe"]
+    crane.pop("winch")
+    crane["tilt_deg"] = [[0.0, -25.0], [5.0, -25.0], [35.0, 35.0]]
     dyn = data["analysis"]["dynamics"]
-    dyn["duration"] = 6.0
+    dyn["duration"] = 40.0
     dyn["integrator"]["recovery_halvings"] = halvings
     return rfesim.load_scenario(data, base_dir=SCENARIOS)
 
@@ -105,17 +112,30 @@ def test_the_compiled_recording_goes_back_too():
     # a scene without winches runs in the compiled recording (rfesim.solvers.recording): its
     # chunks stop at the checkpoints
     with pytest.raises(rfesim.SolverError) as info:
-        rfesim.simulate(thin_riser(0))
-    assert 4.0 < info.value.time < 4.3
-    res = rfesim.simulate(thin_riser(3))
+        rfesim.simulate(portal_without_winch(0))
+    assert 36.0 < info.value.time < 37.0
+    seen = []
+    res = rfesim.simulate(portal_without_winch(6), progress=lambda f, t: seen.append((f, t)))
     assert res.status == 0 and res.counters["step_recoveries"] >= 1
-    assert res.time[-1] == pytest.approx(6.0) and np.all(np.diff(res.time) > 0.0)
+    assert res.time[-1] == pytest.approx(40.0) and np.all(np.diff(res.time) > 0.0)
+    # a fraction of the duration, never going back (the compiled recording's chunks too)
+    fractions, times = np.array(seen).T
+    assert np.all((0.0 <= fractions) & (fractions <= 1.0)) and np.all(np.diff(fractions) >= 0.0)
+    assert fractions[-1] == 1.0 and times[-1] == pytest.approx(40.0)
     # the compiled recording keeps its checkpoints between its chunks of outputs, whose size
     # follows the wall time: the time gone back to is read from the message
-    got = re.search(r"the run went back to t = ([\d.]+) s and took the stretch to 6 s at 0.01 s steps", res.message)
+    got = re.search(r"Newton failed at t = ([\d.]+) s at the time step 0.05 s .* the run went back to t = ([\d.]+) s "
+                    r"and took the stretch to [\d.]+ s at 0.025 s steps", res.message)
     assert got is not None, res.message
-    back = float(got.group(1))
+    assert float(got.group(1)) == pytest.approx(info.value.time, abs=1e-4)
+    back = float(got.group(2))
     assert 0.0 <= back <= info.value.time - Recovery.REWIND
+    # the later failures inside the finer stretches (4 recoveries) went back further, to the
+    # checkpoints between the compiled chunks, which this fast scene takes seconds apart (the
+    # first output that differs is at 25 s): up to 20 s the recovered run is the failed one,
+    # bit for bit
+    assert res.counters["step_recoveries"] >= 2
     failed = info.value.results
-    n = int(np.searchsorted(failed.time, back + 1e-9))          # up to the checkpoint
-    assert np.array_equal(res.line("riser").tension[:n], failed.line("riser").tension[:n])
+    n = int(np.searchsorted(failed.time, 20.0 + 1e-9))
+    assert n == 101
+    assert np.array_equal(res.line("aframe_rope").tension[:n], failed.line("aframe_rope").tension[:n])
