@@ -98,7 +98,22 @@ def submergence(rfe_length, rfe_disp_area, R, r, surface_z, sub_frac, sub_point)
         zl = r[i, 2] - hl * tz
         zr = r[i, 2] + hl * tz
         zs = surface_z[i]
-        c = math.sqrt(rfe_disp_area[i] / math.pi) * math.sqrt(max(0.0, 1.0 - tz * tz))
+        # clear of the surface by a whole radius a (>= c): wet or dry without the square roots
+        # (most RFEs of a scene; the section's extent c is needed only near the surface)
+        a2 = rfe_disp_area[i] / math.pi
+        below = zs - max(zl, zr)
+        above = min(zl, zr) - zs
+        if below > 0.0 and below * below >= a2:
+            sub_frac[i] = 1.0
+            for k in range(3):
+                sub_point[i, k] = r[i, k]
+            continue
+        if above > 0.0 and above * above >= a2:
+            sub_frac[i] = 0.0
+            for k in range(3):
+                sub_point[i, k] = r[i, k]
+            continue
+        c = math.sqrt(a2) * math.sqrt(max(0.0, 1.0 - tz * tz))
         if zl <= zs - c and zr <= zs - c:
             sub_frac[i] = 1.0
             for k in range(3):

@@ -262,10 +262,9 @@ def drive_slopes(t: np.ndarray, d: np.ndarray) -> np.ndarray:
     first row when that is at t >= 0. The structure starts at rest (statics), and the drive
     holds its first angle before the table, so it starts from rest too: PCHIP's own end
     slope, extrapolated from the first two segments, made the rate jump at the first row, a
-    shock (an A-frame tilt table
-    starting at -4.16 deg/s failed at 0.106 s, its rope snatched slack and taut). A zero end
-    slope keeps the Hermite monotone (Fritsch-Carlson: alpha = 0 with a smaller
-    alpha^2 + beta^2) and passes through every row. A table begun before t = 0 is moving at
+    shock (an A-frame tilt table starting at -4.16 deg/s failed at 0.106 s, its rope snatched
+    slack and taut). A zero end slope keeps the Hermite monotone (Fritsch-Carlson: alpha = 0
+    with a smaller alpha^2 + beta^2) and passes through every row. A table begun before t = 0 is moving at
     t = 0 whatever its first slope, and keeps PCHIP's. The last row keeps PCHIP's slope too: a
     table that ends while moving stops dead there, as it says (add a row to stop smoothly)."""
     v = _pchip_slopes(t, d)
