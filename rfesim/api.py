@@ -11,8 +11,8 @@ from . import __version__
 from .errors import CancelledError, SolverError
 from .model.compile import compile_scenario
 from .scenario import Scenario, load_scenario
-from .solvers.buckling import buckling_warnings, dynamic_shear_warnings, fold_warnings, shear_warnings, \
-    through_rope_warnings
+from .solvers.buckling import buckling_warnings, crammed_rope_warnings, dynamic_crammed_warnings, \
+    dynamic_shear_warnings, fold_warnings, shear_warnings, through_rope_warnings
 from .solvers.dynamics import QUANTITY, Counters, Recorder, run_dynamics
 from .solvers.kernels import Q_THROUGH
 from .solvers.modal import (ModalResults, join_notes, locked_note, modal_analysis, statics_disabled_note,
@@ -449,7 +449,7 @@ def _static_state(system: System, sc: Scenario, progress=None):
                      + list(info.warnings) + buckling_warnings(system, state) + shear_warnings(system, state)
                      + fold_warnings(system, state))
     info.through = through_rope_warnings(system, state, sc)
-    info.warnings += info.through
+    info.warnings += info.through + crammed_rope_warnings(system, state, sc)
     for w in info.warnings:
         log.warning("statics: %s", w)
     log.info("statics: %s, %.3g s", info.message, _time.perf_counter() - wall0)
@@ -819,7 +819,8 @@ def _dynamic_warnings(model, results, sc=None, recorder=None) -> str:
     end before the run does or start after it (rfesim.scenario.schema.motion_table_warnings),
     the RAO vessels whose table leaves
     out a noticeable part of the sea (rfesim.sea.rao.rao_range_warnings) and the lines whose tension in the run went past
-    their fem shear limit (rfesim.solvers.buckling.dynamic_shear_warnings; ``model`` None:
+    their fem shear limit and the ropes driven into themselves (rfesim.solvers.buckling.
+    dynamic_shear_warnings, dynamic_crammed_warnings; ``model`` None:
     a scene of other formulations), logged and as text for the message; with the run's
     ``recorder`` (a run that finished) also the growth of a closed scene's energy below the
     stop (rfesim.solvers.dynamics.EnergyCheck) and more than a tenth of the steps halved."""
@@ -827,7 +828,8 @@ def _dynamic_warnings(model, results, sc=None, recorder=None) -> str:
     from .sea.rao import rao_range_warnings
     from .solvers.dynamics import halving_warning, output_interval_warning
     warnings = (motion_table_warnings(sc) + rao_range_warnings(sc) if sc is not None else []) + (
-        dynamic_shear_warnings(model, results) if model is not None else []) + (
+        dynamic_shear_warnings(model, results) + dynamic_crammed_warnings(model, results)
+        if model is not None else []) + (
         breaking_load_warnings(sc, results) + tugger_pretension_warnings(sc, results) if sc is not None else [])
     if recorder is not None:
         check = getattr(recorder, "energy_check", None)

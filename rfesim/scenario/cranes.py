@@ -626,7 +626,8 @@ def _off_lead(tpl, tip, attach) -> None:
     deck or the water. Lifts keep the rope within a few degrees of vertical; the payload's
     default position is straight under the sheave. The column crane lift-off luffed to 38.5
     deg (55 shipped) without moving its payload starts 12 deg off lead: the rope's slack bight
-    then folded through itself at 13.8 s."""
+    then folded through itself at 13.8 s (before the rope's axial contact; now it runs, with
+    61.5 % of its steps in substeps)."""
     from ..model.bodies import body_rotation
     hook = np.asarray(tpl.payload.position, float) + body_rotation(tpl.payload) @ np.asarray(attach, float)
     tip = np.asarray(tip, float)

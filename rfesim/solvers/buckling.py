@@ -417,14 +417,15 @@ def fold_warnings(system: System, state: State) -> list[str]:
 
 def through_rope_warnings(system: System, state: State, sc=None) -> list[str]:
     """One message per rope (tension-only SDEs) that statics left with elements pushed through
-    one another: the axial gap of an SDE (eps_x, eq. 8.85) below ROPE_THROUGH_STRAIN, the
-    state the dynamics stop on (rfesim.solvers.kernels.check_ropes). A slack rope SDE carries
+    one another: the axial gap of an SDE (eps_x, eq. 8.85) below -ROPE_THROUGH times its arms'
+    sum, the state the dynamics stop on (rfesim.solvers.kernels.check_ropes). A slack rope SDE carries
     no force, so Newton may leave one inverted at the bottom of a slack bight: a column
     crane's 35.35 m rope from a 21 m boom's tip to a payload on a deck 4.7 m aside converged
     with two 1.18 m elements overlapping by 1.66 m at arc length 31.2 m, and its dynamics
     stopped in their first substep, blaming a whipping drive. ``sc``
     (the scenario) names the length field as the user wrote it."""
-    from .kernels import ROPE_THROUGH_STRAIN
+    from ..loads.tension_only import rope_reach
+    from .kernels import ROPE_THROUGH
     km = system.km
     if not km.has_tension_only:
         return []
@@ -436,7 +437,8 @@ def through_rope_warnings(system: System, state: State, sc=None) -> list[str]:
     for li in system.model.lines:
         rows = np.arange(li.sde_start, li.sde_stop)
         rows = rows[km.sde_tension_only[rows] == 1]
-        bad = rows[ws.eps[rows, 0] < ROPE_THROUGH_STRAIN]
+        limit = np.array([-ROPE_THROUGH * rope_reach(km.sde_arm_left, km.sde_arm_right, s) for s in rows])
+        bad = rows[ws.eps[rows, 0] < limit]
         if bad.size == 0:
             continue
         k = int(bad[np.argmin(ws.eps[bad, 0])])
@@ -455,6 +457,83 @@ def through_rope_warnings(system: System, state: State, sc=None) -> list[str]:
                    f"{f', and {bad.size - 1} more SDEs' if bad.size > 1 else ''}): its slack part is folded inside "
                    f"an element, no shape of the rope, and a dynamic run from here stops at once{slack}, or "
                    f"set analysis.statics.enabled to false")
+    return out
+
+
+def crammed_rope_warnings(system: System, state: State, sc=None) -> list[str]:
+    """One message per rope (tension-only SDEs) that statics left compressed on its axial
+    contact (rfesim.loads.tension_only) harder than its own weight: its elements crammed
+    together in a straight column, which a rope does not carry (it buckles sideways), so the
+    equilibrium is unstable and its end forces are no rope's. A slack bight resting on the
+    contact carries a fraction of its weight (the lift-off with a 21 m boom: under 20 N on a
+    1.8 kN rope); a weightless 20 m rope between points 5 m apart, started straight, converged
+    with 21.4 MN of compression in every element and at both ends. ``sc`` (the scenario)
+    names the length field as the user wrote it."""
+    km = system.km
+    if not km.has_tension_only:
+        return []
+    st = state.copy()
+    st.qd[:] = 0.0
+    system.evaluate(st)
+    ws = system.ws
+    floor = system.roundoff_force(st)
+    out = []
+    for li in system.model.lines:
+        rows = np.arange(li.sde_start, li.sde_stop)
+        rows = rows[km.sde_tension_only[rows] == 1]
+        if rows.size == 0:
+            continue
+        weight = abs(km.gravity) * float(km.rfe_mass[li.rfe_start:li.rfe_stop].sum())
+        k = int(rows[np.argmin(ws.sigma[rows, 0])])
+        compression = -float(ws.sigma[k, 0])
+        if compression <= weight + floor:
+            continue
+        chord = li.chord                        # the elements' ends are crammed past the line's ends
+        field = f"lines.{li.name}.length"
+        if sc is not None:
+            from ..scenario.pipelay import user_field
+            field = user_field(sc, field)
+        many = int(np.count_nonzero(ws.sigma[rows, 0] < -(weight + floor)))
+        slack = (f"; it is {li.length - chord:.4g} m longer than the distance between its ends ({chord:.4g} m): "
+                 f"give {field} nearer that" if li.length > chord * 1.001 else "")
+        out.append(f"rope '{li.name}' is crammed into itself: {many} of its {rows.size} SDEs hold their elements "
+                   f"in axial contact (overlapping by half their length or more) with up to {compression:.4g} N "
+                   f"of compression at arc length {li.sde_arc_length[k - li.sde_start]:.4g} m, more than the "
+                   f"rope's weight ({weight:.4g} N); a rope buckles sideways instead, so this equilibrium is "
+                   f"unstable and its end forces are no rope's{slack}, or set analysis.statics.enabled to false")
+    return out
+
+
+def dynamic_crammed_warnings(model, results) -> list[str]:
+    """One message per rope (tension-only SDEs) whose elements, at any output time of a run,
+    were pushed into their axial contact (rfesim.loads.tension_only) harder than the rope's
+    own weight (``crammed_rope_warnings`` after statics, for the dynamics): a rope driven into
+    itself faster than it can fold. A bight bunching as it settles stays far below (the
+    lift-off luffed to 38.5 deg: 91 N on a 1.8 kN rope); a 1 kg payload whipped into its 2 m
+    rope by a near-rigid crane reached 35 kN: the motion there is no rope's."""
+    out = []
+    km = model.km
+    if not km.has_tension_only:
+        return out
+    g = abs(km.gravity)
+    for li in model.lines:
+        if li.sde_stop <= li.sde_start or km.sde_tension_only[li.sde_start] != 1 or li.name not in results.lines:
+            continue
+        tension = np.asarray(results.line(li.name).tension)
+        if tension.size == 0:
+            continue
+        weight = g * float(km.rfe_mass[li.rfe_start:li.rfe_stop].sum())
+        k = int(np.argmin(tension.min(axis=1)))
+        j = int(np.argmin(tension[k]))
+        compression = -float(tension[k, j])
+        if compression > max(weight, 1e-9):
+            arc = np.asarray(results.line(li.name).sde_arc_length)
+            where = f" at arc length {float(arc[j]):.4g} m" if arc.size == tension.shape[1] else ""
+            out.append(f"rope '{li.name}' was driven into itself: at t = {results.time[k]:.6g} s its elements met "
+                       f"in axial contact (overlapping by half their length) with {compression / 1e3:.4g} kN of "
+                       f"compression{where}, more than the rope's weight ({weight / 1e3:.4g} kN); a rope folds "
+                       f"instead, so the motion there is no rope's: damp the rope, lower "
+                       f"analysis.dynamics.integrator.rho_inf, shorten the time step or slow the drive that whips it")
     return out
 
 

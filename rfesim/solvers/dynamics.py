@@ -31,7 +31,7 @@ log = logging.getLogger("rfesim")
 
 QUANTITY = {Q_POSITION: "position not finite or runaway", Q_VELOCITY: "velocity not finite or runaway",
             Q_NEWTON: "Newton iteration did not converge", Q_JACOBIAN: "singular Jacobian",
-            Q_THROUGH: "rope elements pushed through one another (axial strain below -1)"}
+            Q_THROUGH: "rope elements pushed through one another (past their axial contact)"}
 
 
 def highest_frequency(system: System, state: State, iterations: int = 60) -> float:
@@ -769,8 +769,9 @@ def _raise(system: System, fail: np.ndarray, status: int, make_results, what: st
     raise SolverError("the run diverged", time=t, element=where, quantity=quantity, results=res, hint=hint)
 
 
-THROUGH_HINT = ("a slack rope carries no compression, so a payload or an element driven into it faster than "
-                "the rope can fold passes through it, and the rope then comes apart with no tension (the run "
+THROUGH_HINT = ("a slack rope carries no compression until its elements overlap by half their length, where "
+                "their axial contact stops them; a payload or an element driven into it harder than that "
+                "passes through it, and the rope then comes apart with no tension (the run "
                 "stops there; generalized-alpha first retries the step in substeps down to 1/64). It happens to a light "
                 "payload on a stiff crane whipped by a drive, or to a rope with no damping: damp the rope "
                 "(cranes.<name>.rope.damping_ratio for a crane's rope, else line_types.<type>.damping.axial_ratio, "

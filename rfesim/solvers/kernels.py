@@ -16,6 +16,7 @@ from ..model.assemble import commit_history, evaluate, rebase, solve_acceleratio
 from .jacobian import jacobian_analytic_at
 from .residual import residual_general, residual_norm, residual_q  # noqa: F401  (re-exported)
 from ..vessel_kernel import attachment_kinematics
+from ..loads.tension_only import rope_reach
 from .banded import bt_factor_closed, bt_solve_closed
 
 SLOW_STEP = 8                   # residual evaluations after which the next step refreshes its Jacobian
@@ -30,7 +31,7 @@ CONTRACTS = 0.9                 # tolerance within this many more iterations (a 
 
 # quantity codes in ``fail[2]``
 Q_POSITION, Q_VELOCITY, Q_NEWTON, Q_JACOBIAN, Q_THROUGH = 0, 1, 2, 3, 4
-ROPE_THROUGH_STRAIN = -1.0      # axial strain of a tension-only SDE below which its elements passed through
+ROPE_THROUGH = 1.0              # a rope SDE's gap past -ROPE_THROUGH (|arm_L| + |arm_R|): elements passed through
 
 
 FD_REL_STEP = 1.5e-8      # relative step of the forward-difference Jacobian
@@ -108,17 +109,19 @@ def check_state(q, qd, mask, fail, t):
 
 @njit(cache=True, _nrt=False)
 def check_ropes(km, ws, fail, t):
-    """A tension-only SDE (rope) whose axial strain ws.eps[s, 0] of the last evaluation is
-    below ROPE_THROUGH_STRAIN: its two elements were pushed through one another, further
-    than the SDE's length. The rope carries no compression, so nothing pushes them back,
-    and from there a joint pulled apart reads as compression too: the rope has come
-    apart with no tension and the run goes on as if nothing happened (a payload flung 200 m
-    from the sheave on a 2 m rope). A diverged state: fill fail (the SDE's left RFE) and
-    return 2 (the driver retries the interval in shorter steps), else 0."""
+    """A tension-only SDE (rope) whose axial gap ws.eps[s, 0] (eq. 8.85) of the last
+    evaluation is below -ROPE_THROUGH times its arms' sum (for two elements of a line: their
+    centres have met): its two elements were pushed through one another, past the axial
+    contact that should have held them (rfesim.loads.tension_only). From there a joint
+    pulled apart reads as compression, so the rope would come apart with no tension and the
+    run go on as if nothing happened (before the contact: a payload flung 200 m from the
+    sheave on a 2 m rope). A diverged state: fill fail (the SDE's left RFE) and return 2
+    (the driver retries the interval in shorter steps), else 0."""
     if not km.has_tension_only:
         return 0
     for s in range(km.sde_tension_only.shape[0]):
-        if km.sde_tension_only[s] != 0 and ws.eps[s, 0] < ROPE_THROUGH_STRAIN:
+        if km.sde_tension_only[s] != 0 and \
+                ws.eps[s, 0] < -ROPE_THROUGH * rope_reach(km.sde_arm_left, km.sde_arm_right, s):
             fail[0] = t
             fail[1] = km.sde_left[s]
             fail[2] = Q_THROUGH

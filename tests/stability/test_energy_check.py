@@ -52,9 +52,12 @@ def pendulum(theta0_deg: float = 90.0, periods: float = 1.2) -> dict:
 
 
 def test_rope_snap_blow_up_stopped_as_energy_growth():
-    """F1: the energy stays within 0.04 J of its start through the physical snap, then grows
-    (10 J by 0.147 s, 289 J by 0.177 s, 3.7 kJ by 0.34 s): stopped at 25 % of its scale
-    (1023 J), with the results so far (no tension past the closed-form peak)."""
+    """F1: the energy stays within 0.04 J of its start through the physical snap (to 0.14 s),
+    then grows once the rope is slack (71 J by 0.17 s, 274 J by 0.195 s, 2.1 kJ by 0.24 s):
+    stopped at 25 % of its scale (1023 J, then growing) at 0.193 s, with the results so far.
+    Until 2026-12-07 the check counted 1/2 C eps^2 for slack rope elements too, which made
+    the growth 289 J by 0.177 s and stopped it there; the rope's axial energy is now 0 while
+    slack (rfesim.loads.tension_only.rope_axial_energy)."""
     with pytest.raises(rfesim.SolverError) as info:
         rfesim.simulate(dropped_payload(0.3))
     exc = info.value
@@ -67,7 +70,9 @@ def test_rope_snap_blow_up_stopped_as_energy_growth():
     for words in ("damping.axial_ratio", "rho_inf", "time step", "grew by"):
         assert words in res.message
     assert res.time[-1] == pytest.approx(exc.time)
-    assert res.line("hoist").tension.max() < 1.05 * 115.1e3
+    snap = res.time <= 0.14
+    assert res.line("hoist").tension[snap].max() == pytest.approx(115.1e3, rel=0.2)
+    assert res.line("hoist").tension[snap].max() < 115.1e3      # GA at 1 ms: 96.6 kN, below it
 
 
 def test_conservative_pendulum_not_stopped_nor_warned():

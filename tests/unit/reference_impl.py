@@ -246,14 +246,30 @@ def sde_elastic_potential(stiffness, deformation):
     return 0.5 * float(np.sum(stiffness * deformation * deformation))
 
 
-def sde_elastic_forces_by_gradient(pair, stiffness, position_step=1e-6, rotation_step=1e-6):
+def rope_contact_potential(axial_stiffness, reach, gap, contact=0.5, ramp=0.1):
+    """Energy of a rope SDE's axial contact (rfesim.loads.tension_only): none until the gap
+    closes to -contact * reach; over the next ramp * reach its stiffness grows linearly from
+    0 to C_x, then stays C_x. V = C d^3 / (6 w) on the ramp and C (d^2/2 - w d/2 + w^2/6)
+    past it, with d the depth past the closing and w the ramp's width (C^1 at both joins)."""
+    d = -contact * reach - gap
+    w = ramp * reach
+    if d <= 0.0:
+        return 0.0
+    if d < w:
+        return axial_stiffness * d ** 3 / (6.0 * w)
+    return axial_stiffness * (0.5 * d * d - 0.5 * w * d + w * w / 6.0)
+
+
+def sde_elastic_forces_by_gradient(pair, stiffness, position_step=1e-6, rotation_step=1e-6, axial_contact=None):
     """Generalised elastic forces on RFEs a and b as minus the gradient of V:
     F = -dV/dr, M = -dV/d(delta) for a global virtual rotation R -> expm([delta]x) R
     (so M is the moment about the RFE centre). Central finite differences.
-    Returns (F_a, M_a, F_b, M_b)."""
+    ``axial_contact`` (C_x, reach) adds a rope's contact energy in the gap eps_x
+    (``rope_contact_potential``). Returns (F_a, M_a, F_b, M_b)."""
     def potential(position_a, rotation_a, position_b, rotation_b):
         eps = sde_deformation(position_a, rotation_a, pair["arm_a"], position_b, rotation_b, pair["arm_b"])
-        return sde_elastic_potential(stiffness, eps)
+        extra = 0.0 if axial_contact is None else rope_contact_potential(axial_contact[0], axial_contact[1], eps[0])
+        return sde_elastic_potential(stiffness, eps) + extra
 
     base = dict(position_a=pair["position_a"], rotation_a=pair["rotation_a"],
                 position_b=pair["position_b"], rotation_b=pair["rotation_b"])

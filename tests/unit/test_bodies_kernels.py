@@ -9,7 +9,10 @@
 * rfesim.loads.tension_only: after the correction, forces equal those of the SDE kernel
   with the axial stiffness and damping removed on the SDEs whose axial force was
   compressive (the force is linear in the section forces), and the elastic forces of a
-  slack pair are minus the gradient of the potential without its axial term;
+  slack pair are minus the gradient of the potential without its axial term; a pair pushed
+  past its axial contact gets minus the gradient of the contact energy too (ramp and linear
+  parts), the axial tangent is the derivative of its force, and its damping is scaled as
+  its stiffness;
 * bad body input raises ScenarioError naming the field.
 """
 from __future__ import annotations
@@ -326,6 +329,93 @@ def test_slack_pair_forces_are_minus_the_gradient_without_axial_energy():
     np.testing.assert_allclose(F[1], Fb, rtol=0, atol=1e-5 * size)
     np.testing.assert_allclose(M[0], Ma, rtol=0, atol=1e-5 * size)
     np.testing.assert_allclose(M[1], Mb, rtol=0, atol=1e-5 * size)
+
+
+def contact_pair(rng, gap):
+    """One rope SDE (arms 0.5 m each: reach 1 m, contact from a gap of -0.5 m) with the
+    axial gap ``gap`` along the left element's axis and a small random offset and bend."""
+    c = random_pairs(rng, 1, gap=0.0)
+    c["rbase"][1] += gap * c["R"][0][:, 0]
+    return c
+
+
+def corrected(c, damping):
+    F, M, eps, sigma = kernel(c, c["stiffness"], damping)
+    k_tangent = np.zeros((1, 6))
+    tension_only_correction(c["left"], c["right"], c["arm_left"], c["arm_right"], c["stiffness"],
+                            np.ones(1, np.int64), c["R"], c["rbase"], c["roff"], sigma, F, M, k_tangent, True,
+                            np.zeros((32, 3)), np.zeros((16, 3, 3)))
+    return F, M, eps, sigma, k_tangent
+
+
+@pytest.mark.parametrize("gap, part", [(-0.45, "slack"), (-0.53, "ramp"), (-0.56, "ramp"), (-0.75, "linear")])
+def test_rope_contact_forces_are_minus_the_gradient_of_its_energy(gap, part):
+    """Past its axial contact a rope pair pushes back: forces and moments are minus the
+    gradient of the bending and shear energy plus the contact energy of the axial gap
+    (reference_impl.rope_contact_potential, finite differences in positions and rotations)."""
+    rng = np.random.default_rng(5)
+    c = contact_pair(rng, gap)
+    F, M, eps, sigma, k_tangent = corrected(c, np.zeros((1, 6)))
+    depth = -0.5 - eps[0, 0]
+    assert {"slack": depth < 0.0, "ramp": 0.0 < depth < 0.1, "linear": depth > 0.1}[part]
+    C = c["stiffness"][0, 0]
+    pair = dict(position_a=c["rbase"][0] + c["roff"][0], rotation_a=c["R"][0], arm_a=c["arm_left"][0],
+                position_b=c["rbase"][1] + c["roff"][1], rotation_b=c["R"][1], arm_b=c["arm_right"][0])
+    stiffness = c["stiffness"][0].copy()
+    stiffness[0] = 0.0
+    Fa, Ma, Fb, Mb = ref.sde_elastic_forces_by_gradient(pair, stiffness, axial_contact=(C, 1.0))
+    size = np.abs(F).max()
+    np.testing.assert_allclose(F[0], Fa, rtol=0, atol=1e-5 * size)
+    np.testing.assert_allclose(F[1], Fb, rtol=0, atol=1e-5 * size)
+    np.testing.assert_allclose(M[0], Ma, rtol=0, atol=1e-5 * size)
+    np.testing.assert_allclose(M[1], Mb, rtol=0, atol=1e-5 * size)
+    if part == "slack":
+        assert sigma[0, 0] == 0.0 and k_tangent[0, 0] == 0.0
+    else:
+        assert sigma[0, 0] < 0.0
+        # the axial tangent is the derivative of the axial force in the gap
+        h = 1e-7
+        moved = contact_pair(np.random.default_rng(5), gap - h)
+        slope = (corrected(moved, np.zeros((1, 6)))[3][0, 0] - sigma[0, 0]) / \
+            (corrected(moved, np.zeros((1, 6)))[2][0, 0] - eps[0, 0])
+        assert k_tangent[0, 0] == pytest.approx(slope, rel=1e-4)
+        assert k_tangent[0, 0] == pytest.approx(C * min(depth / 0.1, 1.0), rel=1e-12)
+
+
+def test_rope_axial_energy_against_its_reference():
+    """rfesim.loads.tension_only.rope_axial_energy (the energy check's axial term of a rope)
+    is 1/2 C eps^2 stretched, 0 slack and the reference contact energy past the closing."""
+    from rfesim.loads.tension_only import rope_axial_energy
+    rng = np.random.default_rng(3)
+    C = rng.uniform(1e4, 1e8, 400)
+    reach = rng.uniform(0.2, 4.0, 400)
+    gap = reach * rng.uniform(-0.9, 0.2, 400)
+    got = rope_axial_energy(C, gap, reach)
+    want = [0.5 * c * e * e if e > 0.0 else ref.rope_contact_potential(c, r, e) for c, e, r in zip(C, gap, reach)]
+    np.testing.assert_allclose(got, want, rtol=1e-12, atol=0.0)
+    assert (got[(gap < 0.0) & (gap > -0.5 * reach)] == 0.0).all() and (got[gap < -0.6 * reach] > 0.0).all()
+
+
+@pytest.mark.parametrize("gap", [-0.55, -0.75])
+def test_rope_contact_damping_is_scaled_as_its_stiffness(gap):
+    """With damping the contact force is the elastic contact force plus the Kelvin-Voigt
+    axial damping times k_contact / C_x, and never a pull: a pair closing keeps it, a pair
+    opening fast enough carries nothing."""
+    rng = np.random.default_rng(7)
+    c = contact_pair(rng, gap)
+    damping = c["damping"]
+    _, _, eps, sigma0, k_tangent = corrected(c, np.zeros((1, 6)))
+    _, _, _, elastic = kernel(c, c["stiffness"], np.zeros((1, 6)))
+    scale = k_tangent[0, 0] / c["stiffness"][0, 0]
+    assert 0.0 < scale <= 1.0
+    for sign in (1.0, -1.0):                                          # opening, closing
+        c["v"][1] = c["v"][0] + sign * 5.0 * c["R"][0][:, 0]
+        _, _, _, with_rate = kernel(c, c["stiffness"], damping)
+        rate_force = with_rate[0, 0] - elastic[0, 0]                  # D_x d(eps_x)/dt
+        assert np.sign(rate_force) == sign
+        sigma = corrected(c, damping)[3][0, 0]
+        assert sigma == pytest.approx(min(0.0, sigma0[0, 0] + scale * rate_force), rel=1e-9, abs=1e-9)
+        assert (sigma == 0.0) == (sign > 0.0 and sigma0[0, 0] + scale * rate_force > 0.0)
 
 
 # ----------------------------------------------------------------------------- schema errors

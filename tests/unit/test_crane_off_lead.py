@@ -49,3 +49,17 @@ def test_under_the_sheave_or_placed_by_the_template_is_not_warned():
     step = math.degrees(math.atan2(30.0 * (math.cos(math.radians(54.0)) - math.cos(math.radians(55.0))), 29.7))
     assert step < OFF_LEAD_DEG
     assert warnings_of(liftoff(luffing_deg=54.0)) == []
+
+
+def test_the_off_lead_lift_runs_its_bight_resting_on_the_rope_contact():
+    """The lift luffed to 38.5 deg stopped at 13.79 s, its slack bight telescoped through
+    itself as the winch hauled (rope elements pushed through one another). With the rope's
+    axial contact (rfesim.loads.tension_only) it runs its 30 s: the bight bunches onto the
+    contact with under 0.1 kN, far below the rope's 1.8 kN weight, so no 'driven into itself'
+    warning; the payload lifts off and the rope takes it."""
+    res = rfesim.simulate(rfesim.load_scenario(liftoff(luffing_deg=38.5), base_dir=SCENARIOS))
+    assert res.status == 0 and res.time[-1] == pytest.approx(45.0)
+    tension = res.line("crane_rope").tension
+    assert -1000.0 < tension.min() < 0.0                        # the contact held, gently
+    assert tension.max() > 98.1e3                                # the rope took the 10 t module
+    assert "driven into itself" not in res.message and "pushed through" not in res.message

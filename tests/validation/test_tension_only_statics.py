@@ -83,12 +83,30 @@ def test_taut_rope_stretched_between_its_ends():
     assert tension.min() > 0.99 * sol.horizontal_tension
 
 
-def test_weightless_slack_rope_stays_slack():
-    """No gravity, 20 m between points 5 m apart: a straight, compressed start; every rope
-    element slack at the equilibrium, no force at the ends."""
+def test_weightless_slack_rope_crammed_into_its_contact_is_named():
+    """No gravity, 20 m between points 5 m apart: a straight, compressed start. The rope's 20
+    elements telescope until their axial contact holds them (rfesim.loads.tension_only), and
+    statics converges to a straight column of contacts carrying compression (before the
+    contact: every element slack, passed through its neighbours). A rope would buckle
+    sideways, so this equilibrium is unstable; a warning says so, names the length field
+    and the distance between the ends."""
     res, a, b, tension = statics(rope(5.0, gravity=0.0))
-    assert np.all(tension == 0.0)
-    assert np.abs(a).max() == 0.0 and np.abs(b).max() == 0.0
+    # 15 m of overlap over 20 SDEs of equal force N, each past its contact's ramp: gap =
+    # -(0.5 r + 0.05 r + N / C), r = 1 m inside, 0.75 m at the two ends' half elements
+    # (C = EA / 1 m): 18 (0.55 + N/C) + 2 (0.4125 + N/C) = 15, N = 0.21375 C
+    assert tension == pytest.approx(-EA * (15.0 - 18 * 0.55 - 2 * 0.4125) / 20.0, rel=1e-6)
+    assert a[0] == pytest.approx(tension[0], rel=1e-6) and b[0] == pytest.approx(-tension[0], rel=1e-6)
+    msg = res.message
+    assert "statics warning: rope 'r' is crammed into itself: 20 of its 20 SDEs hold their elements in axial " \
+           "contact" in msg
+    assert "more than the rope's weight (0 N); a rope buckles sideways instead" in msg
+    assert "it is 15 m longer than the distance between its ends (5 m): give lines.r.length nearer that" in msg
+
+
+def test_slack_rope_in_gravity_is_not_named():
+    """The same rope with its weight hangs as a catenary: no contact, no warning."""
+    res, a, b, tension = statics(rope(5.0))
+    assert tension.min() > 0.0 and "crammed" not in res.message
 
 
 def test_stiff_rope_with_slack_bottom_elements():
