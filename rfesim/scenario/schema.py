@@ -1311,7 +1311,9 @@ class LineType(_Strict):
                                      le=MAX_COEFFICIENT, limit=COEFFICIENT_LIMIT)
     material: Material = Field(default_factory=ElasticMaterial)
     tension_only: bool = Field(False, description="A rope: the axial SDE force is max(0, EA eps + damping), "
-                                                  "never compressive (slack); keep the bending stiffness small")
+                                                  "never compressive (slack) until two elements overlap by half "
+                                                  "their length, where their axial contact pushes back; keep the "
+                                                  "bending stiffness small")
     breaking_load: float | None = _units(
         "N", "Minimum breaking load (MBL) of the line: a run whose effective tension exceeds it says so "
              "(a warning with the peak, where and when, and its multiple of the MBL); omit for no check",
