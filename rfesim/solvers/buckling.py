@@ -415,28 +415,57 @@ def fold_warnings(system: System, state: State) -> list[str]:
     return out
 
 
-def through_rope_warnings(system: System, state: State, sc=None) -> list[str]:
-    """One message per rope (tension-only SDEs) that statics left with elements pushed through
-    one another: the axial gap of an SDE (eps_x, eq. 8.85) below -ROPE_THROUGH times its arms'
-    sum, the state the dynamics stop on (rfesim.solvers.kernels.check_ropes). A slack rope SDE carries
-    no force, so Newton may leave one inverted at the bottom of a slack bight: a column
-    crane's 35.35 m rope from a 21 m boom's tip to a payload on a deck 4.7 m aside converged
-    with two 1.18 m elements overlapping by 1.66 m at arc length 31.2 m, and its dynamics
-    stopped in their first substep, blaming a whipping drive. ``sc``
-    (the scenario) names the length field as the user wrote it."""
-    from ..loads.tension_only import rope_reach
-    from .kernels import ROPE_THROUGH
+def _rope_lines(system: System, state: State):
+    """(line, rows of its tension-only SDEs) for each line with any, after evaluating the
+    state at rest (the workspace then holds its eps and sigma)."""
     km = system.km
     if not km.has_tension_only:
         return []
     st = state.copy()
     st.qd[:] = 0.0
     system.evaluate(st)
-    ws = system.ws
     out = []
     for li in system.model.lines:
         rows = np.arange(li.sde_start, li.sde_stop)
         rows = rows[km.sde_tension_only[rows] == 1]
+        if rows.size:
+            out.append((li, rows))
+    return out
+
+
+def _longer_than_chord(li, chord: float, sc) -> str:
+    """'; it is .. m longer than the distance between its ends (..): give <field> nearer that'
+    for a line longer than ``chord`` (the length field as the user wrote it), else ''."""
+    if li.length <= chord * 1.001:
+        return ""
+    field = f"lines.{li.name}.length"
+    if sc is not None:
+        from ..scenario.pipelay import user_field
+        field = user_field(sc, field)
+    return (f"; it is {li.length - chord:.4g} m longer than the distance between its ends ({chord:.4g} m): "
+            f"give {field} nearer that")
+
+
+def _in_contact(compression: float, where: str, weight: float) -> str:
+    return (f"in axial contact (overlapping by half their length or more) with {compression / 1e3:.4g} kN of "
+            f"compression{where}, more than the rope's weight ({weight / 1e3:.4g} kN)")
+
+
+def through_rope_warnings(system: System, state: State, sc=None) -> list[str]:
+    """One message per rope (tension-only SDEs) that statics left with elements pushed through
+    one another: the axial gap of an SDE (eps_x, eq. 8.85) below -ROPE_THROUGH times its arms'
+    sum, the state the dynamics stop on (rfesim.solvers.kernels.check_ropes). Before the
+    rope's axial contact (rfesim.loads.tension_only) a slack rope SDE carried no force, so
+    Newton could leave one inverted at the bottom of a slack bight: a column crane's 35.35 m
+    rope from a 21 m boom's tip to a payload on a deck 4.7 m aside converged with two 1.18 m
+    elements overlapping by 1.66 m at arc length 31.2 m, and its dynamics stopped in their
+    first substep, blaming a whipping drive. Now a guard. ``sc`` (the scenario) names the
+    length field as the user wrote it."""
+    from ..loads.tension_only import rope_reach
+    from .kernels import ROPE_THROUGH
+    km, ws = system.km, system.ws
+    out = []
+    for li, rows in _rope_lines(system, state):
         limit = np.array([-ROPE_THROUGH * rope_reach(km.sde_arm_left, km.sde_arm_right, s) for s in rows])
         bad = rows[ws.eps[rows, 0] < limit]
         if bad.size == 0:
@@ -444,13 +473,7 @@ def through_rope_warnings(system: System, state: State, sc=None) -> list[str]:
         k = int(bad[np.argmin(ws.eps[bad, 0])])
         a = ws.r[li.rfe_start] - 0.5 * li.dx * ws.R[li.rfe_start, :, 0]
         b = ws.r[li.rfe_stop - 1] + 0.5 * li.dx * ws.R[li.rfe_stop - 1, :, 0]
-        chord = float(np.linalg.norm(b - a))
-        field = f"lines.{li.name}.length"
-        if sc is not None:
-            from ..scenario.pipelay import user_field
-            field = user_field(sc, field)
-        slack = (f"; it is {li.length - chord:.4g} m longer than the distance between its ends ({chord:.4g} m): "
-                 f"give {field} nearer that" if li.length > chord * 1.001 else "")
+        slack = _longer_than_chord(li, float(np.linalg.norm(b - a)), sc)
         out.append(f"rope '{li.name}' lies with elements pushed through one another at arc length "
                    f"{li.sde_arc_length[k - li.sde_start]:.4g} m (overlapping by {-float(ws.eps[k, 0]):.4g} m, its "
                    f"elements being {li.dx:.4g} m long"
@@ -468,39 +491,24 @@ def crammed_rope_warnings(system: System, state: State, sc=None) -> list[str]:
     contact carries a fraction of its weight (the lift-off with a 21 m boom: under 20 N on a
     1.8 kN rope); a weightless 20 m rope between points 5 m apart, started straight, converged
     with 21.4 MN of compression in every element and at both ends. ``sc`` (the scenario)
-    names the length field as the user wrote it."""
-    km = system.km
-    if not km.has_tension_only:
-        return []
-    st = state.copy()
-    st.qd[:] = 0.0
-    system.evaluate(st)
-    ws = system.ws
-    floor = system.roundoff_force(st)
+    names the length field as the user wrote it (the distance is the one between the line's
+    ends at the start: the end elements are crammed past them)."""
+    km, ws = system.km, system.ws
     out = []
-    for li in system.model.lines:
-        rows = np.arange(li.sde_start, li.sde_stop)
-        rows = rows[km.sde_tension_only[rows] == 1]
-        if rows.size == 0:
-            continue
+    for li, rows in _rope_lines(system, state):
+        floor = system.roundoff_force(state)
         weight = abs(km.gravity) * float(km.rfe_mass[li.rfe_start:li.rfe_stop].sum())
         k = int(rows[np.argmin(ws.sigma[rows, 0])])
         compression = -float(ws.sigma[k, 0])
         if compression <= weight + floor:
             continue
-        chord = li.chord                        # the elements' ends are crammed past the line's ends
-        field = f"lines.{li.name}.length"
-        if sc is not None:
-            from ..scenario.pipelay import user_field
-            field = user_field(sc, field)
         many = int(np.count_nonzero(ws.sigma[rows, 0] < -(weight + floor)))
-        slack = (f"; it is {li.length - chord:.4g} m longer than the distance between its ends ({chord:.4g} m): "
-                 f"give {field} nearer that" if li.length > chord * 1.001 else "")
+        slack = _longer_than_chord(li, li.chord, sc) if li.chord is not None else ""
+        where = f" at arc length {li.sde_arc_length[k - li.sde_start]:.4g} m"
         out.append(f"rope '{li.name}' is crammed into itself: {many} of its {rows.size} SDEs hold their elements "
-                   f"in axial contact (overlapping by half their length or more) with up to {compression:.4g} N "
-                   f"of compression at arc length {li.sde_arc_length[k - li.sde_start]:.4g} m, more than the "
-                   f"rope's weight ({weight:.4g} N); a rope buckles sideways instead, so this equilibrium is "
-                   f"unstable and its end forces are no rope's{slack}, or set analysis.statics.enabled to false")
+                   f"{_in_contact(compression, where, weight)}; a rope buckles sideways instead, so this "
+                   f"equilibrium is unstable and its end forces are no rope's{slack}, or set "
+                   f"analysis.statics.enabled to false")
     return out
 
 
@@ -530,10 +538,9 @@ def dynamic_crammed_warnings(model, results) -> list[str]:
             arc = np.asarray(results.line(li.name).sde_arc_length)
             where = f" at arc length {float(arc[j]):.4g} m" if arc.size == tension.shape[1] else ""
             out.append(f"rope '{li.name}' was driven into itself: at t = {results.time[k]:.6g} s its elements met "
-                       f"in axial contact (overlapping by half their length) with {compression / 1e3:.4g} kN of "
-                       f"compression{where}, more than the rope's weight ({weight / 1e3:.4g} kN); a rope folds "
-                       f"instead, so the motion there is no rope's: damp the rope, lower "
-                       f"analysis.dynamics.integrator.rho_inf, shorten the time step or slow the drive that whips it")
+                       f"{_in_contact(compression, where, weight)}; a rope folds instead, so the motion there is "
+                       f"no rope's: damp the rope, lower analysis.dynamics.integrator.rho_inf, shorten the time "
+                       f"step or slow the drive that whips it")
     return out
 
 
