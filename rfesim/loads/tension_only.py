@@ -110,6 +110,11 @@ def tension_only_correction_rest(sde_left, sde_right, sde_arm_left, sde_arm_righ
         apply_section_force(a, b, Fp, zero, g, pa, pb, R[b], Rp, Jri, Jrh, Fg, h, tmp, tmp2, wth, F, M)
 
 
+def arm_sums(sde_arm_left, sde_arm_right, rows):
+    """|arm_L| + |arm_R| of the SDEs ``rows`` (m): ``rope_reach`` for many, in numpy."""
+    return np.linalg.norm(sde_arm_left[rows], axis=1) + np.linalg.norm(sde_arm_right[rows], axis=1)
+
+
 def rope_axial_energy(stiffness, gap, reach):
     """Axial energy of tension-only SDEs (J), arrays of the axial stiffness C_x, the gap
     eps_x and the arms' sum: 1/2 C eps^2 stretched, 0 slack, and past the contact the energy

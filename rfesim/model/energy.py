@@ -9,7 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..loads.sde import sde_elastic_energy
-from ..loads.tension_only import rope_axial_energy
+from ..loads.tension_only import arm_sums, rope_axial_energy
 
 
 @dataclass
@@ -38,7 +38,7 @@ def mechanical_energy(system, state) -> Energy:
         # a rope's axial term: 1/2 C eps^2 stretched only, and its contact energy past the closing
         rope = np.flatnonzero(km.sde_tension_only == 1)
         C, gap = km.sde_stiffness[rope, 0], ws.eps[rope, 0]
-        reach = np.linalg.norm(km.sde_arm_left[rope], axis=1) + np.linalg.norm(km.sde_arm_right[rope], axis=1)
+        reach = arm_sums(km.sde_arm_left, km.sde_arm_right, rope)
         elastic += float((rope_axial_energy(C, gap, reach) - 0.5 * C * gap * gap).sum())
     grav = float(km.gravity * (m * ws.r[:, 2]).sum())
     work = 0.0

@@ -461,13 +461,12 @@ def through_rope_warnings(system: System, state: State, sc=None) -> list[str]:
     elements overlapping by 1.66 m at arc length 31.2 m, and its dynamics stopped in their
     first substep, blaming a whipping drive. Now a guard. ``sc`` (the scenario) names the
     length field as the user wrote it."""
-    from ..loads.tension_only import rope_reach
+    from ..loads.tension_only import arm_sums
     from .kernels import ROPE_THROUGH
     km, ws = system.km, system.ws
     out = []
     for li, rows in _rope_lines(system, state):
-        limit = np.array([-ROPE_THROUGH * rope_reach(km.sde_arm_left, km.sde_arm_right, s) for s in rows])
-        bad = rows[ws.eps[rows, 0] < limit]
+        bad = rows[ws.eps[rows, 0] < -ROPE_THROUGH * arm_sums(km.sde_arm_left, km.sde_arm_right, rows)]
         if bad.size == 0:
             continue
         k = int(bad[np.argmin(ws.eps[bad, 0])])
@@ -495,8 +494,9 @@ def crammed_rope_warnings(system: System, state: State, sc=None) -> list[str]:
     ends at the start: the end elements are crammed past them)."""
     km, ws = system.km, system.ws
     out = []
-    for li, rows in _rope_lines(system, state):
-        floor = system.roundoff_force(state)
+    lines = _rope_lines(system, state)
+    floor = system.roundoff_force(state) if lines else 0.0
+    for li, rows in lines:
         weight = abs(km.gravity) * float(km.rfe_mass[li.rfe_start:li.rfe_stop].sum())
         k = int(rows[np.argmin(ws.sigma[rows, 0])])
         compression = -float(ws.sigma[k, 0])

@@ -120,7 +120,7 @@ def check_ropes(km, ws, fail, t):
     if not km.has_tension_only:
         return 0
     for s in range(km.sde_tension_only.shape[0]):
-        if km.sde_tension_only[s] != 0 and \
+        if km.sde_tension_only[s] != 0 and ws.eps[s, 0] < 0.0 and \
                 ws.eps[s, 0] < -ROPE_THROUGH * rope_reach(km.sde_arm_left, km.sde_arm_right, s):
             fail[0] = t
             fail[1] = km.sde_left[s]
