@@ -427,18 +427,20 @@ def _actuators(res, crane: str, out: dict, cylinder: dict | None, luffing_rope: 
 
 
 def _member_loads(res, crane: str, acts: list[dict]) -> tuple[dict, float]:
-    """{line: {arc_length (n,), bend_moment (nt, n), sde_arc_length (nsde,), axial_force (nt,
-    nsde), end_a_force, end_b_force (nt, 3)}} of every line of the crane's structure: the
-    bending moment at end A, every SDE, an actuator's eye on the line and end B (the ends from
-    the line's end moments, a closing line's onto its end B included), the axial force (tension
-    positive) at the SDEs and the line's end forces (as LineResults'); with the actuators
+    """{line: {arc_length (n,), bend_moment (nt, n), sde_arc_length (nsde,), axial_force,
+    shear_force, torque (nt, nsde), end_a_force, end_b_force (nt, 3)}} of every line of the
+    crane's structure: the bending moment at end A, every SDE, an actuator's eye on the line
+    and end B (the ends from the line's end moments, a closing line's onto its end B
+    included), the axial force (tension positive), the shear force's size and the torque at
+    the SDEs and the line's end forces (as LineResults'); with the actuators
     (:func:`_actuators`) those of the real frame: where a section lies between the
     actuator's two ends (a boom's or leg's section below the eye; a deck stub's, or a
     pedestal's above the cylinder base), its force F at the eye acts on the part beyond the
     section, adding F and (eye - section) x F to the internal loads the model has (the
     moment-driven joint carries them instead), the boom's or leg's sections taken on the
-    straight line from the hinge to the eye, F's part along the member along it (the real
-    frame's member does not bend there as the model's does under the joint's moment). Also
+    straight line from the hinge to the eye, F's part along the member along it and its
+    normal part added to the model's shear vector (the real frame's member does not bend there
+    as the model's does under the joint's moment). Also
     the largest difference between the model's bending moment and the one rebuilt from the
     end-A loads (section_loads) over the corrected SDEs, relative to the model's largest on
     that line (0 when nothing is corrected)."""
@@ -495,6 +497,8 @@ def _member_loads(res, crane: str, acts: list[dict]) -> tuple[dict, float]:
         end_b = -np.asarray(lr.end_b_moment, float) + sum(np.asarray(res.line(c).end_b_moment, float)
                                                           for c in closing[name])
         inner, sections = bend.copy(), s
+        shear = np.asarray(lr.shear_force, float).copy()
+        torque = np.asarray(lr.torque, float).copy()
         force_a = np.asarray(lr.end_a_force, float).copy()
         force_b = np.asarray(lr.end_b_force, float).copy()
         if spans[name]:
@@ -503,6 +507,10 @@ def _member_loads(res, crane: str, acts: list[dict]) -> tuple[dict, float]:
             rebuilt = section_loads(res, name, _reeving_loads(res, sc, name), at=eyes)
             M = rebuilt["moment"]
             model = _perpendicular(M, rebuilt["tangent"])
+            # the model's shear vector, normal to its SDE's tangent; F's part normal to the member
+            # is added to it below
+            T = rebuilt["tangent"]
+            V = rebuilt["force"] - np.sum(rebuilt["force"] * T, axis=-1)[..., None] * T
             touched = np.zeros(len(s), bool)
             for act, lo, hi, chord in spans[name]:
                 if act.get("eye_only"):
@@ -511,10 +519,15 @@ def _member_loads(res, crane: str, acts: list[dict]) -> tuple[dict, float]:
                 sel = (s >= lo) & (s < hi)
                 touched |= sel
                 arm = eye[:, None] - on_chord(act, chord, s[sel], rebuilt["point"][:, sel])
-                M[:, sel] += np.cross(arm, F[:, None])
+                moment = np.cross(arm, F[:, None])
+                M[:, sel] += moment
                 along = rebuilt["tangent"][:, sel] if chord is None else \
                     _unit(act["eye_point"] - act["hinge"])[:, None]
-                axial[:, sel] += np.sum(F[:, None] * along, axis=-1)
+                part = np.sum(F[:, None] * along, axis=-1)
+                axial[:, sel] += part
+                V[:, sel] += F[:, None] - part[..., None] * along
+                # about the member's axis (on the chord, the arm lies along it: nothing)
+                torque[:, sel] += np.sum(moment * along, axis=-1)
                 if lo <= arc[0] < hi:
                     end_a += np.cross(eye - on_chord(act, chord, arc[:1], pts[:, :1])[:, 0], F)
                     force_a += F
@@ -522,6 +535,7 @@ def _member_loads(res, crane: str, acts: list[dict]) -> tuple[dict, float]:
                     end_b += np.cross(eye - on_chord(act, chord, arc[-1:], pts[:, -1:])[:, 0], F)
                     force_b -= F
             inner[:, touched] = _perpendicular(M[:, touched], rebuilt["tangent"][:, touched])
+            shear[:, touched] = np.linalg.norm(V[:, touched], axis=-1)
             if touched.any():
                 scale = max(float(np.max(np.abs(bend))), 1e-300)
                 residual = max(residual, float(np.max(np.abs(model[:, touched] - bend[:, touched]))) / scale)
@@ -533,7 +547,8 @@ def _member_loads(res, crane: str, acts: list[dict]) -> tuple[dict, float]:
         moment = np.concatenate([_perpendicular(end_a, np.asarray(lr.end_a_direction, float))[:, None], inner,
                                  _perpendicular(end_b, np.asarray(lr.end_b_direction, float))[:, None]], axis=1)
         out[name] = {"arc_length": np.concatenate([[arc[0]], sections, [arc[-1]]]), "bend_moment": moment,
-                     "sde_arc_length": s, "axial_force": axial, "end_a_force": force_a, "end_b_force": force_b}
+                     "sde_arc_length": s, "axial_force": axial, "shear_force": shear, "torque": torque,
+                     "end_a_force": force_a, "end_b_force": force_b}
     return out, residual
 
 
@@ -591,11 +606,13 @@ def crane_summary(res, crane: str, *, static_tension: float | None = None, slack
     reads the actuator from the scenario; docs/theory.md, 'Member loads of the real frame').
     Without the actuator (``member_loads_of`` "model") they are the model's, whose luffing
     joint carries the moment. ``member_loads`` {line: {arc_length (n,), bend_moment (nt, n),
-    sde_arc_length (nsde,), axial_force (nt, nsde), end_a_force, end_b_force (nt, 3)}} for
-    every line of the structure (pedestal, turret, boom, A-frame stubs, legs, crossbeam): the
-    bending moment N*m at end A, the SDEs, the actuator's eye (boom, legs) and end B, the
-    axial force N (tension positive) at the SDEs; ``bend_moment_range`` and
-    ``axial_force_range`` {line: {arc_length, min, max, mean}} of them over time;
+    sde_arc_length (nsde,), axial_force, shear_force, torque (nt, nsde), end_a_force,
+    end_b_force (nt, 3)}} for every line of the structure (pedestal, turret, boom, A-frame
+    stubs, legs, crossbeam): the bending moment N*m at end A, the SDEs, the actuator's eye
+    (boom, legs) and end B, the axial force N (tension positive), the shear force N (its
+    size) and the torque N*m (the moment about the member's axis, as the results' ``torque``)
+    at the SDEs; ``bend_moment_range``, ``axial_force_range``, ``shear_force_range`` and
+    ``torque_range`` {line: {arc_length, min, max, mean}} of them over time;
     ``member_loads_residual``: the largest difference, relative to the line's largest, between
     the model's bending moment and the one rebuilt from the line's end loads, weights and
     inertia that the correction adds to (section_loads; a check: 1e-8 in statics, 3e-3 in
@@ -704,7 +721,8 @@ def crane_summary(res, crane: str, *, static_tension: float | None = None, slack
     out["member_loads_of"] = "real frame" if acts else "model"
     out["member_loads_residual"] = residual
     out["bend_moment_range"] = {n: _range(m["arc_length"], m["bend_moment"]) for n, m in members.items()}
-    out["axial_force_range"] = {n: _range(m["sde_arc_length"], m["axial_force"]) for n, m in members.items()}
+    for key in ("axial_force", "shear_force", "torque"):
+        out[f"{key}_range"] = {n: _range(m["sde_arc_length"], m[key]) for n, m in members.items()}
     # base loads: through the pedestal's foot, or an A-frame's hinges (the deck stubs' feet, the
     # moment about the hinge, or the point between the portal's hinges); an actuator whose other
     # end is on the deck puts its own reaction there (``cylinder_deck_force``), not through them

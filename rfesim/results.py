@@ -21,7 +21,8 @@ CHANNELS: dict[str, tuple[str, str]] = {
                      "(rfesim.crane_results.crane_summary gives the real frame's, the cylinders at their eye)"),
     "shear_force": ("N", "Shear force magnitude at the SDE; a crane template's boom or legs below a table-driven "
                          "luffing cylinder's eye: the model's, whose luffing joint holds them by a moment at the "
-                         "hinge (not corrected to the real frame)"),
+                         "hinge (rfesim.crane_results.crane_summary gives the real frame's, the cylinders at "
+                         "their eye)"),
     "bend_moment": ("N*m", "Bending moment magnitude at the SDE; a crane template's boom or legs below a "
                            "table-driven luffing cylinder's eye: the model's, whose luffing joint holds them by a "
                            "moment at the hinge (rfesim.crane_results.crane_summary gives the real frame's, the "
