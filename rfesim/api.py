@@ -817,6 +817,8 @@ def _breaking_load_message(sc: Scenario, results) -> str:
 def _dynamic_warnings(model, results, sc=None, recorder=None) -> str:
     """A duration the output interval does not divide, the table and csv vessel motions that
     end before the run does or start after it (rfesim.scenario.schema.motion_table_warnings),
+    the drive, motor and payout tables that stop their motion dead inside the run
+    (rfesim.scenario.motion_warnings.table_end_warnings),
     the RAO vessels whose table leaves
     out a noticeable part of the sea (rfesim.sea.rao.rao_range_warnings) and the lines whose tension in the run went past
     their fem shear limit and the ropes driven into themselves (rfesim.solvers.buckling.
@@ -824,10 +826,10 @@ def _dynamic_warnings(model, results, sc=None, recorder=None) -> str:
     a scene of other formulations), logged and as text for the message; with the run's
     ``recorder`` (a run that finished) also the growth of a closed scene's energy below the
     stop (rfesim.solvers.dynamics.EnergyCheck) and more than a tenth of the steps halved."""
-    from .scenario.schema import motion_table_warnings
+    from .scenario.motion_warnings import input_motion_warnings
     from .sea.rao import rao_range_warnings
     from .solvers.dynamics import halving_warning, output_interval_warning
-    warnings = (motion_table_warnings(sc) + rao_range_warnings(sc) if sc is not None else []) + (
+    warnings = (input_motion_warnings(sc) + rao_range_warnings(sc) if sc is not None else []) + (
         dynamic_shear_warnings(model, results) + dynamic_crammed_warnings(model, results)
         if model is not None else []) + (
         breaking_load_warnings(sc, results) + tugger_pretension_warnings(sc, results) if sc is not None else [])

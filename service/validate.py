@@ -213,12 +213,15 @@ def load_warnings(sc) -> list[str]:
     """The warnings of a validated Scenario that need no model and no solve, answered at
     submit (a few milliseconds): the templates' warnings (a stinger mesh too coarse for its
     rollers: what ``rfesim check`` shows), a duration the output interval does not divide,
-    and the RAO vessels whose table leaves out a noticeable part of the sea
-    (rfesim.sea.rao.rao_range_warnings). Those that need the built model (no unique static
+    the RAO vessels whose table leaves out a noticeable part of the sea
+    (rfesim.sea.rao.rao_range_warnings), the vessels' motion tables that do not cover the run
+    and the drive, motor and payout tables that stop dead inside it
+    (rfesim.scenario.motion_warnings.input_motion_warnings). Those that need the built model (no unique static
     shape) are :func:`model_warnings`, found by :class:`ModelCheck`; those that need the
     solution (statics: buckling, fem shear; dynamics: shear limit passed, slack ropes...) are
     found by the worker when the job runs and added to the job's record then
     (``service.worker.execute``)."""
+    from rfesim.scenario.motion_warnings import input_motion_warnings
     from rfesim.sea.rao import rao_range_warnings
     from rfesim.solvers.dynamics import output_interval_warning
 
@@ -229,7 +232,7 @@ def load_warnings(sc) -> list[str]:
             note = output_interval_warning(float(dyn.duration), float(dyn.output_interval))
             if note:
                 out.append(f"dynamics: {note}")
-        out += [f"dynamics: {w}" for w in rao_range_warnings(sc)]
+        out += [f"dynamics: {w}" for w in input_motion_warnings(sc) + rao_range_warnings(sc)]
     return out
 
 

@@ -582,7 +582,7 @@ def test_a_frame_swinging_out_with_a_deck_winch_lead_draws_rope_over_the_sheave(
     run stops once it passes the rope's first element."""
     data = _a_frame_scenario(26.0)
     data["cranes"]["aframe"]["rope"]["elements"] = 5
-    data["cranes"]["aframe"]["tilt_deg"] = [[0.0, -25.0], [5.0, -25.0], [35.0, 35.0]]   # 2 deg/s from 5 s
+    data["cranes"]["aframe"]["tilt_deg"] = [[0.0, -25.0], [5.0, -25.0], [35.0, 35.0]]   # from 5 s, 3.71 deg/s at the stop
     plain = rfesim.simulate(copy.deepcopy(data))
     data["cranes"]["aframe"]["reeving"] = [-38.0, 0.0, 4.0]
     res = rfesim.simulate(copy.deepcopy(data))

@@ -1,0 +1,214 @@
+"""Prescribed motions that start or stop with a jolt inside the run.
+
+Waves and harmonic vessel motions with no ramp (``ramp_duration`` 0) start at full height at
+t = 0 on a structure at rest (its statics in still water, or its initial shape): the water's
+velocity and acceleration, and the vessels' velocity, jump on at once (:func:`startup_warnings`).
+
+Tables that stop a motion dead inside the run: a joint drive's or slewing motor's angle
+table, a tensioner's or reel's payout table, a chain joint's prescribed table, whose last row
+lies before the end of the run while the curve through the rows still moves there.
+
+Beyond its last row every such table holds its last value: the drive (payout) stops at once
+from the rate it had, a jolt in the structure and the lines it carries. The rate at the last
+row is that of the curve the run follows (docs/theory.md, 'Drives'): the monotone cubic
+(PCHIP) of drives, motors and payout tables of three rows or more, whose end slope comes from
+the last two segments (a slewing table [[0, 80], [20, 80], [140, 1160]] deg ends at 16.7
+deg/s, not at the 9 deg/s of its last segment); the straight line of a two-row payout table;
+the natural cubic spline of a chain's table. A two-row drive table starts and stops at rest,
+and a table whose last two rows hold one value ends at rest: neither is warned about. The
+vessels' motion tables have their own warning (rfesim.scenario.schema.motion_table_warnings).
+"""
+from __future__ import annotations
+
+import re
+
+import numpy as np
+
+# a rate below this share of the table's largest step over its whole time span is rest
+# (round-off of a cubic's slope at a flat last segment)
+REST = 1e-9
+
+
+def _ends_moving(t: np.ndarray, d: np.ndarray, v_end: float) -> bool:
+    span = float(np.max(np.abs(np.diff(d)))) / float(t[-1] - t[0]) if len(t) > 1 else 0.0
+    return abs(v_end) > REST * max(span, 1e-300)
+
+
+def _source_template(sc, group: str, field: str):
+    """(template name, its input dict) when ``field`` (as rfesim.scenario.pipelay.user_field
+    gives it) lies in a ``group`` template (``cranes``, ``pipelay``) of the scenario's input,
+    else None."""
+    m = re.match(rf"{group}\.([^.\s]+)", field)
+    source = getattr(sc, "_source", None)
+    if m is None or not isinstance(source, dict):
+        return None
+    tpl = (source.get(group) or {}).get(m.group(1))
+    return (m.group(1), tpl) if isinstance(tpl, dict) else None
+
+
+def _crane_field(sc, path: str, drive: str) -> tuple[str, str, list | None]:
+    """(field, what the table gives, the user's rows) of a drive's angle table at ``path`` of
+    the expanded scenario: for a crane's drive the template's angle, stroke or rope-length
+    table (``cranes.crane.slewing_deg``, "angle"; ``cranes.crane.cylinder.stroke``,
+    "stroke"), else the path as rfesim.scenario.pipelay.user_field gives it (rows None)."""
+    from .pipelay import user_field
+    field = user_field(sc, path)
+    found = _source_template(sc, "cranes", field)
+    if found is None:
+        return field, "angle", None
+    crane, tpl = found
+    keys = ["slewing_deg"] if drive == "slewing" else ["luffing_deg", "tilt_deg"]
+    for key in keys:
+        if isinstance(tpl.get(key), list):
+            return f"cranes.{crane}.{key}", "angle", tpl[key]
+    for key, what in (("cylinder", "stroke"), ("luffing_rope", "rope length")):
+        rows = (tpl.get(key) or {}).get("stroke" if key == "cylinder" else "length") \
+            if isinstance(tpl.get(key), dict) else None
+        if drive != "slewing" and isinstance(rows, list):
+            return f"cranes.{crane}.{key}.{'stroke' if key == 'cylinder' else 'length'}", what, rows
+    return field, "angle", None
+
+
+def _payout_field(sc, path: str) -> str:
+    """The field of a payout table at ``path``: a pipelay template's tensioner table (its reel
+    turns with the same table), else the path as user_field gives it."""
+    from .pipelay import user_field
+    field = user_field(sc, path)
+    found = _source_template(sc, "pipelay", field)
+    if found is not None and isinstance((found[1].get("tensioner") or {}).get("payout"), dict):
+        return f"pipelay.{found[0]}.tensioner.payout.rows"
+    return field
+
+
+def _hold_row(row) -> str:
+    return f"[{float(row[0]) + 5.0:.6g}, {float(row[1]):.6g}]"
+
+
+def table_end_warnings(sc) -> list[str]:
+    """One warning per table (per user field: the portal A-frame's two legs share theirs) whose
+    motion stops dead inside the run, naming the field, the time of the last row and the rate
+    there; [] without dynamics."""
+    from ..model.supports import drive_slopes, table_slopes
+    dyn = sc.analysis.dynamics
+    if not (dyn.enabled and dyn.duration > 0.0):
+        return []
+    duration = float(dyn.duration)
+    out, seen = [], set()
+
+    def add(field: str, text: str) -> None:
+        if field not in seen:
+            seen.add(field)
+            out.append(f"{field}: {text}")
+
+    for name, line in (sc.lines or {}).items():
+        for end in ("end_a", "end_b"):
+            spec = getattr(line, end)
+            tables = [(f"lines.{name}.{end}.drives.{i}.angle", d.name, d.angle) for i, d in enumerate(spec.drives)]
+            if spec.motor is not None:
+                tables.append((f"lines.{name}.{end}.motor.angle", spec.motor.name, spec.motor.angle))
+            for path, drive, rows in tables:
+                if len(rows) < 3 or rows[-1][1] == rows[-2][1] or not 0.0 < rows[-1][0] < duration:
+                    continue        # two rows start and stop at rest; a flat last segment ends at rest
+                rows = np.asarray(rows, float)
+                rate = float(drive_slopes(rows[:, 0], rows[:, 1])[-1])
+                if not _ends_moving(rows[:, 0], rows[:, 1], rate):
+                    continue
+                motor = path.endswith("motor.angle")
+                field, what, user_rows = _crane_field(sc, path, drive)
+                stop = ("the motor's set angle stops dead there and the motor brakes the structure with up to its "
+                        "max_torque" if motor else f"the {drive} drive stops dead there (a jolt in the structure "
+                                                   "and the lines it carries)")
+                add(field, f"the {what} table ends at t = {rows[-1, 0]:.6g} s with the {drive} angle still turning "
+                           f"at {rate:.3g} deg/s (the slope of the drive's monotone cubic at the last row, from the "
+                           f"last two segments), and holds its last {what} after it: {stop}; add a row that holds "
+                           f"the last {what}, e.g. {_hold_row(user_rows[-1] if user_rows else rows[-1])}, for a "
+                           f"smooth stop")
+    for name, sup in (sc.supports or {}).items():
+        payout = getattr(sup, "payout", None)
+        if payout is None or payout.kind != "table":
+            continue
+        if len(payout.rows) < 2 or payout.rows[-1][1] == payout.rows[-2][1] \
+                or not 0.0 < payout.rows[-1][0] < duration:
+            continue
+        rows = np.asarray(payout.rows, float)
+        speed = float(table_slopes(rows[:, 0], rows[:, 1])[-1])
+        if not _ends_moving(rows[:, 0], rows[:, 1], speed):
+            continue
+        add(_payout_field(sc, f"supports.{name}.payout.rows"),
+            f"the payout table ends at t = {rows[-1, 0]:.6g} s while paying out at {speed:.3g} m/s"
+            f"{' (the straight line of two rows)' if len(rows) == 2 else ' (the slope of its monotone cubic at the last row)'}"
+            f", and holds its last length after it: the payout stops dead there (a jolt through the grips into "
+            f"the line); add a row that holds the last length, e.g. {_hold_row(rows[-1])}, "
+            f"for a smooth stop")
+    for cname, chain in (getattr(sc, "chains", None) or {}).items():
+        for jname, joint in chain.joints.items():
+            drive = joint.drive
+            motion = getattr(drive, "motion", None)
+            if drive.kind != "prescribed" or motion is None or motion.kind != "table":
+                continue
+            rows = np.asarray(motion.rows, float)
+            if not 0.0 < rows[-1, 0] < duration:
+                continue
+            from scipy.interpolate import CubicSpline     # the chain scene's table (rfesim.formulations.scene)
+            rate = float(CubicSpline(rows[:, 0], rows[:, 1], bc_type="natural")(rows[-1, 0], 1))
+            if not _ends_moving(rows[:, 0], rows[:, 1], rate):
+                continue
+            unit = "m/s" if joint.kind == "prismatic" else "rad/s"
+            add(f"chains.{cname}.joints.{jname}.drive.motion.rows",
+                f"the table ends at t = {rows[-1, 0]:.6g} s while still moving at {rate:.3g} {unit} (the slope of "
+                f"its natural cubic spline at the last row), and holds its last value after it: the joint stops "
+                f"dead there; add rows that hold the last value for a smooth stop")
+    return out
+
+
+SPECTRA = ("jonswap", "pierson-moskowitz")
+
+
+def startup_warnings(sc) -> list[str]:
+    """The waves (regular or a spectrum) and harmonic vessel motions of a dynamic run that
+    start with no ramp: at full height at t = 0 on a structure at rest, so the water's velocity
+    and acceleration (and the RAO vessels' motion, which follows the waves' ramp) or the
+    vessel's velocity jump on at once, a start-up transient over the first periods. One
+    warning each, naming the ``ramp_duration`` field and a period to ramp over; a wave
+    elevation time series (it starts as recorded) and motion tables and files are left out."""
+    from .pipelay import user_field
+    dyn = sc.analysis.dynamics
+    if not (dyn.enabled and dyn.duration > 0.0):
+        return []
+    rest = "its static equilibrium in still water" if sc.analysis.statics.enabled else "its initial shape at rest"
+    out = []
+    water = sc.environment.water
+    waves = water.waves if water is not None else None
+    if waves is not None and waves.kind in ("airy", "stokes5") + SPECTRA and waves.ramp_duration == 0.0:
+        period, which = (waves.tp, "peak period") if waves.kind in SPECTRA else (waves.period, "period")
+        rao = sorted(n for n, v in (sc.vessels or {}).items() if v.motion.kind == "rao")
+        vessels = f", and the motion of the RAO vessel{'s' * (len(rao) > 1)} {', '.join(rao)}," if rao else ""
+        out.append(f"{user_field(sc, 'environment.water.waves.ramp_duration')}: 0 s, so the {waves.kind} waves "
+                   f"start at full height at t = 0 on the structure in {rest}: the water's velocity and "
+                   f"acceleration{vessels} jump on at once, a start-up transient over the first wave periods; "
+                   f"ramp them in over a {which} or more (ramp_duration {period:.6g} s), or leave the first "
+                   f"periods out of the results")
+    for name, vessel in (sc.vessels or {}).items():
+        motion = vessel.motion
+        if motion.kind != "harmonic" or motion.ramp_duration != 0.0:
+            continue
+        dofs = [d for d in (motion.surge, motion.sway, motion.heave, motion.roll, motion.pitch, motion.yaw)
+                if d is not None and d.amplitude > 0.0]
+        if not dofs:
+            continue
+        longest = max(d.period for d in dofs)
+        out.append(f"{user_field(sc, f'vessels.{name}.motion.ramp_duration')}: 0 s, so vessel '{name}' starts its "
+                   f"harmonic motion at full amplitude at t = 0 with the structure in {rest}: the vessel's "
+                   f"velocity jumps on at once, a jolt in the lines it carries; ramp it in over a period or more "
+                   f"(ramp_duration {longest:.6g} s)")
+    return out
+
+
+def input_motion_warnings(sc) -> list[str]:
+    """The motion warnings a scenario's input gives before it runs: waves and harmonic vessel
+    motions with no ramp (:func:`startup_warnings`), the vessels' motion tables that do not
+    cover the run (rfesim.scenario.schema.motion_table_warnings) and the tables that stop
+    dead inside it (:func:`table_end_warnings`); what ``rfesim check`` and the service's
+    submit show, and a run's message repeats."""
+    from .schema import motion_table_warnings
+    return startup_warnings(sc) + motion_table_warnings(sc) + table_end_warnings(sc)

@@ -1,0 +1,204 @@
+"""Tables that stop a motion dead inside the run (rfesim.scenario.motion_warnings): a drive's,
+slewing motor's, payout or chain joint table whose last row lies inside the run while the
+curve the run follows still moves there gets a dynamics warning naming the user's field, the
+time and the rate at the last row, and the row that would hold it. The rate is the curve's
+(the monotone cubic's end slope), not the last segment's mean."""
+from __future__ import annotations
+
+import copy
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy.interpolate import CubicSpline, PchipInterpolator
+
+import rfesim
+from rfesim.scenario.motion_warnings import startup_warnings, table_end_warnings
+
+SCENARIOS = Path(__file__).resolve().parents[2] / "scenarios"
+ROD = {"rigid": True, "length": 1.0, "mass": 1.0}
+
+
+def scenario(name: str, **dynamics) -> dict:
+    data = json.loads((SCENARIOS / name).read_text())
+    data["analysis"]["dynamics"].update(dynamics)
+    return data
+
+
+def warnings_of(data: dict) -> list[str]:
+    return table_end_warnings(rfesim.load_scenario(copy.deepcopy(data), base_dir=SCENARIOS))
+
+
+@pytest.mark.parametrize("name", sorted(p.name for p in SCENARIOS.glob("*.json")))
+def test_the_shipped_scenarios_stop_their_tables_smoothly(name):
+    assert warnings_of(scenario(name)) == []
+
+
+def test_a_slewing_table_that_ends_moving_is_named_with_the_cubics_rate():
+    data = scenario("column_crane.json", duration=160.0)
+    rows = [[0.0, 80.0], [20.0, 80.0], [140.0, 1160.0]]
+    data["cranes"]["crane"]["slewing_deg"] = rows
+    (w,) = warnings_of(data)
+    # PCHIP's end slope from the last two segments: ((2 h1 + h0) d1 - h1 d0) / (h0 + h1)
+    rate = PchipInterpolator(*np.array(rows).T).derivative()(140.0)
+    assert rate == pytest.approx((2 * 120 + 20) * 9.0 / 140.0)
+    assert w.startswith(f"cranes.crane.slewing_deg: the angle table ends at t = 140 s with the slewing angle still "
+                        f"turning at {rate:.3g} deg/s")
+    assert "16.7 deg/s" in w and "9 deg/s" not in w
+    assert "e.g. [145, 1160]" in w
+    # held at its last angle: smooth; ending after the run: no stop inside it
+    data["cranes"]["crane"]["slewing_deg"] = rows + [[145.0, 1160.0]]
+    assert warnings_of(data) == []
+    data["cranes"]["crane"]["slewing_deg"] = rows
+    data["analysis"]["dynamics"]["duration"] = 140.0
+    assert warnings_of(data) == []
+    data["analysis"]["dynamics"].update(duration=160.0, enabled=False)
+    assert warnings_of(data) == []
+
+
+def test_a_two_row_drive_table_starts_and_stops_at_rest():
+    data = scenario("column_crane.json", duration=30.0)
+    data["cranes"]["crane"]["slewing_deg"] = [[0.0, 80.0], [10.0, 170.0]]
+    assert warnings_of(data) == []
+
+
+def test_the_portal_legs_share_one_warning_and_a_stroke_table_names_its_stroke():
+    data = scenario("a_frame.json", duration=40.0)
+    data["cranes"]["aframe"]["tilt_deg"] = [[0.0, -25.0], [5.0, -25.0], [35.0, 35.0]]
+    (w,) = warnings_of(data)            # the two legs, one table
+    assert w.startswith("cranes.aframe.tilt_deg: the angle table ends at t = 35 s with the luffing angle still "
+                        "turning at 3.71 deg/s")
+    data = scenario("column_crane.json", duration=30.0)
+    crane = data["cranes"]["crane"]
+    del crane["luffing_deg"]
+    crane["cylinder"]["stroke"] = [[0.0, 11.98], [5.0, 11.98], [15.0, 11.63]]
+    (w,) = warnings_of(data)
+    assert w.startswith("cranes.crane.cylinder.stroke: the stroke table ends at t = 15 s with the luffing angle "
+                        "still turning at -")
+    assert "holds the last stroke, e.g. [20, 11.63]" in w
+
+
+def test_a_slewing_motor_is_warned_that_its_set_angle_stops():
+    data = scenario("column_crane_slewing_motor.json", duration=20.0)
+    data["cranes"]["crane"]["slewing_deg"] = [[0.0, 30.0], [5.0, 30.0], [15.0, 100.0]]
+    (w,) = warnings_of(data)
+    assert w.startswith("cranes.crane.slewing_deg: the angle table ends at t = 15 s")
+    assert "the motor brakes the structure with up to its max_torque" in w
+
+
+def test_a_payout_table_names_the_tensioners_table_once():
+    data = scenario("reel_lay.json", duration=70.0)      # its table ends at 60 s, the run's end
+    rows = np.array(data["pipelay"]["lay"]["tensioner"]["payout"]["rows"])
+    (w,) = warnings_of(data)                             # the reel turns with the same table
+    speed = PchipInterpolator(rows[:, 0], rows[:, 1]).derivative()(60.0)
+    assert w.startswith(f"pipelay.lay.tensioner.payout.rows: the payout table ends at t = 60 s while paying out at "
+                        f"{speed:.3g} m/s")
+    assert warnings_of(scenario("reel_lay.json")) == []
+
+
+def test_a_chain_table_is_warned_with_its_spline_rate():
+    rows = [[0.0, 0.0], [1.0, 0.0], [2.0, 0.5], [3.0, 1.0]]
+    data = {"environment": {"gravity": 9.81},
+            "chains": {"c": {"links": {"a": dict(ROD)},
+                             "joints": {"j1": {"kind": "revolute", "parent": "base", "child": "a", "axis": [0, 1, 0],
+                                               "drive": {"kind": "prescribed",
+                                                         "motion": {"kind": "table", "rows": rows}}}}}},
+            "analysis": {"dynamics": {"duration": 4.0, "integrator": {"kind": "rk4"}}}}
+    (w,) = table_end_warnings(rfesim.Scenario.model_validate(data))
+    rate = CubicSpline(*np.array(rows).T, bc_type="natural")(3.0, 1)
+    assert w.startswith(f"chains.c.joints.j1.drive.motion.rows: the table ends at t = 3 s while still moving at "
+                        f"{rate:.3g} rad/s")
+    data["analysis"]["dynamics"]["duration"] = 3.0
+    assert table_end_warnings(rfesim.Scenario.model_validate(data)) == []
+
+
+def test_check_and_the_services_submit_show_it_before_the_run(tmp_path, caplog):
+    """``rfesim check`` logs the warning (and a vessel motion table ending early, which only
+    the run's message had); the service answers it at submit (service.validate.load_warnings)."""
+    import logging
+
+    from rfesim.cli import main
+    data = scenario("column_crane.json", duration=160.0)
+    data["cranes"]["crane"]["slewing_deg"] = [[0.0, 80.0], [20.0, 80.0], [140.0, 1160.0]]
+    data["vessels"]["barge"]["motion"]["file"] = str(SCENARIOS / data["vessels"]["barge"]["motion"]["file"])
+    path = tmp_path / "slew.json"
+    path.write_text(json.dumps(data))
+    with caplog.at_level(logging.WARNING, logger="rfesim"):
+        assert main(["check", str(path)]) == 0
+    logged = [r.getMessage() for r in caplog.records]
+    assert any(m.startswith("dynamics: cranes.crane.slewing_deg: the angle table ends at t = 140 s") for m in logged)
+
+    table = {"environment": {"gravity": 9.81},
+             "vessels": {"ship": {"motion": {"kind": "table", "interpolation": "linear",
+                                               "rows": [[0.0, 0, 0, 0, 0, 0, 0], [2.0, 1.0, 0, 0, 0, 0, 0]]}}},
+             "line_types": {"rope": {"EA": 1.0e6, "EIy": 0.0, "mass_per_length": 1.0}},
+             "lines": {"l": {"type": "rope", "length": 5.0, "elements": 5,
+                             "end_a": {"attach": "ship", "position": [0.0, 0.0, 0.0]},
+                             "end_b": {"attach": "free", "position": [0.0, 0.0, -5.0]}}},
+             "analysis": {"dynamics": {"duration": 5.0}}}
+    path.write_text(json.dumps(table))
+    caplog.clear()
+    with caplog.at_level(logging.WARNING, logger="rfesim"):
+        assert main(["check", str(path)]) == 0
+    assert any("(vessels.ship.motion.rows): the motion table ends at t = 2 s" in r.getMessage() for r in caplog.records)
+
+    from service import validate
+    from service.settings import Settings
+    _, sc = validate.prepare_job({"scenario": "column_crane", "overrides": {
+        "cranes.crane.slewing_deg": [[0.0, 80.0], [20.0, 80.0], [140.0, 1160.0]],
+        "analysis.dynamics.duration": 160.0}}, Settings(data_dir=tmp_path), SCENARIOS)
+    warnings = validate.load_warnings(sc)
+    assert any(w.startswith("dynamics: cranes.crane.slewing_deg: the angle table ends at t = 140 s") for w in warnings)
+
+
+def test_the_shipped_scenarios_ramp_their_waves_and_vessels_in():
+    for path in sorted(SCENARIOS.glob("*.json")):
+        assert startup_warnings(rfesim.load_scenario(path)) == [], path.name
+
+
+def test_waves_without_a_ramp_are_named_with_their_period_and_the_rao_vessels():
+    data = scenario("column_crane.json")
+    data["environment"]["water"]["waves"]["ramp_duration"] = 0.0
+    (w,) = startup_warnings(rfesim.load_scenario(data, base_dir=SCENARIOS))
+    assert w.startswith("environment.water.waves.ramp_duration: 0 s, so the jonswap waves start at full height at "
+                        "t = 0 on the structure in its static equilibrium in still water")
+    assert "and the motion of the RAO vessel barge," in w and "(ramp_duration 8 s)" in w
+    data["environment"]["water"]["waves"] = {"kind": "airy", "height": 2.0, "period": 9.5}
+    data["analysis"]["statics"]["enabled"] = False
+    (w,) = startup_warnings(rfesim.load_scenario(data, base_dir=SCENARIOS))
+    assert "the airy waves start at full height at t = 0 on the structure in its initial shape at rest" in w
+    assert "ramp them in over a period or more (ramp_duration 9.5 s)" in w
+    data["analysis"]["dynamics"]["enabled"] = False
+    assert startup_warnings(rfesim.load_scenario(data, base_dir=SCENARIOS)) == []
+
+
+def test_a_harmonic_vessel_without_a_ramp_is_named_in_the_template_field():
+    data = scenario("h1_riser_heave.json")
+    data["vessels"]["vessel"]["motion"]["ramp_duration"] = 0.0
+    (w,) = startup_warnings(rfesim.load_scenario(data, base_dir=SCENARIOS))
+    assert w.startswith("vessels.vessel.motion.ramp_duration: 0 s, so vessel 'vessel' starts its harmonic motion")
+    assert "(ramp_duration 8 s)" in w
+    data["vessels"]["vessel"]["motion"]["heave"]["amplitude"] = 0.0     # still: nothing starts
+    assert startup_warnings(rfesim.load_scenario(data, base_dir=SCENARIOS)) == []
+    data = scenario("j_lay.json")
+    data["pipelay"]["lay"]["vessel"]["motion"]["ramp_duration"] = 0.0
+    (w,) = startup_warnings(rfesim.load_scenario(data, base_dir=SCENARIOS))
+    assert w.startswith("pipelay.lay.vessel.motion.ramp_duration: 0 s, so vessel 'lay_vessel' starts")
+
+
+def test_the_run_without_a_ramp_has_the_transient_the_warning_names():
+    """The column crane of scenarios/column_crane.json, 20 s in a regular 3 m, 8 s beam sea:
+    with no ramp the RAO barge starts rolling at full velocity under the payload hanging at
+    rest, the payload snatches its rope (355 kN at the sheave against 138 kN ramped in over
+    10 s) and the run needs 875 step halvings and 5 recoveries (ramped: none). The message
+    says why."""
+    data = scenario("column_crane.json", duration=20.0)
+    data["environment"]["water"]["waves"] = {"kind": "airy", "height": 3.0, "period": 8.0, "direction_deg": 90.0}
+    res = rfesim.simulate(rfesim.load_scenario(copy.deepcopy(data), base_dir=SCENARIOS))
+    assert "environment.water.waves.ramp_duration: 0 s" in res.message
+    data["environment"]["water"]["waves"]["ramp_duration"] = 10.0
+    ramped = rfesim.simulate(rfesim.load_scenario(data, base_dir=SCENARIOS))
+    assert "ramp_duration" not in ramped.message
+    assert res.counters["step_halvings"] > 20 * ramped.counters.get("step_halvings", 0) + 20
+    assert np.max(res.line("crane_rope").tension) > 2.0 * np.max(ramped.line("crane_rope").tension)
