@@ -170,12 +170,16 @@ def startup_warnings(sc) -> list[str]:
     and acceleration (and the RAO vessels' motion, which follows the waves' ramp) or the
     vessel's velocity jump on at once, a start-up transient over the first periods. One
     warning each, naming the ``ramp_duration`` field and a period to ramp over; a wave
-    elevation time series (it starts as recorded) and motion tables and files are left out."""
+    elevation time series (it starts as recorded) and motion tables and files are left out.
+    Also the winch speed tables whose speed at t = 0 is not 0, and the payout tables that
+    start moving at once (at their first row, or at t = 0 for a table begun before): the
+    line's speed jumps from rest."""
     from .pipelay import user_field
     dyn = sc.analysis.dynamics
     if not (dyn.enabled and dyn.duration > 0.0):
         return []
     rest = "its static equilibrium in still water" if sc.analysis.statics.enabled else "its initial shape at rest"
+    still = "at rest in its statics" if sc.analysis.statics.enabled else "at rest in its initial shape"
     out = []
     water = sc.environment.water
     waves = water.waves if water is not None else None
@@ -201,6 +205,45 @@ def startup_warnings(sc) -> list[str]:
                    f"harmonic motion at full amplitude at t = 0 with the structure in {rest}: the vessel's "
                    f"velocity jumps on at once, a jolt in the lines it carries; ramp it in over a period or more "
                    f"(ramp_duration {longest:.6g} s)")
+    for name, winch in (sc.winches or {}).items():
+        mode = winch.mode
+        if mode.kind != "speed":
+            continue
+        rows = np.asarray(mode.rows, float)
+        speed = float(np.interp(0.0, rows[:, 0], rows[:, 1]))      # linear between rows, held beyond
+        if speed == 0.0:
+            continue
+        what = "pays out" if speed > 0.0 else "hauls in"
+        out.append(f"{user_field(sc, f'winches.{name}.mode.rows')}: the winch {what} at {abs(speed):.6g} m/s at once at "
+                   f"t = 0 with the rope {still}: its speed jumps from 0, a jolt in the rope ("
+                   f"{'the payload drops and its tension dips' if speed > 0.0 else 'the payload is snatched'}); "
+                   f"start the table at 0 m/s and reach the speed over a second or more, e.g. [[0, 0], "
+                   f"[2, {speed:.6g}], ...]")
+    for name, sup in (sc.supports or {}).items():
+        payout = getattr(sup, "payout", None)
+        if payout is None or payout.kind != "table" or len(payout.rows) < 2:
+            continue
+        rows = np.asarray(payout.rows, float)
+        t0 = max(float(rows[0, 0]), 0.0)
+        if t0 >= float(dyn.duration):
+            continue
+        if len(rows) == 2:
+            speed = float(np.diff(rows[:, 1])[0] / np.diff(rows[:, 0])[0]) if rows[0, 0] <= t0 < rows[1, 0] else 0.0
+        elif rows[0, 0] >= 0.0:
+            from ..model.supports import table_slopes
+            speed = float(table_slopes(rows[:, 0], rows[:, 1])[0])
+        else:
+            from scipy.interpolate import PchipInterpolator
+            speed = float(PchipInterpolator(rows[:, 0], rows[:, 1]).derivative()(t0)) if t0 < rows[-1, 0] else 0.0
+        if not _ends_moving(rows[:, 0], rows[:, 1], speed):
+            continue
+        text = (f"{_payout_field(sc, f'supports.{name}.payout.rows')}: the payout table starts paying out at "
+                f"{speed:.3g} m/s at once at t = {t0:.6g} s"
+                f"{' (the straight line of two rows)' if len(rows) == 2 else ' (the slope of its monotone cubic at its first row)'}"
+                f" with the line {still}: a jolt through the grips into the line; add a row that holds the first "
+                f"length before it and a short ramp (the cubic through them starts from rest)")
+        if text not in out:             # a pipelay template's reel turns with its tensioner's table
+            out.append(text)
     return out
 
 

@@ -202,3 +202,33 @@ def test_the_run_without_a_ramp_has_the_transient_the_warning_names():
     assert "ramp_duration" not in ramped.message
     assert res.counters["step_halvings"] > 20 * ramped.counters.get("step_halvings", 0) + 20
     assert np.max(res.line("crane_rope").tension) > 2.0 * np.max(ramped.line("crane_rope").tension)
+
+
+def test_a_winch_or_payout_that_starts_at_speed_is_named():
+    """A winch speed table not at 0 at t = 0 jumps the rope's speed from rest: the column crane
+    hauling its 10 t in at 0.5 m/s from t = 0 in a calm sea peaks at 144 kN at the sheave
+    against 104 kN with the speed reached over 2 s (static 99.7 kN; measured for this
+    warning). A payout table whose straight line or cubic starts moving at once, the same."""
+    data = scenario("column_crane.json", duration=10.0)
+    data["cranes"]["crane"]["winch"]["mode"]["rows"] = [[0.0, -0.5]]
+    (w,) = startup_warnings(rfesim.load_scenario(copy.deepcopy(data), base_dir=SCENARIOS))
+    assert w.startswith("cranes.crane.winch.mode.rows: the winch hauls in at 0.5 m/s at once at t = 0")
+    assert "e.g. [[0, 0], [2, -0.5], ...]" in w
+    data["cranes"]["crane"]["winch"]["mode"]["rows"] = [[0.0, 0.0], [2.0, -0.5]]
+    assert startup_warnings(rfesim.load_scenario(data, base_dir=SCENARIOS)) == []
+
+    data = scenario("reel_lay.json")
+    payout = data["pipelay"]["lay"]["tensioner"]["payout"]
+    payout["rows"] = [[5.0, 0.0], [55.0, 7.5]]
+    (w,) = startup_warnings(rfesim.load_scenario(copy.deepcopy(data), base_dir=SCENARIOS))   # reel and tensioner
+    assert w.startswith("pipelay.lay.tensioner.payout.rows: the payout table starts paying out at 0.15 m/s at once "
+                        "at t = 5 s (the straight line of two rows)")
+    payout["rows"] = [[-5.0, 0.0], [55.0, 7.5]]          # moving at t = 0 already
+    (w,) = startup_warnings(rfesim.load_scenario(copy.deepcopy(data), base_dir=SCENARIOS))
+    assert "at 0.125 m/s at once at t = 0 s" in w
+    payout["rows"] = [[0.0, 0.0], [5.0, 1.0], [55.0, 7.5]]
+    rate = PchipInterpolator([0.0, 5.0, 55.0], [0.0, 1.0, 7.5]).derivative()(0.0)
+    (w,) = startup_warnings(rfesim.load_scenario(copy.deepcopy(data), base_dir=SCENARIOS))
+    assert f"at {rate:.3g} m/s at once at t = 0 s (the slope of its monotone cubic at its first row)" in w
+    payout["rows"] = [[0.0, 0.0], [5.0, 0.0], [6.0, 0.1], [55.0, 7.5]]        # held, then a ramp: from rest
+    assert startup_warnings(rfesim.load_scenario(data, base_dir=SCENARIOS)) == []
