@@ -80,6 +80,14 @@ def _payout_field(sc, path: str) -> str:
     return field
 
 
+def _payout_tables(sc):
+    """(support name, rows) of every payout table of at least two rows (tensioners, reels)."""
+    for name, sup in (sc.supports or {}).items():
+        payout = getattr(sup, "payout", None)
+        if payout is not None and payout.kind == "table" and len(payout.rows) >= 2:
+            yield name, payout.rows
+
+
 def _hold_row(row) -> str:
     return f"[{float(row[0]) + 5.0:.6g}, {float(row[1]):.6g}]"
 
@@ -123,14 +131,10 @@ def table_end_warnings(sc) -> list[str]:
                            f"last two segments), and holds its last {what} after it: {stop}; add a row that holds "
                            f"the last {what}, e.g. {_hold_row(user_rows[-1] if user_rows else rows[-1])}, for a "
                            f"smooth stop")
-    for name, sup in (sc.supports or {}).items():
-        payout = getattr(sup, "payout", None)
-        if payout is None or payout.kind != "table":
+    for name, rows in _payout_tables(sc):
+        if rows[-1][1] == rows[-2][1] or not 0.0 < rows[-1][0] < duration:
             continue
-        if len(payout.rows) < 2 or payout.rows[-1][1] == payout.rows[-2][1] \
-                or not 0.0 < payout.rows[-1][0] < duration:
-            continue
-        rows = np.asarray(payout.rows, float)
+        rows = np.asarray(rows, float)
         speed = float(table_slopes(rows[:, 0], rows[:, 1])[-1])
         if not _ends_moving(rows[:, 0], rows[:, 1], speed):
             continue
@@ -219,11 +223,8 @@ def startup_warnings(sc) -> list[str]:
                    f"{'the payload drops and its tension dips' if speed > 0.0 else 'the payload is snatched'}); "
                    f"start the table at 0 m/s and reach the speed over a second or more, e.g. [[0, 0], "
                    f"[2, {speed:.6g}], ...]")
-    for name, sup in (sc.supports or {}).items():
-        payout = getattr(sup, "payout", None)
-        if payout is None or payout.kind != "table" or len(payout.rows) < 2:
-            continue
-        rows = np.asarray(payout.rows, float)
+    for name, rows in _payout_tables(sc):
+        rows = np.asarray(rows, float)
         t0 = max(float(rows[0, 0]), 0.0)
         if t0 >= float(dyn.duration):
             continue
