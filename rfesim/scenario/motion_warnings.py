@@ -20,6 +20,7 @@ vessels' motion tables have their own warning (rfesim.scenario.schema.motion_tab
 """
 from __future__ import annotations
 
+import math
 import re
 
 import numpy as np
@@ -166,6 +167,9 @@ def table_end_warnings(sc) -> list[str]:
 
 
 SPECTRA = ("jonswap", "pierson-moskowitz")
+DOFS = ("surge", "sway", "heave", "roll", "pitch", "yaw")
+# a vessel table's speed at t = 0 below this (m/s or deg/s) is rest
+MOVING = 1e-6
 
 
 def startup_warnings(sc) -> list[str]:
@@ -175,7 +179,8 @@ def startup_warnings(sc) -> list[str]:
     vessel's velocity jump on at once, a start-up transient over the first periods. One
     warning each, naming the ``ramp_duration`` field and a period to ramp over; a wave
     elevation time series (it starts as recorded) and motion tables and files are left out.
-    Also the winch speed tables whose speed at t = 0 is not 0, and the payout tables that
+    A vessel's motion table or file begun before t = 0 with no ramp: its velocity at t = 0
+    jumps on. Also the winch speed tables whose speed at t = 0 is not 0, and the payout tables that
     start moving at once (at their first row, or at t = 0 for a table begun before): the
     line's speed jumps from rest."""
     from .pipelay import user_field
@@ -209,6 +214,28 @@ def startup_warnings(sc) -> list[str]:
                    f"harmonic motion at full amplitude at t = 0 with the structure in {rest}: the vessel's "
                    f"velocity jumps on at once, a jolt in the lines it carries; ramp it in over a period or more "
                    f"(ramp_duration {longest:.6g} s)")
+    for name, vessel in (sc.vessels or {}).items():
+        # a motion table or file begun before t = 0 moves at the run's start (one that begins
+        # after it has its own warning, rfesim.scenario.schema.motion_table_warnings)
+        motion = vessel.motion
+        if motion.kind not in ("table", "csv") or motion.ramp_duration != 0.0:
+            continue
+        from ..vessel import make_vessel_motion
+        from .schema import motion_table_span
+        first, last = motion_table_span(motion)
+        if not first <= 0.0 < last:
+            continue
+        _, rate, _ = make_vessel_motion(vessel).dofs(1e-9)
+        speeds = [(dof, abs(float(v)) if k < 3 else math.degrees(abs(float(v))), "m/s" if k < 3 else "deg/s")
+                  for k, (dof, v) in enumerate(zip(DOFS, rate))]
+        top = max(v for _, v, _ in speeds)
+        if top < MOVING:
+            continue
+        moving = ", ".join(f"{dof} {v:.3g} {unit}" for dof, v, unit in speeds if v >= 0.01 * top)
+        out.append(f"{user_field(sc, f'vessels.{name}.motion.ramp_duration')}: 0 s, so vessel '{name}' starts "
+                   f"with the velocity its motion {'file' if motion.kind == 'csv' else 'table'} has at t = 0 ({moving}) "
+                   f"while the structure starts {still}: the velocity jumps on at once, a jolt in the lines it "
+                   f"carries; give ramp_duration (a wave period or more) to ramp the motion in")
     for name, winch in (sc.winches or {}).items():
         mode = winch.mode
         if mode.kind != "speed":

@@ -232,3 +232,33 @@ def test_a_winch_or_payout_that_starts_at_speed_is_named():
     assert f"at {rate:.3g} m/s at once at t = 0 s (the slope of its monotone cubic at its first row)" in w
     payout["rows"] = [[0.0, 0.0], [5.0, 0.0], [6.0, 0.1], [55.0, 7.5]]        # held, then a ramp: from rest
     assert startup_warnings(rfesim.load_scenario(data, base_dir=SCENARIOS)) == []
+
+
+def test_a_recorded_vessel_motion_begun_before_the_run_is_ramped_or_named():
+    """A motion table (or file) whose run starts inside it (start_time) moves at t = 0: with no
+    ramp its velocity there jumps on. The warning names the moving DOFs with their speeds,
+    the spline's slope at t = 0 (the sines' own, 1.26 deg/s for the roll of 2 deg at 10 s at
+    its zero crossing; at t = 0 of the table the natural spline's slope, 0.392 m/s of heave
+    against the sine's 0.393)."""
+    import math
+    times = np.arange(0.0, 101.0)
+    rows = [[t, 0.0, 0.0, 0.5 * math.sin(2 * math.pi * t / 8.0), 2.0 * math.sin(2 * math.pi * t / 10.0), 0.0, 0.0]
+            for t in times]
+    data = {"environment": {"gravity": 9.81},
+            "vessels": {"ship": {"motion": {"kind": "table", "rows": rows, "start_time": 50.0}}},
+            "line_types": {"rope": {"EA": 1.0e6, "EIy": 0.0, "mass_per_length": 1.0}},
+            "lines": {"l": {"type": "rope", "length": 5.0, "elements": 5,
+                            "end_a": {"attach": "ship", "position": [0.0, 0.0, 0.0]},
+                            "end_b": {"attach": "free", "position": [0.0, 0.0, -5.0]}}},
+            "analysis": {"dynamics": {"duration": 20.0}}}
+    (w,) = startup_warnings(rfesim.Scenario.model_validate(data))
+    # at 50 s the heave sine is at its crest (at rest) and the roll sine crosses zero
+    assert w.startswith("vessels.ship.motion.ramp_duration: 0 s, so vessel 'ship' starts with the velocity its "
+                        "motion table has at t = 0 (roll 1.26 deg/s)")
+    data["vessels"]["ship"]["motion"]["start_time"] = 0.0
+    (w,) = startup_warnings(rfesim.Scenario.model_validate(data))
+    assert "(heave 0.392 m/s, roll 1.26 deg/s)" in w        # the natural spline's slope at its first row
+    data["vessels"]["ship"]["motion"]["ramp_duration"] = 10.0
+    assert startup_warnings(rfesim.Scenario.model_validate(data)) == []
+    data["vessels"]["ship"]["motion"].update(ramp_duration=0.0, rows=[[t, 0, 0, 0.2, 0, 0, 0] for t in times])
+    assert startup_warnings(rfesim.Scenario.model_validate(data)) == []          # held still
