@@ -203,23 +203,20 @@ def startup_warnings(sc) -> list[str]:
                    f"periods out of the results")
     for name, vessel in (sc.vessels or {}).items():
         motion = vessel.motion
-        if motion.kind != "harmonic" or motion.ramp_duration != 0.0:
+        if motion.kind not in ("harmonic", "table", "csv") or motion.ramp_duration != 0.0:
             continue
-        dofs = [d for d in (motion.surge, motion.sway, motion.heave, motion.roll, motion.pitch, motion.yaw)
-                if d is not None and d.amplitude > 0.0]
-        if not dofs:
+        field = user_field(sc, f"vessels.{name}.motion.ramp_duration")
+        if motion.kind == "harmonic":
+            dofs = [d for d in (motion.surge, motion.sway, motion.heave, motion.roll, motion.pitch, motion.yaw)
+                    if d is not None and d.amplitude > 0.0]
+            if dofs:
+                out.append(f"{field}: 0 s, so vessel '{name}' starts its harmonic motion at full amplitude at t = 0 "
+                           f"with the structure in {rest}: the vessel's velocity jumps on at once, a jolt in the "
+                           f"lines it carries; ramp it in over a period or more (ramp_duration "
+                           f"{max(d.period for d in dofs):.6g} s)")
             continue
-        longest = max(d.period for d in dofs)
-        out.append(f"{user_field(sc, f'vessels.{name}.motion.ramp_duration')}: 0 s, so vessel '{name}' starts its "
-                   f"harmonic motion at full amplitude at t = 0 with the structure in {rest}: the vessel's "
-                   f"velocity jumps on at once, a jolt in the lines it carries; ramp it in over a period or more "
-                   f"(ramp_duration {longest:.6g} s)")
-    for name, vessel in (sc.vessels or {}).items():
         # a motion table or file begun before t = 0 moves at the run's start (one that begins
         # after it has its own warning, rfesim.scenario.schema.motion_table_warnings)
-        motion = vessel.motion
-        if motion.kind not in ("table", "csv") or motion.ramp_duration != 0.0:
-            continue
         from ..vessel import make_vessel_motion
         from .schema import motion_table_span
         first, last = motion_table_span(motion)
@@ -229,13 +226,12 @@ def startup_warnings(sc) -> list[str]:
         speeds = [(dof, abs(float(v)) if k < 3 else math.degrees(abs(float(v))), "m/s" if k < 3 else "deg/s")
                   for k, (dof, v) in enumerate(zip(DOFS, rate))]
         top = max(v for _, v, _ in speeds)
-        if top < MOVING:
-            continue
-        moving = ", ".join(f"{dof} {v:.3g} {unit}" for dof, v, unit in speeds if v >= 0.01 * top)
-        out.append(f"{user_field(sc, f'vessels.{name}.motion.ramp_duration')}: 0 s, so vessel '{name}' starts "
-                   f"with the velocity its motion {'file' if motion.kind == 'csv' else 'table'} has at t = 0 ({moving}) "
-                   f"while the structure starts {still}: the velocity jumps on at once, a jolt in the lines it "
-                   f"carries; give ramp_duration (a wave period or more) to ramp the motion in")
+        if top >= MOVING:
+            moving = ", ".join(f"{dof} {v:.3g} {unit}" for dof, v, unit in speeds if v >= 0.01 * top)
+            out.append(f"{field}: 0 s, so vessel '{name}' starts with the velocity its motion "
+                       f"{'file' if motion.kind == 'csv' else 'table'} has at t = 0 ({moving}) while the structure "
+                       f"starts {still}: the velocity jumps on at once, a jolt in the lines it carries; give "
+                       f"ramp_duration (a wave period or more) to ramp the motion in")
     for name, winch in (sc.winches or {}).items():
         mode = winch.mode
         if mode.kind != "speed":
