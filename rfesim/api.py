@@ -815,10 +815,10 @@ def _breaking_load_message(sc: Scenario, results) -> str:
 
 
 def _dynamic_warnings(model, results, sc=None, recorder=None) -> str:
-    """A duration the output interval does not divide, the table and csv vessel motions that
-    end before the run does or start after it (rfesim.scenario.schema.motion_table_warnings),
-    the drive, motor and payout tables that stop their motion dead inside the run
-    (rfesim.scenario.motion_warnings.table_end_warnings),
+    """A duration the output interval does not divide, the prescribed motions that start or
+    stop with a jolt (rfesim.scenario.motion_warnings.input_motion_warnings: waves and vessel
+    motions with no ramp, vessel motion tables that end before the run does or start after
+    it, drive, motor, winch and payout tables that start at speed or stop dead inside it),
     the RAO vessels whose table leaves
     out a noticeable part of the sea (rfesim.sea.rao.rao_range_warnings) and the lines whose tension in the run went past
     their fem shear limit and the ropes driven into themselves (rfesim.solvers.buckling.

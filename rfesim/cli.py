@@ -367,7 +367,7 @@ def cmd_check(args) -> int:
     for w in found:                 # the built model's (no unique static shape), as statics logs them
         logging.getLogger("rfesim").warning("statics: %s", w)
     from .scenario.motion_warnings import input_motion_warnings
-    for w in input_motion_warnings(sc):   # tables that stop dead inside the run, as the run's message has them
+    for w in input_motion_warnings(sc):   # motions that start or stop with a jolt, as the run's message has them
         logging.getLogger("rfesim").warning("dynamics: %s", w)
     an = sc.analysis
     parts = [f"{len(sc.lines)} lines", f"{len(sc.vessels)} vessels", f"{len(sc.line_types)} line types",

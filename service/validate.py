@@ -214,9 +214,9 @@ def load_warnings(sc) -> list[str]:
     submit (a few milliseconds): the templates' warnings (a stinger mesh too coarse for its
     rollers: what ``rfesim check`` shows), a duration the output interval does not divide,
     the RAO vessels whose table leaves out a noticeable part of the sea
-    (rfesim.sea.rao.rao_range_warnings), the vessels' motion tables that do not cover the run
-    and the drive, motor and payout tables that stop dead inside it
-    (rfesim.scenario.motion_warnings.input_motion_warnings). Those that need the built model (no unique static
+    (rfesim.sea.rao.rao_range_warnings) and the prescribed motions that start or stop with a
+    jolt (rfesim.scenario.motion_warnings.input_motion_warnings: no ramp, a table that ends
+    moving). Those that need the built model (no unique static
     shape) are :func:`model_warnings`, found by :class:`ModelCheck`; those that need the
     solution (statics: buckling, fem shear; dynamics: shear limit passed, slack ropes...) are
     found by the worker when the job runs and added to the job's record then
