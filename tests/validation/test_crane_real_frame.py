@@ -58,7 +58,7 @@ def test_tilt_driven_a_frame_loads_are_those_of_the_force_driven_frame(portal):
     correction, has its member loads within 1 % of the largest of each member (measured at
     most 0.4 %: the two models' members bend differently between the hinge and the eye), its
     axial forces and hinge forces within 0.5 % (measured 0.26 %), its shear forces within 1 %
-    (measured 0.35 %) and torques within 0.5 % of the frame's largest, no moment about the
+    (measured 0.39 %) and torques within 0.5 % of the frame's largest, no moment about the
     hinge axis, and the cylinders' reaction on the deck apart. Uncorrected, the legs' largest
     moment was 2.7 times the real one (918 against 343 kN m, the portal) and their
     compression below the eye 3.6 times too small."""
@@ -81,7 +81,7 @@ def test_tilt_driven_a_frame_loads_are_those_of_the_force_driven_frame(portal):
         peak = np.max(b["bend_moment"])
         assert np.max(np.abs(a["bend_moment"] - b["bend_moment"])) < 0.01 * peak, line
         assert np.max(np.abs(a["axial_force"] - b["axial_force"])) < 5e-3 * np.max(np.abs(b["axial_force"])), line
-        # shear within 1 % of the member's largest (measured 0.35 %), torque within 0.5 % of the
+        # shear within 1 % of the member's largest (measured 0.39 %), torque within 0.5 % of the
         # largest of the frame (the stubs', 51 kN m in the portal; measured 0.3 %)
         assert np.max(np.abs(a["shear_force"] - b["shear_force"])) < 0.01 * np.max(b["shear_force"]), line
         assert np.max(np.abs(a["torque"] - b["torque"])) < 5e-3 * torque_scale, line
