@@ -1,8 +1,9 @@
 """Prescribed motions that start or stop with a jolt inside the run.
 
-Waves and harmonic vessel motions with no ramp (``ramp_duration`` 0) start at full height at
-t = 0 on a structure at rest (its statics in still water, or its initial shape): the water's
-velocity and acceleration, and the vessels' velocity, jump on at once (:func:`startup_warnings`).
+Waves, a wave record that does not start calm and harmonic vessel motions with no ramp
+(``ramp_duration`` 0) start at full height at t = 0 on a structure at rest (its statics in
+still water, or its initial shape): the water's velocity and acceleration, and the vessels'
+velocity, jump on at once (:func:`startup_warnings`).
 
 Tables that stop a motion dead inside the run: a joint drive's or slewing motor's angle
 table, a tensioner's or reel's payout table, a chain joint's prescribed table, whose last row
@@ -28,6 +29,9 @@ import numpy as np
 # a rate below this share of the table's largest step over its whole time span is rest
 # (round-off of a cubic's slope at a flat last segment)
 REST = 1e-9
+# a wave record whose elevation over its first mean period reaches this share of its largest
+# does not start calm
+CALM_START = 0.1
 
 
 def _ends_moving(t: np.ndarray, d: np.ndarray, v_end: float) -> bool:
@@ -178,7 +182,7 @@ def startup_warnings(sc) -> list[str]:
     and acceleration (and the RAO vessels' motion, which follows the waves' ramp) or the
     vessel's velocity jump on at once, a start-up transient over the first periods. One
     warning each, naming the ``ramp_duration`` field and a period to ramp over; a wave
-    elevation time series (it starts as recorded) and motion tables and files are left out.
+    elevation record likewise, unless it starts calm (:func:`_record_start_warning`).
     A vessel's motion table or file begun before t = 0 with no ramp: its velocity at t = 0
     jumps on. Also the winch speed tables whose speed at t = 0 is not 0, and the payout tables that
     start moving at once (at their first row, or at t = 0 for a table begun before): the
@@ -201,6 +205,8 @@ def startup_warnings(sc) -> list[str]:
                    f"acceleration{vessels} jump on at once, a start-up transient over the first wave periods; "
                    f"ramp them in over a {which} or more (ramp_duration {period:.6g} s), or leave the first "
                    f"periods out of the results")
+    elif waves is not None and waves.kind == "time-series" and waves.ramp_duration == 0.0:
+        out += _record_start_warning(sc, waves, rest)
     for name, vessel in (sc.vessels or {}).items():
         motion = vessel.motion
         if motion.kind not in ("harmonic", "table", "csv") or motion.ramp_duration != 0.0:
@@ -269,6 +275,32 @@ def startup_warnings(sc) -> list[str]:
         if text not in out:             # a pipelay template's reel turns with its tensioner's table
             out.append(text)
     return out
+
+
+def _record_start_warning(sc, waves, rest: str) -> list[str]:
+    """A wave elevation record replayed with no ramp starts as the record has it at t = 0
+    (rfesim.sea.waves.components_from_time_series: the record's own times, repeated with its
+    length). It is warned about when the elevation over the first mean period Tz = 2 pi
+    sqrt(m0 / m2) of the run reaches CALM_START of the record's largest: a record that starts
+    in calm water (a focused group, a designed start) is not."""
+    from ..sea.waves import components_from_time_series
+    from .pipelay import user_field
+    rows = np.asarray(waves.rows, float)
+    a, w, phase = components_from_time_series(rows[:, 0], rows[:, 1], waves.omega_max)
+    if a.size == 0:
+        return []
+    tz = 2.0 * math.pi * math.sqrt(float(np.sum(a * a)) / float(np.sum((a * w) ** 2)))
+    t = np.linspace(0.0, tz, 65)
+    eta = np.cos(np.outer(t, w) + phase) @ a
+    largest = float(np.max(np.abs(rows[:, 1] - rows[:, 1].mean())))
+    start = float(np.max(np.abs(eta)))
+    if not start >= CALM_START * largest:
+        return []
+    return [f"{user_field(sc, 'environment.water.waves.ramp_duration')}: 0 s, so the recorded waves (time-series) "
+            f"start as the record has them at t = 0, up to {start:.3g} m over its first mean period ({tz:.3g} s; "
+            f"the record's largest is {largest:.3g} m), on the structure in {rest}: the water's velocity and "
+            f"acceleration jump on at once, a start-up transient; ramp them in over a mean period or more "
+            f"(ramp_duration {tz:.3g} s), or start the record in calm water"]
 
 
 def input_motion_warnings(sc) -> list[str]:

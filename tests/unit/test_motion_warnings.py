@@ -262,3 +262,29 @@ def test_a_recorded_vessel_motion_begun_before_the_run_is_ramped_or_named():
     assert startup_warnings(rfesim.Scenario.model_validate(data)) == []
     data["vessels"]["ship"]["motion"].update(ramp_duration=0.0, rows=[[t, 0, 0, 0.2, 0, 0, 0] for t in times])
     assert startup_warnings(rfesim.Scenario.model_validate(data)) == []          # held still
+
+
+def test_a_wave_record_replayed_without_a_ramp_is_named_unless_it_starts_calm():
+    """A recorded elevation (time-series waves) starts as the record has it at t = 0. A swell
+    of 1 m amplitude at 10 s starts at full height: warned, with its mean period (10 s, the
+    only component's) and 1 m. A focused group (Gaussian envelope of 10 s waves peaking
+    at 150 s in a 300 s record) starts at 1e-10 of its crest: not warned; nor with a ramp."""
+    import math
+    t = np.arange(0.0, 300.0, 0.5)
+    data = scenario("column_crane.json")
+    swell = np.cos(2.0 * math.pi * t / 10.0)
+    data["environment"]["water"]["waves"] = {"kind": "time-series", "rows": np.c_[t, swell].tolist()}
+    (w,) = startup_warnings(rfesim.load_scenario(data, base_dir=SCENARIOS))
+    assert w.startswith("environment.water.waves.ramp_duration: 0 s, so the recorded waves (time-series) start as "
+                        "the record has them at t = 0, up to 1 m over its first mean period (10 s; the record's "
+                        "largest is 1 m), on the structure in its static equilibrium in still water")
+    assert w.endswith("(ramp_duration 10 s), or start the record in calm water")
+    data["environment"]["water"]["waves"]["ramp_duration"] = 10.0
+    assert startup_warnings(rfesim.load_scenario(data, base_dir=SCENARIOS)) == []
+    group = np.exp(-((t - 150.0) / 30.0) ** 2) * np.cos(2.0 * math.pi * (t - 150.0) / 10.0)
+    data["environment"]["water"]["waves"] = {"kind": "time-series", "rows": np.c_[t, group].tolist()}
+    assert startup_warnings(rfesim.load_scenario(data, base_dir=SCENARIOS)) == []
+    # the same group shifted to peak at 10 s starts rough
+    data["environment"]["water"]["waves"]["rows"] = np.c_[t, np.roll(group, -280)].tolist()
+    (w,) = startup_warnings(rfesim.load_scenario(data, base_dir=SCENARIOS))
+    assert "the recorded waves (time-series)" in w
