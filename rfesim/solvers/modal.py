@@ -29,6 +29,15 @@ ZERO_EIGENVALUE = 1e-15   # a negative omega^2 above -this x the stiffness scale
 # measured positive round-off 1.1e-17 (the spin of the pinned catenary riser, 7.8e-7 Hz) and 3e-20
 # (the column crane's slew), real first modes at 7e-9 (catenary riser) and 4e-11 (column crane)
 RIGID_BODY_FRACTION = 1e-8
+# a negative omega^2 within this x the mode's own stiffness scale |v|^T |K| |v| / v^T M v
+# whose mode moves no point of any line beyond round-off (a rope spinning about its own axis,
+# a body's free yaw) is a zero mode's round-off too. The central-difference Jacobian leaves
+# such a mode at up to 3e-15 of the global scale max K_ii / M_ii (the spin of a buoy's taut
+# tether, past ZERO_EIGENVALUE), 4e-13 to 1.3e-12 of its own; a real instability that moves
+# no line point (a tall box payload capsizing about its shackle at its centre) sits at 1 of
+# its own, but at 1e-13 of the global scale on a stiff 20-element rope: the global scale
+# cannot tell them apart
+SPIN_ROUNDOFF = 1e-8
 
 
 def signed_omega(w2, scale: float) -> np.ndarray:
@@ -284,6 +293,12 @@ def modal_analysis(system: System, state: State, nmodes: int) -> ModalResults:
         if line_shapes else None
     if peak is not None:
         allpeak = np.max(np.stack([np.abs(v).max(axis=(1, 2)) for v in line_shapes.values()]), axis=0)
+        # a spin (no line point moves) with a negative omega^2 at round-off is a zero mode
+        for m in np.flatnonzero((allpeak < SHAPE_FLOOR * scale) & (freq < 0.0)):
+            v = vec[:, m]
+            own = float(np.abs(v) @ (abs(Ks) @ np.abs(v))) / max(float(v @ (Ms @ v)), 1e-300)
+            if (2.0 * np.pi * freq[m]) ** 2 <= SPIN_ROUNDOFF * own:
+                freq[m] = 0.0
         # a mode that moves no point beyond round-off (pure torsion) keeps its (near-zero)
         # size relative to SHAPE_FLOOR of a unit coordinate's displacement, not noise scaled to 1
         allpeak = np.maximum(allpeak, SHAPE_FLOOR * scale)
