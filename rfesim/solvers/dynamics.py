@@ -967,8 +967,15 @@ class Recovery:
         self.checkpoints = []
         self.events = []            # (t of the failure, t gone back to, the finer step)
         self.last = -math.inf
+        self.span = self.RECOVERY_SPAN  # the stretch past a failure taken at the finer step
+        self.stretch_end = -math.inf    # when the run last returned to its own step
+        self.longest = self.span
 
     def due(self, t: float) -> bool:
+        """A checkpoint at outputs CHECKPOINT_SPACING apart, and where a stretch at the finer
+        step ends (its state came from that step: a failure soon after may go back to it)."""
+        if self.level and t >= self.fine_until - 1e-9 * self.h:
+            return True
         return t - self.last >= self.CHECKPOINT_SPACING - 1e-9 * max(1.0, abs(t)) or not self.checkpoints
 
     def checkpoint(self, st, k_out: int, qdd_prev) -> None:
@@ -980,7 +987,8 @@ class Recovery:
         energy["history"] = list(energy.get("history", []))
         self.checkpoints.append({"t": float(st.t), "k_out": k_out, "state": st.copy(), "history": system.history(),
                                  "controllers": [c.save() for c in (getattr(system, "controllers", None) or ())],
-                                 "rec_k": self.recorder.k, "arrays": arrays, "energy": energy})
+                                 "rec_k": self.recorder.k, "arrays": arrays, "energy": energy,
+                                 "fine": bool(self.level) and st.t >= self.fine_until - 1e-9 * self.h})
         del self.checkpoints[:-self.KEEP]
         self.last = float(st.t)
 
@@ -990,8 +998,16 @@ class Recovery:
     def rewind(self, t_fail: float, qdd_prev):
         """Restore the checkpoint to go back to; returns (state, k_out) and halves the step."""
         system = self.system
-        usable = [c for c in self.checkpoints if c["t"] <= t_fail - self.REWIND] or self.checkpoints[:1]
+        # the newest checkpoint at least REWIND before the failure, or one taken where a stretch
+        # at the finer step ended (its state is that step's, not one the run's own step reached)
+        usable = [c for c in self.checkpoints if c["t"] <= t_fail - self.REWIND or (c["fine"] and c["t"] < t_fail)] \
+            or self.checkpoints[:1]
         ck = usable[-1]
+        if not self.level:
+            # failing again within a stretch's length of the last one's end: the run's own step
+            # does not pass this part of the run; each such failure doubles the stretch
+            self.span = 2.0 * self.span if t_fail - self.stretch_end < self.RECOVERY_SPAN else self.RECOVERY_SPAN
+            self.longest = max(self.longest, self.span)
         self.checkpoints = [c for c in self.checkpoints if c["t"] <= ck["t"]]
         for a, saved in ck["arrays"]:
             a[...] = saved
@@ -1002,17 +1018,18 @@ class Recovery:
         self.energy.__dict__.update(ck["energy"])
         self.energy.history = list(ck["energy"].get("history", []))
         self.level += 1
-        self.fine_until = max(self.fine_until, t_fail + self.RECOVERY_SPAN)
+        self.fine_until = max(self.fine_until, t_fail + self.span)
         self.events.append((t_fail, ck["t"], self.h / 2 ** self.level))
         self.last = ck["t"]
         log.info("dynamics: Newton failed at t = %.6g s; going back to t = %.6g s at a step of %.3g s",
                  t_fail, ck["t"], self.h / 2 ** self.level)
         return ck["state"].copy(), ck["k_out"]
 
-    def back_to_nominal(self) -> float:
+    def back_to_nominal(self, t: float) -> float:
         """The stretch is passed: the run's own step again."""
         self.level = 0
         self.fine_until = -math.inf
+        self.stretch_end = t
         return self.h
 
     def warnings(self) -> list[str]:
@@ -1027,10 +1044,12 @@ class Recovery:
         more = (f"; {len(self.events)} such recoveries in all, at t = "
                 + ", ".join(f"{e[0]:.6g}" for e in self.events[:10]) + (" ..." if len(self.events) > 10 else "")
                 + " s") if len(self.events) > 1 else ""
+        doubled = (f"; failing again within {self.RECOVERY_SPAN:g} s of a stretch's end, the next stretch was "
+                   f"taken twice as long, up to {self.longest:.6g} s" if self.longest > self.RECOVERY_SPAN else "")
         return [f"Newton failed at t = {first[0]:.6g} s at the time step {self.h:.4g} s even in 64 substeps (a slack "
                 f"rope snatched taut, or another shock the step does not resolve); the run went back to t = "
                 f"{first[1]:.6g} s and took the stretch to {end:.6g} s at {first[2]:.4g} s "
-                f"steps, then went on at its own step{more} (finest step {finest:.4g} s): the outputs there come "
+                f"steps, then went on at its own step{more} (finest step {finest:.4g} s){doubled}: the outputs there come "
                 f"from the finer step (analysis.dynamics.integrator.recovery_halvings: 0 stops at the failure "
                 f"instead)"]
 
@@ -1521,7 +1540,7 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
                     if recovery.on and recovery.due(st.t):
                         recovery.checkpoint(st, k_out, qdd_prev)
                     if recovery.level and st.t >= recovery.fine_until - 1e-9 * h:
-                        h_step = recovery.back_to_nominal()
+                        h_step = recovery.back_to_nominal(st.t)
                         flags[0] = 0           # the factorised Jacobian belongs to the finer step
                         fast = fast_allowed
                     if fast:

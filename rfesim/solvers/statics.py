@@ -26,6 +26,7 @@ from ..model.assemble import rebase
 from ..model.arrays import Reference
 from ..model.compile import State
 from .banded import bt_factor_closed, bt_solve_closed
+from .rechain import chain_line_into
 from .system import System
 
 log = logging.getLogger("rfesim")
@@ -186,20 +187,17 @@ def _rechain(system: System, st: State, dq: np.ndarray, alpha: float, trial: np.
         if ji is not None and km.rfe_kind[i0] == 0:
             r[i0] = link(ji.parent_rfe, i0, ji.sde)
         chain = np.empty((li.nrfe, 3))
-        chain[0] = r[i0]
         placed_b = r[i1].copy()
-        for j in range(nsde):
-            chain[j + 1] = r[i0 + j + 1] = link(i0 + j, i0 + j + 1, s0 + j)
+        # chain[j + 1] = r[i0 + j + 1] = link(i0 + j, i0 + j + 1, s0 + j) for every element
+        chain_line_into(R, r, rest, km.sde_arm_left, km.sde_arm_right, eps_target, i0, s0, nsde, chain)
         if km.rfe_kind[i1] != 0 and nsde > 0:
             # end B placed by its attachment: spread the closure error along the line
             miss = chain[-1] - placed_b
             chain -= miss[None, :] * (np.arange(li.nrfe) / nsde)[:, None]
             r[i1] = placed_b
-        for k in range(li.nrfe):
-            i = i0 + k
-            if km.rfe_kind[i] == 0:
-                trial[i, :3] = chain[k] - trial_ref.X[i]
-                r[i] = chain[k]
+        free = np.flatnonzero(km.rfe_kind[i0:i0 + li.nrfe] == 0)     # the RFEs not placed by attachments
+        trial[i0 + free, :3] = chain[free] - trial_ref.X[i0 + free]
+        r[i0 + free] = chain[free]
     rebase(trial, dummy, trial_ref, km.rfe_kind, 0.0, dummy, dummy, False)
 
 

@@ -8,6 +8,7 @@ the step; with recovery_halvings 0 it stops at the failure as before."""
 from __future__ import annotations
 
 import json
+import math
 import re
 from pathlib import Path
 
@@ -37,7 +38,10 @@ def test_a_failure_is_passed_at_half_the_step_and_said():
     with pytest.raises(rfesim.SolverError) as info:
         rfesim.simulate(light_payload(0))
     failed = info.value
-    assert failed.quantity == "Newton iteration did not converge" and 29.0 < failed.time < 29.5
+    # where the slack rope's snatch fails is chaotic in the last digits of the static state (29.2 s,
+    # 30.9 s since the statics' re-chaining is compiled): the checkpoint gone back to follows it
+    assert failed.quantity == "Newton iteration did not converge" and 20.0 < failed.time < 31.0
+    checkpoint = 2.0 * math.floor((failed.time - Recovery.REWIND) / 2.0)
     seen = []
     res = rfesim.simulate(light_payload(None), progress=lambda f, t: seen.append((f, t)))   # up to 3 halvings
     assert res.status == 0 and res.counters["step_recoveries"] >= 1
@@ -48,11 +52,11 @@ def test_a_failure_is_passed_at_half_the_step_and_said():
     assert np.allclose(res.time, np.arange(311) * 0.1, atol=1e-9, rtol=0.0)
     message = res.message
     assert f"Newton failed at t = {failed.time:.6g} s at the time step 0.05 s" in message
-    assert "the run went back to t = 28 s" in message and "at 0.025 s steps" in message
+    assert f"the run went back to t = {checkpoint:g} s" in message and "at 0.025 s steps" in message
     # before the checkpoint the run is the failed one's, bit for bit
-    early = res.time <= 28.0 + 1e-9
+    early = res.time <= checkpoint + 1e-9
     a = crane_summary(res, "crane")["rope_tension"][early]
-    b = crane_summary(failed.results, "crane")["rope_tension"][failed.results.time <= 28.0 + 1e-9]
+    b = crane_summary(failed.results, "crane")["rope_tension"][failed.results.time <= checkpoint + 1e-9]
     assert a.shape == b.shape and np.array_equal(a, b)
 
 
@@ -139,3 +143,42 @@ def test_the_compiled_recording_goes_back_too():
     n = int(np.searchsorted(failed.time, 20.0 + 1e-9))
     assert n == 101
     assert np.array_equal(res.line("aframe_rope").tension[:n], failed.line("aframe_rope").tension[:n])
+
+
+def test_a_failure_soon_after_a_stretch_goes_back_to_its_end_and_doubles_the_next():
+    """The Recovery bookkeeping (rfesim.solvers.dynamics.Recovery): a stretch at the finer step
+    ends with a checkpoint of that step's state; a failure 0.2 s later goes back to it (not to
+    the checkpoint 0.5 s before the failure, which may lie before the stretch and its shock)
+    and takes a stretch of 4 s; one more than 2 s after the next stretch's end takes 2 s again.
+    The warning says how long the longest stretch was."""
+    sc = light_payload(3)
+    system = System(_compiled(sc))
+    state = system.model.initial.copy()
+    recorder = Recorder(system, 4)
+    recorder.record(state, state.qdd)
+    rec = Recovery(system, recorder, EnergyCheck(system, state), 3, 0.05, 0.1)
+    qdd_prev = np.zeros_like(state.q)
+
+    def at(t):
+        s = state.copy()
+        s.t = t
+        return s
+
+    rec.checkpoint(at(0.0), 1, qdd_prev)
+    back, _ = rec.rewind(0.3, qdd_prev)                  # the first failure: back to t = 0 for 2 s
+    assert back.t == 0.0 and rec.level == 1 and rec.fine_until == pytest.approx(2.3)
+    assert rec.due(2.3) and not rec.due(1.5)             # the stretch's end takes a checkpoint
+    rec.checkpoint(at(2.3), 24, qdd_prev)
+    assert rec.checkpoints[-1]["fine"] and not rec.checkpoints[0]["fine"]
+    rec.back_to_nominal(2.3)
+    back, k_out = rec.rewind(2.5, qdd_prev)              # 0.2 s after it: back to its end, 4 s
+    assert back.t == 2.3 and k_out == 24 and rec.fine_until == pytest.approx(6.5) and rec.span == 4.0
+    rec.checkpoint(at(6.5), 66, qdd_prev)
+    rec.back_to_nominal(6.5)
+    rec.checkpoint(at(8.5), 86, qdd_prev)                # an ordinary checkpoint, 2 s on
+    assert not rec.checkpoints[-1]["fine"]
+    back, _ = rec.rewind(9.0, qdd_prev)                  # 2.5 s after the end: 2 s again, from 8.5 s
+    assert back.t == 8.5 and rec.span == 2.0 and rec.fine_until == pytest.approx(11.0)
+    (warning,) = rec.warnings()
+    assert "3 such recoveries in all, at t = 0.3, 2.5, 9 s" in warning
+    assert "failing again within 2 s of a stretch's end, the next stretch was taken twice as long, up to 4 s" in warning
