@@ -38,8 +38,8 @@ def test_a_failure_is_passed_at_half_the_step_and_said():
     with pytest.raises(rfesim.SolverError) as info:
         rfesim.simulate(light_payload(0))
     failed = info.value
-    # where the slack rope's snatch fails is chaotic in the last digits of the static state (29.2 s,
-    # 30.9 s since the statics' re-chaining is compiled): the checkpoint gone back to follows it
+    # where the slack rope's snatch fails (29.2 s) is chaotic in the last digits of the static state
+    # (30.9 s with a compiled re-chaining that rounded differently): the checkpoint gone back to follows it
     assert failed.quantity == "Newton iteration did not converge" and 20.0 < failed.time < 31.0
     checkpoint = 2.0 * math.floor((failed.time - Recovery.REWIND) / 2.0)
     seen = []
