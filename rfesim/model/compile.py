@@ -92,10 +92,14 @@ class State:
     qdd: np.ndarray        # (n, 6)
     ref: Reference         # per-RFE reference rotation and position
     aux: np.ndarray        # (n, 6) generalised-alpha algorithmic acceleration
+    static: bool = False   # a static equilibrium (rfesim.solvers.statics.solve_statics): a dynamic
+                           #   run starts from it at rest, aux 0 (dynamics.start_acceleration)
+    fresh: bool = True     # no dynamic run has set aux yet: run_dynamics starts it
+                           #   (dynamics.start_acceleration); a run's end state goes on with its own
 
     def copy(self) -> "State":
         return State(self.t, self.q.copy(), self.qd.copy(), self.qdd.copy(),
-                     Reference(self.ref.R.copy(), self.ref.X.copy()), self.aux.copy())
+                     Reference(self.ref.R.copy(), self.ref.X.copy()), self.aux.copy(), self.static, self.fresh)
 
     def positions(self) -> np.ndarray:
         """Centres of the free RFEs (m); others are computed from their attachments."""

@@ -198,6 +198,61 @@ def contact_resolution_force(system: System, state: State) -> float:
     return max(k)
 
 
+def start_acceleration(system: System, state: State, cq: float, cv: float, tol: float = 0.0,
+                       force_ref: float = 1.0) -> np.ndarray:
+    """The generalised-alpha algorithmic acceleration to start from: a_0 = (M + cq K + cv C)^-1
+    M qdd_0, with M qdd_0 = f(q_0, qd_0) the force that gives the true start acceleration
+    (``state.qdd``) and K, C the tangents of the step's Jacobian (cq = h^2 beta (1 - af) /
+    (1 - am), cv = h gamma (1 - af) / (1 - am)).
+
+    In a mode the step resolves (cq omega^2 << 1) a_0 = qdd_0 (1 - O(cq omega^2)), which keeps
+    the method second order from a start out of equilibrium (a_0 = 0 cut it to first order for
+    rho_inf < 1); in a stiff mode (cq omega^2 >> 1) a_0 ~ 0, which keeps the method's
+    overshoot off: a_0 = qdd_0 there starts a velocity of about 0.02 (omega h) omega x_0 at
+    rho_inf 0.8 (x_0 the mode's start offset, 1 m/s from 1e-8 m on a stiff rope at 50 ms
+    steps). The residual of the implicit step at q_0 with A = 0 is -cq f and its Jacobian is
+    M + cq K + cv C (``residual_q`` mode 1), so a_0 = -J^-1 r / cq, with the coloured
+    finite-difference Jacobian the step may use. Fixed coordinates get 0, as in the steps.
+    Where the Jacobian cannot be factorised, 0.
+
+    A static equilibrium (``state.static``, set by solve_statics) starts at 0, as do a start
+    already in equilibrium to the step's Newton tolerance ``tol`` (relative to ``force_ref``,
+    as ``residual_norm`` measures it): their qdd_0 is round-off or what the statics left
+    within its own tolerance (0.5 m/s^2 on a payload on deck), and slack-rope runs from
+    statics are chaotic enough that a_0 of 1e-9 m/s^2 reordered their slack events
+    (docs/theory.md, 'Starting generalised-alpha')."""
+    from .banded import bt_factor_closed, bt_solve_closed
+    from .kernels import FD_REL_STEP, jacobian_fd_general, residual_q
+    km, ws, n = system.km, system.ws, system.n
+    if state.static:
+        return np.zeros((n, 6))
+    system.set_time(state.t)
+    Q0 = state.q.copy()
+    V0 = state.qd.copy()
+    r = np.zeros((n, 6))
+    residual_q(km, system.att, state.q, state.ref, ws, 1.0, 1, Q0, V0, cq, cv, system.mask, system.qd_buf,
+               system.A_buf, r)
+    size = np.abs(r) / cq
+    size[:, 3:] /= system.length_scale[:, None]
+    if not np.any(np.isnan(size)) and float(np.max(size, where=system.mask, initial=0.0)) <= tol * force_ref:
+        system.evaluate(state)
+        return np.zeros((n, 6))
+    base = r.copy()                 # forward differences from the residual at q_0
+    jacobian_fd_general(km, system.att, state.q, state.ref, ws, 1.0, 1, Q0, V0, cq, cv, system.mask, system.qd_buf,
+                        system.A_buf, base, system.qp, system.rp, system.hs, system.length_scale, system.J, False,
+                        FD_REL_STEP)
+    if bt_factor_closed(system.J, system.Fac, km, ws) >= 0:
+        return np.zeros((n, 6))
+    dq = np.zeros((n, 6))
+    bt_solve_closed(system.Fac, r, dq, km, ws)
+    a0 = -dq / cq
+    if not np.all(np.isfinite(a0)):
+        return np.zeros((n, 6))
+    # the workspace back at the start state (the Jacobian left it at a perturbed one)
+    system.evaluate(state)
+    return a0
+
+
 def newton_tolerance(system: System, state: State, tolerance: float, force_ref: float) -> float:
     """The generalised-alpha Newton tolerance (residual over ``force_ref``): the scenario's,
     floored at 100 times the round-off of the stiffest SDE (``System.roundoff_force``) and at
@@ -1332,6 +1387,7 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
     rk4_hint = None
     if integ.kind == "generalized-alpha":
         h = float(integ.time_step)
+
     elif integ.kind == "rk4":
         # the stability limit: 2.8 / the highest natural frequency, or 2.785 / the highest
         # damping rate (an overdamped mode's real eigenvalue) if shorter
@@ -1446,6 +1502,16 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
             # floored at the round-off of the stiffest SDE and at the resolution of the contact
             # springs' absolute positions (newton_tolerance)
             tol = newton_tolerance(system, st, integ.tolerance, force_ref)
+            # the algorithmic acceleration starts at the true one in the modes the step
+            # resolves and at zero in the stiff ones: left at zero, a start out of equilibrium
+            # (no statics, a step load, waves with no ramp) cut the method to first order for
+            # rho_inf < 1; at the true one, a stiff mode's start acceleration overshot into a
+            # spurious velocity (docs/theory.md, 'Starting generalised-alpha')
+            # (a state a run ended in goes on with its own: a run in parts, as the S-lay bench)
+            if st.fresh:
+                st.aux[:] = start_acceleration(system, st, h * h * beta * (1.0 - af) / (1.0 - am),
+                                               h * gamma * (1.0 - af) / (1.0 - am), tol, force_ref)
+            st.fresh = False
             flags = np.zeros(4, np.int64)   # kernels.ga_advance; [3]: a halved step (a third attempt)
             qdd_prev = st.qdd.copy()
             analytic = integ.jacobian == "analytic"

@@ -380,6 +380,7 @@ def solve_statics(system: System, state: State | None = None, *, tolerance: floa
     finally:
         system.set_friction_mode(0)
         system.ws.waves_off[0] = 0
+    st.static = True
     return st, info
 
 

@@ -73,13 +73,16 @@ def pendulum_period(ca: float, swing_deg: float) -> float:
 def test_submerged_pendulum_period_takes_the_added_mass_of_the_body_axis_it_swings_along(axis, yaw_deg, ca_along):
     """ca = [0.5, 1.5, 1.0] in body axes: swinging along x the period is 10.565 s, along y
     11.505 s, and along x with the body yawed 90 deg (its y axis along global x) 11.505 s
-    again; each within 3e-5 of the closed form (measured 1.4e-5). Without the added mass
-    the period would be 5-13 % shorter, in air (no buoyancy either, 2 pi sqrt(L/g)) 15-22 %."""
+    again; each within 5e-5 of the closed form (measured 1.4e-5 to 3.0e-5 at steps of 0.01,
+    0.005 and 0.0025 s, not converging in h: the rope's heave bounce from the straight start,
+    4 cm peak to peak, which the closed form leaves out, moves the crossings by that much).
+    Without the added mass the period would be 5-13 % shorter, in air (no buoyancy either,
+    2 pi sqrt(L/g)) 15-22 %."""
     swing = 2.0
     res = rfesim.simulate(scene([0.5, 1.5, 1.0], swing_deg=swing, axis=axis, yaw_deg=yaw_deg))
     period = mean_period(res.time, res.body("payload").position[:, axis])
     expected = pendulum_period(ca_along, swing)
-    assert period == pytest.approx(expected, rel=3e-5)
+    assert period == pytest.approx(expected, rel=5e-5)
     assert abs(pendulum_period(0.0, swing) / expected - 1.0) > 0.04
 
 
