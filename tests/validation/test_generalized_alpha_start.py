@@ -17,7 +17,6 @@ lumped chain of n springs EA/Delta and masses mu Delta (the last mu Delta / 2)
 """
 from __future__ import annotations
 
-
 import numpy as np
 import pytest
 
