@@ -229,6 +229,16 @@ def _statics_hint(sc: Scenario, model=None) -> str | None:
                 f"seabed, on rollers or in a sag) and the contacts it barely touches switch Newton from step to "
                 f"step; check the line type's density, contents_density and coating (the weight the water "
                 f"does not carry), or set analysis.statics.enabled to false")
+    from .seabed_check import soft_seabed_lines
+    soft = soft_seabed_lines(model, sc)
+    if soft:
+        name, sink, diameter = soft[0]
+        more = _and_more(soft)
+        return (f"the seabed's normal_stiffness ({sc.environment.seabed.normal_stiffness:.4g} N/m/m) lets line "
+                f"'{name}'{more} sink {sink:.3g} m under its own submerged weight, more than its diameter "
+                f"({diameter:.3g} m): where it lies it has no equilibrium the seabed model (a spring under the "
+                f"pipe) describes; give environment.seabed.normal_stiffness for the soil (soft clays give 1e4 to "
+                f"1e6 N/m/m; the default is 1e5)")
     return None
 
 
@@ -618,7 +628,7 @@ def statics(scenario, *, progress=None):
                 "wall_time": _time.perf_counter() - wall0}
     res = rec.results(status=0, message=_with_warnings(info.message, info), counters=counters,
                       scenario_json=sc.model_dump_json(), version=__version__, kind="statics")
-    res.message += _breaking_load_message(sc, res)
+    res.message += _breaking_load_message(sc, res, system.model)
     return res
 
 
@@ -675,7 +685,7 @@ def simulate(scenario, *, progress=None):
         rec.record(state, state.qdd)
         res = rec.results(status=0, message=_with_warnings("statics only", info), counters=dict(counters),
                           kind="statics", **meta)
-        res.message += _breaking_load_message(sc, res)
+        res.message += _breaking_load_message(sc, res, model)
         return _with_modes(sc, res)
     unbalanced = None if an.statics.enabled else _start_imbalance(system, state)
     try:
@@ -690,10 +700,17 @@ def simulate(scenario, *, progress=None):
             hint = f"the static equilibrium it started from had them: {info.through[0]}"
             raise SolverError(exc.message, time=exc.time, element=exc.element, quantity=exc.quantity,
                               results=exc.results, hint=hint) from None
-        if unbalanced is not None:
-            hint = "; ".join(h for h in (exc.hint, unbalanced) if h)
-            if exc.results is not None:
-                exc.results.message += f"; {unbalanced}"
+        if unbalanced is not None and exc.results is not None:
+            exc.results.message += f"; {unbalanced}"
+        # the jolts the input was warned about (waves with no ramp, tables that start at speed
+        # or stop dead) are often the cause: the error names them too, not only the results
+        from .scenario.motion_warnings import input_motion_warnings
+        warned = input_motion_warnings(sc)
+        before = (f"before the run the scenario was warned: {warned[0]}"
+                  + (f" (and {len(warned) - 1} more in the results' message)" if len(warned) > 1 else "")
+                  if warned else None)
+        if unbalanced is not None or before is not None:
+            hint = "; ".join(h for h in (exc.hint, unbalanced, before) if h)
             raise SolverError(exc.message, time=exc.time, element=exc.element, quantity=exc.quantity,
                               results=exc.results, hint=hint) from None
         raise
@@ -805,10 +822,13 @@ def tugger_pretension_warnings(sc: Scenario, results) -> list[str]:
     return out
 
 
-def _breaking_load_message(sc: Scenario, results) -> str:
-    """The breaking-load and tugger-pretension warnings of a statics result, logged and as
+def _breaking_load_message(sc: Scenario, results, model=None) -> str:
+    """The breaking-load and tugger-pretension warnings of a statics result, and with the
+    compiled ``model`` the lines sunk into the seabed (rfesim.seabed_check), logged and as
     text for its message."""
-    warnings = breaking_load_warnings(sc, results) + tugger_pretension_warnings(sc, results)
+    from .seabed_check import seabed_penetration_warnings
+    warnings = (breaking_load_warnings(sc, results) + tugger_pretension_warnings(sc, results)
+                + seabed_penetration_warnings(model, sc, results))
     for w in warnings:
         log.warning("statics: %s", w)
     return "".join(f"{STATICS_WARNING}{w}" for w in warnings)
@@ -829,9 +849,10 @@ def _dynamic_warnings(model, results, sc=None, recorder=None) -> str:
     from .scenario.motion_warnings import input_motion_warnings
     from .sea.rao import rao_range_warnings
     from .solvers.dynamics import halving_warning, output_interval_warning
+    from .seabed_check import seabed_penetration_warnings
     warnings = (input_motion_warnings(sc) + rao_range_warnings(sc) if sc is not None else []) + (
         dynamic_shear_warnings(model, results) + dynamic_crammed_warnings(model, results)
-        if model is not None else []) + (
+        + seabed_penetration_warnings(model, sc, results) if model is not None else []) + (
         breaking_load_warnings(sc, results) + tugger_pretension_warnings(sc, results) if sc is not None else [])
     if recorder is not None:
         check = getattr(recorder, "energy_check", None)

@@ -384,8 +384,9 @@ class AFrame(_Crane):
     @model_validator(mode="after")
     def _drives(self):
         if self.crossbeam is not None and abs(self.crossbeam.length - self.leg_spacing) > 1e-9 * self.leg_spacing:
-            raise FieldError("crossbeam.length", f"{self.crossbeam.length} m: the crossbeam spans the legs, "
-                                                 f"leg_spacing {self.leg_spacing} m")
+            raise FieldError("crossbeam.length", f"{self.crossbeam.length} m: the crossbeam spans the legs, so its "
+                                                 f"length must equal leg_spacing ({self.leg_spacing} m): give both "
+                                                 f"the same value")
         if self.cylinder is not None and self.cylinder.force is not None:
             force = self.cylinder.force
             if self.cylinder.stroke is not None:

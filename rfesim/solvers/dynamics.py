@@ -812,16 +812,38 @@ def _raise(system: System, fail: np.ndarray, status: int, make_results, what: st
            quantity: str | None = None):
     t = float(fail[0])
     elem = int(fail[1])
+    if elem < 0 and int(fail[2]) == Q_NEWTON:
+        elem = _largest_residual(system)
     where = system.model.describe_rfe(elem) if elem >= 0 else None
     quantity = quantity or QUANTITY.get(int(fail[2]), "failure")
     if int(fail[2]) == Q_NEWTON:
-        hint = _slack_hint(system)
+        hint = _slack_hint(system) or (NEWTON_HINT if elem >= 0 else None)
     elif int(fail[2]) == Q_THROUGH:
         hint = THROUGH_HINT + (f"; {hint}" if hint else "")
     res = make_results(status=1, message=f"{what}{quantity} at t = {t:.6g} s" + (f" in {where}" if where else "")
                        + (f"; {hint}" if hint else ""))
     # SolverError adds the time, the place and "(quantity)" to the message: the quantity once
     raise SolverError("the run diverged", time=t, element=where, quantity=quantity, results=res, hint=hint)
+
+
+NEWTON_HINT = ("the element named is where the last iterate's residual was largest. The step's Newton "
+               "iteration failed at the step and in its substeps: something there changes faster than the "
+               "step resolves (a shock, a drive or motion table too steep for the structure, a contact or a "
+               "prescribed end pulling the line far from its shape), or elements too long or too few for "
+               "their loads; check the scenario's warnings, shorten analysis.dynamics.integrator.time_step "
+               "or lower analysis.dynamics.integrator.rho_inf (e.g. 0.5)")
+
+
+def _largest_residual(system: System) -> int:
+    """The RFE with the largest residual (moments over the RFE length) in the implicit step's
+    residual buffer (the last Newton iterate of the failed step), -1 if it holds none."""
+    r = np.abs(np.asarray(system.r, float)).copy()
+    if r.shape[0] == 0 or not np.any(r):
+        return -1
+    r[:, 3:] /= np.maximum(system.length_scale, 1e-12)[:, None]
+    r[~system.mask] = 0.0
+    r[~np.isfinite(r)] = np.inf
+    return int(np.argmax(r.max(axis=1)))
 
 
 THROUGH_HINT = ("a slack rope carries no compression until its elements overlap by half their length, where "

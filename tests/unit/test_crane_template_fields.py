@@ -35,3 +35,18 @@ def test_crossbeam_mass_says_what_it_holds_in_each_frame():
     text = AFrame.model_fields["crossbeam_mass"].description
     assert "Without `crossbeam`: the mass of the whole crossbeam with its sheave block" in text
     assert "with a `crossbeam` member: only what its tube leaves out, the sheave block" in text
+
+
+def test_a_crossbeam_not_as_long_as_the_leg_spacing_says_they_must_be_equal():
+    """The A-frame with a deck winch given leg_spacing 9.5 m (its crossbeam 6 m): the error
+    names the crossbeam and the rule, not only the two numbers."""
+    import json
+    from pathlib import Path
+    scenarios = Path(__file__).resolve().parents[2] / "scenarios"
+    d = json.loads((scenarios / "a_frame_deck_winch.json").read_text())
+    frame = next(c for c in d["cranes"].values() if c.get("crossbeam"))
+    frame["leg_spacing"] = frame["crossbeam"]["length"] + 3.5
+    with pytest.raises(rfesim.ScenarioError) as err:
+        rfesim.load_scenario(d, base_dir=scenarios)
+    msg = str(err.value)
+    assert "crossbeam.length: 6.0 m: the crossbeam spans the legs, so its length must equal leg_spacing (9.5 m)" in msg

@@ -1,0 +1,95 @@
+"""Lines sunk into the seabed: a result the contact model does not describe.
+
+The seabed is a spring per unit length under the pipe's underside (rfesim.loads.seabed): it
+holds a line at a penetration p = w / k under its own submerged weight w (a few mm to cm
+for a pipe on a real seabed). A line that sinks deeper than its own diameter (at least
+MIN_DEPTH) is in ground the model does not know: a seabed given far too soft, or elements
+too long to follow it (a 290 m riser given one element is two rigid halves whose hinge
+must go 60 m below the seabed to span its ends; the seabed then carries 5e7 N and the run
+'finishes' with 7e7 N of compression). Each such line is named once, at its deepest point
+over the results' times.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+MIN_DEPTH = 0.1      # m: the penetration warned about, at least (thin lines, cables)
+
+
+def _seabed_z(km, x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Seabed height under (x, y) and the slope along the profile (rfesim.loads.seabed.
+    seabed_height, vectorised): linear between the profile's points, continued with the end
+    slopes."""
+    s = x * km.bed_dir[0] + y * km.bed_dir[1]
+    bs, bz = np.asarray(km.bed_s, float), np.asarray(km.bed_z, float)
+    j = np.clip(np.searchsorted(bs, s, side="left") - 1, 0, bs.shape[0] - 2)
+    g = (bz[j + 1] - bz[j]) / (bs[j + 1] - bs[j])
+    return bz[j] + g * (s - bs[j]), g
+
+
+def seabed_penetration_warnings(model, sc, results) -> list[str]:
+    """One message per line whose underside goes deeper into the seabed than its diameter (at
+    least MIN_DEPTH) at any output point and time of ``results``: the depth, where and when,
+    the depth its submerged weight alone gives on the seabed's stiffness, and the fields."""
+    seabed = sc.environment.seabed if sc is not None else None
+    from .scenario.pipelay import user_field
+    if seabed is None or model is None or not getattr(results, "lines", None):
+        return []
+    km = model.km
+    k = float(seabed.normal_stiffness)
+    water = sc.environment.water
+    rho = float(water.density) if water is not None else 0.0
+    g = float(sc.environment.gravity)
+    out = []
+    for li in model.lines:
+        if li.name not in results.lines:
+            continue
+        pos = np.asarray(results.line(li.name).position, float)        # (nt, npoints, 3)
+        if pos.size == 0 or not np.isfinite(pos).all():
+            continue
+        a = float(km.rfe_contact_radius[li.rfe_start])
+        zb, slope = _seabed_z(km, pos[..., 0], pos[..., 1])
+        depth = a - (pos[..., 2] - zb) / np.sqrt(1.0 + slope * slope)
+        limit = max(2.0 * a, MIN_DEPTH)
+        t, j = np.unravel_index(int(np.argmax(depth)), depth.shape)
+        deepest = float(depth[t, j])
+        if deepest <= limit:
+            continue
+        sec = li.section
+        w = (sec.mass_per_length - rho * sec.displaced_area) * g
+        arc = float(np.asarray(results.line(li.name).arc_length)[j])
+        elements = user_field(sc, f"lines.{li.name}.elements")
+        if w / k > limit:
+            why = (f"its submerged weight ({w / 1e3:.4g} kN/m) alone sinks it {w / k:.3g} m into the seabed's "
+                   f"normal_stiffness ({k:.4g} N/m/m): the seabed is too soft for the line (give "
+                   f"environment.seabed.normal_stiffness for the soil; soft clays give 1e4 to 1e6 N/m/m)")
+        else:
+            own = (f"its submerged weight ({w / 1e3:.4g} kN/m) alone sinks it only {w / k:.3g} m"
+                   if w > 0.0 else "it floats")
+            why = (f"on the seabed's normal_stiffness ({k:.4g} N/m/m) {own}, so the line is pushed in: by its "
+                   f"ends, or because its elements ({li.elements} of {li.dx:.4g} m) are too long to follow the "
+                   f"seabed ({elements})")
+        out.append(f"line '{li.name}' sinks {deepest:.3g} m into the seabed (its underside, {arc:.4g} m from end A "
+                   f"at t = {float(results.time[t]):.6g} s), deeper than its diameter ({2.0 * a:.3g} m; at least "
+                   f"{MIN_DEPTH:g} m), where the seabed model, a spring under the pipe, does not describe it: {why}")
+    return out
+
+
+def soft_seabed_lines(model, sc) -> list[tuple[str, float, float]]:
+    """(line, w / k, diameter) of the lines whose submerged weight w alone sinks them deeper
+    than their diameter (at least MIN_DEPTH) into the seabed's normal stiffness k: a statics
+    hint (rfesim.api._statics_hint)."""
+    seabed = sc.environment.seabed if sc is not None else None
+    if seabed is None or model is None:
+        return []
+    k = float(seabed.normal_stiffness)
+    water = sc.environment.water
+    rho = float(water.density) if water is not None else 0.0
+    g = float(sc.environment.gravity)
+    out = []
+    for li in model.lines:
+        a = float(model.km.rfe_contact_radius[li.rfe_start])
+        w = (li.section.mass_per_length - rho * li.section.displaced_area) * g
+        if w > 0.0 and w / k > max(2.0 * a, MIN_DEPTH):
+            out.append((li.name, w / k, 2.0 * a))
+    return out

@@ -1,0 +1,86 @@
+"""Lines sunk into the seabed deeper than their diameter are named (rfesim.seabed_check): in
+the results' message after statics and dynamics, and as a statics hint when the seabed is
+too soft for a line's own weight."""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import rfesim
+from rfesim.seabed_check import _seabed_z
+
+SCENARIOS = Path(__file__).resolve().parents[2] / "scenarios"
+
+
+def riser(**changes) -> dict:
+    """The H1 riser (290 m of 12-inch pipe, 0.644 kN/m submerged, seabed 9e5 N/m/m), statics only."""
+    d = json.loads((SCENARIOS / "h1_riser_heave.json").read_text())
+    d["analysis"] = {"statics": {"enabled": True}, "dynamics": {"enabled": False}}
+    for path, value in changes.items():
+        node = d
+        keys = path.split(".")
+        for k in keys[:-1]:
+            node = node[k]
+        node[keys[-1]] = value
+    return d
+
+
+def test_one_element_riser_pushed_into_the_seabed_is_named():
+    """One element: two rigid 145 m halves whose hinge would hang 58 m under the chord, below
+    the seabed; statics puts it 3.24 m deep with 5e7 N on the seabed (and 7e7 N of compression
+    in the SDE): named, with the weight's own 0.7 mm sinkage and the elements field."""
+    res = rfesim.statics(riser(**{"lines.riser.elements": 1}))
+    assert "line 'riser' sinks 3.24 m into the seabed (its underside, 145 m from end A at t = 0 s)" in res.message
+    assert "alone sinks it only 0.000716 m, so the line is pushed in" in res.message
+    assert "its elements (1 of 290 m) are too long to follow the seabed (lines.riser.elements)" in res.message
+
+
+@pytest.mark.parametrize("elements", [4, 100])
+def test_a_riser_resting_on_the_seabed_is_not_named(elements):
+    res = rfesim.statics(riser(**{"lines.riser.elements": elements}))
+    assert "sinks" not in res.message
+
+
+def test_a_soft_seabed_is_named_in_the_results():
+    """At 2000 N/m/m the 0.644 kN/m riser's weight alone sinks it 0.32 m, more than its 0.3 m
+    diameter; at the touchdown, where the sagbend presses it down, 0.497 m."""
+    res = rfesim.statics(riser(**{"environment.seabed.normal_stiffness": 2000.0}))
+    assert "line 'riser' sinks 0.497 m into the seabed (its underside, 120.3 m from end A" in res.message
+    assert "alone sinks it 0.322 m into the seabed's normal_stiffness (2000 N/m/m): the seabed is too soft for the " \
+           "line (give environment.seabed.normal_stiffness for the soil" in res.message
+
+
+def test_a_seabed_too_soft_for_statics_is_the_hint():
+    """At 1.5 N/m/m (a unit slip) the riser would sink 429 m: statics fails, and the error
+    says why instead of only asking for more iterations."""
+    d = riser(**{"environment.seabed.normal_stiffness": 1.5})
+    d["analysis"]["statics"]["max_iterations"] = 30
+    with pytest.raises(rfesim.SolverError) as info:
+        rfesim.statics(d)
+    text = str(info.value)
+    assert "the seabed's normal_stiffness (1.5 N/m/m) lets line 'riser' sink 429 m under its own submerged " \
+           "weight, more than its diameter (0.3 m)" in text
+    assert "soft clays give 1e4 to 1e6 N/m/m" in text
+
+
+def test_seabed_height_matches_the_contact_kernel():
+    """The vectorised height and slope of a profile against the kernel's (inside the profile
+    and beyond its ends, where it goes on with the end slopes)."""
+    from rfesim.loads.seabed import seabed_height
+
+    class Km:
+        bed_s = np.array([-50.0, 0.0, 40.0, 100.0])
+        bed_z = np.array([-80.0, -100.0, -95.0, -120.0])
+        bed_dir = np.array([np.cos(0.3), np.sin(0.3)])
+
+    rng = np.random.default_rng(3)
+    x, y = rng.uniform(-200.0, 250.0, 40), rng.uniform(-50.0, 50.0, 40)
+    z, g = _seabed_z(Km, x, y)
+    out = np.zeros(3)
+    for i in range(x.size):
+        seabed_height(Km.bed_s, Km.bed_z, Km.bed_dir, x[i], y[i], out)
+        assert z[i] == pytest.approx(out[0], rel=1e-12, abs=1e-9)
+        assert g[i] * Km.bed_dir[0] == pytest.approx(out[1], rel=1e-12, abs=1e-12)
