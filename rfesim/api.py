@@ -229,17 +229,8 @@ def _statics_hint(sc: Scenario, model=None) -> str | None:
                 f"seabed, on rollers or in a sag) and the contacts it barely touches switch Newton from step to "
                 f"step; check the line type's density, contents_density and coating (the weight the water "
                 f"does not carry), or set analysis.statics.enabled to false")
-    from .seabed_check import soft_seabed_lines
-    soft = soft_seabed_lines(model, sc)
-    if soft:
-        name, sink, diameter = soft[0]
-        more = _and_more(soft)
-        return (f"the seabed's normal_stiffness ({sc.environment.seabed.normal_stiffness:.4g} N/m/m) lets line "
-                f"'{name}'{more} sink {sink:.3g} m under its own submerged weight, more than its diameter "
-                f"({diameter:.3g} m): where it lies it has no equilibrium the seabed model (a spring under the "
-                f"pipe) describes; give environment.seabed.normal_stiffness for the soil (soft clays give 1e4 to "
-                f"1e6 N/m/m; the default is 1e5)")
-    return None
+    from .seabed_check import soft_seabed_hint
+    return soft_seabed_hint(model, sc)
 
 
 STIFF_U = 3.0     # a U onto the seabed whose bending length exceeds this many touchdown radii is bending-governed

@@ -31,23 +31,19 @@ def seabed_penetration_warnings(model, sc, results) -> list[str]:
     """One message per line whose underside goes deeper into the seabed than its diameter (at
     least MIN_DEPTH) at any output point and time of ``results``: the depth, where and when,
     the depth its submerged weight alone gives on the seabed's stiffness, and the fields."""
-    seabed = sc.environment.seabed if sc is not None else None
     from .scenario.pipelay import user_field
-    if seabed is None or model is None or not getattr(results, "lines", None):
+    found = _lines_on_seabed(model, sc)
+    if found is None or not getattr(results, "lines", None):
         return []
+    k, lines = found
     km = model.km
-    k = float(seabed.normal_stiffness)
-    water = sc.environment.water
-    rho = float(water.density) if water is not None else 0.0
-    g = float(sc.environment.gravity)
     out = []
-    for li in model.lines:
+    for li, a, w in lines:
         if li.name not in results.lines:
             continue
         pos = np.asarray(results.line(li.name).position, float)        # (nt, npoints, 3)
         if pos.size == 0 or not np.isfinite(pos).all():
             continue
-        a = float(km.rfe_contact_radius[li.rfe_start])
         zb, slope = _seabed_z(km, pos[..., 0], pos[..., 1])
         depth = a - (pos[..., 2] - zb) / np.sqrt(1.0 + slope * slope)
         limit = max(2.0 * a, MIN_DEPTH)
@@ -55,8 +51,6 @@ def seabed_penetration_warnings(model, sc, results) -> list[str]:
         deepest = float(depth[t, j])
         if deepest <= limit:
             continue
-        sec = li.section
-        w = (sec.mass_per_length - rho * sec.displaced_area) * g
         arc = float(np.asarray(results.line(li.name).arc_length)[j])
         elements = user_field(sc, f"lines.{li.name}.elements")
         if w / k > limit:
@@ -75,21 +69,34 @@ def seabed_penetration_warnings(model, sc, results) -> list[str]:
     return out
 
 
-def soft_seabed_lines(model, sc) -> list[tuple[str, float, float]]:
-    """(line, w / k, diameter) of the lines whose submerged weight w alone sinks them deeper
-    than their diameter (at least MIN_DEPTH) into the seabed's normal stiffness k: a statics
-    hint (rfesim.api._statics_hint)."""
+def soft_seabed_hint(model, sc) -> str | None:
+    """A failed statics' hint (rfesim.api._statics_hint): the first line whose submerged weight
+    w alone sinks it deeper than its diameter (at least MIN_DEPTH) into the seabed's normal
+    stiffness k, and how many more; None if none does."""
+    found = _lines_on_seabed(model, sc)
+    if found is None:
+        return None
+    k, lines = found
+    soft = [(li.name, w / k, 2.0 * a) for li, a, w in lines if w > 0.0 and w / k > max(2.0 * a, MIN_DEPTH)]
+    if not soft:
+        return None
+    name, sink, diameter = soft[0]
+    more = f" (and {len(soft) - 1} more)" if len(soft) > 1 else ""
+    return (f"the seabed's normal_stiffness ({k:.4g} N/m/m) lets line '{name}'{more} sink {sink:.3g} m under its "
+            f"own submerged weight, more than its diameter ({diameter:.3g} m): where it lies it has no equilibrium "
+            f"the seabed model (a spring under the pipe) describes; give environment.seabed.normal_stiffness for "
+            f"the soil (soft clays give 1e4 to 1e6 N/m/m; the default is 1e5)")
+
+
+def _lines_on_seabed(model, sc):
+    """(the seabed's normal stiffness k, [(LineInfo, contact radius a, submerged weight per
+    length w)]) of the compiled ``model``'s lines, or None without a seabed."""
     seabed = sc.environment.seabed if sc is not None else None
     if seabed is None or model is None:
-        return []
-    k = float(seabed.normal_stiffness)
+        return None
     water = sc.environment.water
     rho = float(water.density) if water is not None else 0.0
     g = float(sc.environment.gravity)
-    out = []
-    for li in model.lines:
-        a = float(model.km.rfe_contact_radius[li.rfe_start])
-        w = (li.section.mass_per_length - rho * li.section.displaced_area) * g
-        if w > 0.0 and w / k > max(2.0 * a, MIN_DEPTH):
-            out.append((li.name, w / k, 2.0 * a))
-    return out
+    return float(seabed.normal_stiffness), [
+        (li, float(model.km.rfe_contact_radius[li.rfe_start]),
+         (li.section.mass_per_length - rho * li.section.displaced_area) * g) for li in model.lines]
