@@ -234,20 +234,18 @@ def start_acceleration(system: System, state: State, cq: float, cv: float, tol: 
                system.A_buf, r)
     size = np.abs(r) / cq
     size[:, 3:] /= system.length_scale[:, None]
+    a0 = np.zeros((n, 6))
     if not np.any(np.isnan(size)) and float(np.max(size, where=system.mask, initial=0.0)) <= tol * force_ref:
-        system.evaluate(state)
-        return np.zeros((n, 6))
+        return a0                   # (the workspace holds the start state's evaluation)
     base = r.copy()                 # forward differences from the residual at q_0
     jacobian_fd_general(km, system.att, state.q, state.ref, ws, 1.0, 1, Q0, V0, cq, cv, system.mask, system.qd_buf,
                         system.A_buf, base, system.qp, system.rp, system.hs, system.length_scale, system.J, False,
                         FD_REL_STEP)
-    if bt_factor_closed(system.J, system.Fac, km, ws) >= 0:
-        return np.zeros((n, 6))
-    dq = np.zeros((n, 6))
-    bt_solve_closed(system.Fac, r, dq, km, ws)
-    a0 = -dq / cq
-    if not np.all(np.isfinite(a0)):
-        return np.zeros((n, 6))
+    if bt_factor_closed(system.J, system.Fac, km, ws) < 0:
+        dq = np.zeros((n, 6))
+        bt_solve_closed(system.Fac, r, dq, km, ws)
+        if np.all(np.isfinite(dq)):
+            a0 = -dq / cq
     # the workspace back at the start state (the Jacobian left it at a perturbed one)
     system.evaluate(state)
     return a0
@@ -1409,7 +1407,6 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
     rk4_hint = None
     if integ.kind == "generalized-alpha":
         h = float(integ.time_step)
-
     elif integ.kind == "rk4":
         # the stability limit: 2.8 / the highest natural frequency, or 2.785 / the highest
         # damping rate (an overdamped mode's real eigenvalue) if shorter
@@ -1533,7 +1530,7 @@ def run_dynamics(system: System, state: State, settings, progress=None, recorder
             if st.fresh:
                 st.aux[:] = start_acceleration(system, st, h * h * beta * (1.0 - af) / (1.0 - am),
                                                h * gamma * (1.0 - af) / (1.0 - am), tol, force_ref)
-            st.fresh = False
+            st.fresh = st.static = False
             flags = np.zeros(4, np.int64)   # kernels.ga_advance; [3]: a halved step (a third attempt)
             qdd_prev = st.qdd.copy()
             analytic = integ.jacobian == "analytic"
