@@ -59,7 +59,7 @@ def test_rope_snap_blow_up_stopped_as_energy_growth(monkeypatch):
     then growing) at 0.193 s, with the results so far. Until 2026-12-07 the check counted
     1/2 C eps^2 for slack rope elements too, which made the growth 289 J by 0.177 s and
     stopped it there; the rope's axial energy is now 0 while slack
-    (rfesim.loads.tension_only.rope_axial_energy). With the start the solver now takes the
+    (rfesim.loads.tension_only.rope_axial_energy). From the start the solver now takes, the
     run keeps its energy (next test)."""
     monkeypatch.setattr(dyn, "start_acceleration", lambda system, st, *args: 0.0 * st.qdd)
     with pytest.raises(rfesim.SolverError) as info:
