@@ -833,6 +833,45 @@ def start_dynamics(ms: MixedScene, st: State, c) -> None:
     ms.system.commit_history()
 
 
+def filter_start(ms: MixedScene, st: State, c, ig: "Integrator", h: float, force_ref: float) -> bool:
+    """The algorithmic accelerations to start generalised-alpha from a state out of
+    equilibrium, as rfesim.solvers.dynamics.start_acceleration for a scene of lines:
+    a_0 = (M + cq K + cv C)^-1 M qdd_0 over lines and chains together, from one coupled
+    Jacobian of the step at the start (the residual of the step at x_0 with A = 0 is
+    -cq M qdd_0). In the modes the step resolves that is qdd_0, which start_dynamics gives;
+    in a stiff mode it is about 0 where qdd_0 starts the method's overshoot (docs/theory.md,
+    'Starting generalised-alpha'). A static equilibrium (``st.static``) and a start in
+    equilibrium to the integrator's tolerances keep qdd_0 (round-off there, so the runs
+    from statics are as they were), as does a Jacobian that cannot be factorised. Returns
+    whether the accelerations were filtered."""
+    if st.static:
+        return False
+    cp, sysm = ig.cp, ms.system
+    cq = h * h * ig.beta * (1.0 - ig.af) / (1.0 - ig.am)
+    cv = h * ig.gamma * (1.0 - ig.af) / (1.0 - ig.am)
+    sysm.set_time(st.t)
+    cp.setup(1, st.t, 1.0, st.q.copy(), st.qd.copy(), c["x"], c["v"], cq, cv)
+    q = st.q.copy()
+    rL = np.zeros((sysm.n, 6))
+    rC = cp.residual(q, st.ref, c["x"], rL)
+    rn = max(float(residual_norm(rL, cq, sysm.mask, sysm.length_scale, force_ref)) / ig.tol,
+             cp.chain_norm(rC) / ig.chain_tol)
+    done = False
+    if math.isfinite(rn) and rn > 1.0 and cp.jacobian(q, st.ref, c["x"], rL, rC) < 0:
+        rC = cp.residual(q, st.ref, c["x"], rL)      # the workspace after the differences
+        dL, dC = cp.solve(rL, rC)
+        if np.all(np.isfinite(dL)) and np.all(np.isfinite(dC)):
+            st.aux[:] = -dL / cq
+            st.aux[~sysm.mask] = 0.0
+            c["aux"] = -dC / cq
+            done = True
+    ig.h_fact = None                  # the first step factors its own Jacobian
+    # the workspace back at the start state
+    ms.set_points(st.t, ms.chain_full(st.t, c["x"], c["v"], c["a"]))
+    sysm.evaluate(st)
+    return done
+
+
 def simulate(sc, progress=None):
     """Statics (if enabled) and dynamics of a scene mixing chains with absolute-coordinate
     lines -> Results. ``progress(fraction, time)`` after every output (an exception from it
@@ -863,6 +902,7 @@ def simulate(sc, progress=None):
     rec.record(st, c)
     force_ref = sysm.force_scale(st)
     ig = make_integrator(ms, st, integ.rho_inf, integ.tolerance, integ.max_iterations, integ.jacobian_reuse)
+    filter_start(ms, st, c, ig, h, force_ref)
     wall1 = _time.perf_counter()
     try:
         for k_out in range(1, n_out + 1):

@@ -606,6 +606,30 @@ def genalpha_parameters(rho_inf: float):
     return am, af, beta, gamma
 
 
+def start_acceleration(model: PlanarModel, w: PlanarWork, q, qd, qdd, end_reaction, c_q: float, c_v: float,
+                       tol: float) -> np.ndarray:
+    """The generalised-alpha algorithmic acceleration to start from, as
+    rfesim.solvers.dynamics.start_acceleration for absolute-coordinate lines:
+    a_0 = (A + c_v B + c_q C)^-1 A qdd_0 over the free coordinates (the step's Newton
+    matrix, with the end-B constraint held at the acceleration level), the prescribed ones
+    at their qdd_0. In the modes the step resolves a_0 = qdd_0 (1 - O(c_q omega^2)), which
+    keeps the method second order; in a stiff mode a_0 ~ 0, where qdd_0 starts the method's
+    overshoot (docs/theory.md, 'Starting generalised-alpha'). A start whose qdd_0 moves the
+    step's prediction by no more than the Newton tolerance (tol times the link length; a
+    static equilibrium's round-off) keeps qdd_0."""
+    free = model.free_mask()
+    if np.linalg.norm(qdd[free]) * c_q <= tol * model.length:
+        return qdd.copy()
+    qz = qdd.copy()
+    qz[free] = 0.0
+    r = residual(model, q, qd, qz, end_reaction, w)       # -A qdd_0 on the free coordinates
+    dq, _ = _newton_correction(model, w, q, qd, r, np.zeros(3), 1.0, c_v, c_q, 1.0, end_reaction)
+    if not np.all(np.isfinite(dq)):
+        return qdd.copy()
+    dq[~free] = 0.0
+    return qz + dq
+
+
 def _generalized_alpha(model, q, qd, h, nsteps, record_every, rho_inf, tol, max_iterations, progress=None):
     am, af, beta, gamma = genalpha_parameters(rho_inf)
     w = PlanarWork(model)
@@ -616,9 +640,9 @@ def _generalized_alpha(model, q, qd, h, nsteps, record_every, rho_inf, tol, max_
     qd[:3][pres] = v[pres]
     qdd, reac = accelerations(model, q, qd, 0.0, w)
     mu = reac[-1].copy()                 # end-B reaction on the link
-    acc_alg = qdd.copy()                 # algorithmic acceleration a_n
     c_q = h * h * beta * (1.0 - af) / (1.0 - am)       # d q_{n+1} / d qdd_{n+1}
     c_v = h * gamma * (1.0 - af) / (1.0 - am)          # d qd_{n+1} / d qdd_{n+1}
+    acc_alg = start_acceleration(model, w, q, qd, qdd, mu, c_q, c_v, tol)   # algorithmic acceleration a_n
     nrec = nsteps // record_every + 1
     q_out = np.zeros((nrec, q.size))
     qd_out = np.zeros((nrec, q.size))
