@@ -175,8 +175,9 @@ def _shear_hint(model) -> str | None:
 
 def _statics_hint(sc: Scenario, model=None) -> str | None:
     """Why a statics that failed could not succeed, where the scene shows it: lines without
-    support, slack lying on the seabed, or lines whose fem shear cannot hold their tension
-    (with the compiled ``model``)."""
+    support, slack lying on the seabed, lines whose fem shear cannot hold their tension,
+    tuggers that out-pull their body's weight or a seabed too soft for a line's weight (with
+    the compiled ``model``)."""
     free = _unsupported_lines(sc)
     if free:
         names = ", ".join(f"'{n}'" for n in free)
@@ -229,8 +230,78 @@ def _statics_hint(sc: Scenario, model=None) -> str | None:
                 f"seabed, on rollers or in a sag) and the contacts it barely touches switch Newton from step to "
                 f"step; check the line type's density, contents_density and coating (the weight the water "
                 f"does not carry), or set analysis.statics.enabled to false")
+    tugged = _tugged_off(sc, model, start)
+    if tugged:
+        return tugged[0]
     from .seabed_check import soft_seabed_hint
     return soft_seabed_hint(model, sc)
+
+
+def _tugged_off(sc: Scenario, model, start: _StartShape | None = None) -> list[str]:
+    """One hint per body whose constant-tension tuggers (rfesim.loads.tugger) pull it
+    sideways at the start harder than its weight (less buoyancy, plus their own downward
+    pull) presses it down: hanging from a rope it would lean past 45 degrees to hold them,
+    on a deck its friction (at most that force times the friction coefficient) cannot, so
+    there is no equilibrium near the start. A hint, not a proof: it is named only after a
+    statics that failed."""
+    if model is None or not getattr(model, "tuggers", None):
+        return []
+    from .loads.tugger import KIND_TENSION
+    from .model.arrays import new_attachment_state
+    from .scenario.pipelay import user_field
+    from .vessel_kernel import attachment_kinematics, vessel_spec
+    km = model.km
+    start = start or _StartShape(model)
+    ws = start.ws
+    att = new_attachment_state(len(model.attachment_names))
+    attachment_kinematics(vessel_spec(model.motions), 0.0, att)
+    g = abs(float(sc.environment.gravity))
+    water = sc.environment.water
+    out = []
+    for b in model.bodies:
+        force = np.zeros(3)
+        names = []
+        for tg in model.tuggers:
+            j = tg.index
+            if tg.body != b.name or km.tug_kind[j] != KIND_TENSION:
+                continue
+            count = int(km.tug_count[j])
+            tension = float(np.interp(0.0, km.tug_t[j, :count], km.tug_v[j, :count]))
+            a = int(km.tug_att[j])
+            deck = att.p[a] + att.R[a] @ km.tug_deck[j]
+            point = ws.r[b.rfe] + ws.R[b.rfe] @ km.tug_point[j]
+            span = deck - point
+            length = float(np.linalg.norm(span))
+            if tension > 0.0 and length > 0.0:
+                force += tension * span / length
+                names.append(tg.name)
+        if not names:
+            continue
+        weight = b.mass * g
+        if water is not None and float(ws.r[b.rfe][2]) < 0.0:
+            weight -= float(water.density) * g * b.volume
+        down = weight - float(force[2])
+        side = float(math.hypot(force[0], force[1]))
+        body = sc.bodies.get(b.name)
+        deck = getattr(body, "deck", None)
+        mu = float(deck.friction) if deck is not None else None
+        if side <= (max(down, 0.0) if mu is None else mu * max(down, 0.0)):
+            continue
+        which = ", ".join(f"'{n}'" for n in names)
+        field = user_field(sc, f"tuggers.{names[0]}.mode.tension")
+        pull = (f"the tugger{'s' if len(names) > 1 else ''} {which} on body '{b.name}' pull it sideways with "
+                f"{side / 1e3:.4g} kN at the start")
+        press = (f"{down / 1e3:.4g} kN that its weight{' (less buoyancy)' if weight != b.mass * g else ''} and "
+                 f"their downward pull press it down")
+        if mu is None:
+            why = (f"more than the {press}: hanging from a rope it would have to lean past 45 deg to hold them, so "
+                   f"there is no equilibrium near the start")
+        else:
+            why = (f"more than the deck's friction holds: {mu:.3g} times the {press}, {mu * down / 1e3:.4g} kN at "
+                   f"most (less what the rope carries), so it slides off its start and has no equilibrium there")
+        out.append(f"{pull}, {why}; give the tuggers less tension ({field}) or the body more weight, or set "
+                   f"analysis.statics.enabled to false")
+    return out
 
 
 STIFF_U = 3.0     # a U onto the seabed whose bending length exceeds this many touchdown radii is bending-governed
