@@ -170,6 +170,66 @@ def table_end_warnings(sc) -> list[str]:
     return out
 
 
+# deg/s: 5 rpm. Offshore cranes slew at about 1-3 rpm and luff, or tilt an A-frame, at a few
+# deg/s; a drive table faster than this is a typing or units slip (minutes for seconds,
+# radians for degrees) more often than a crane
+DRIVE_RATE_LIMIT = 30.0
+
+
+def _hermite_peak_rates(t: np.ndarray, d: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """The largest |rate| on each segment of the cubic Hermite through rows (t, d) with slopes
+    v at them (rfesim.loads.drives.drive_table), sampled at 65 points a segment: a two-row
+    table's smooth start and stop peaks at 1.5 times its mean rate, in its middle."""
+    s = np.linspace(0.0, 1.0, 65)[:, None]
+    h = np.diff(t)[None, :]
+    rate = ((6 * s ** 2 - 6 * s) * (d[:-1] - d[1:]) / h + (3 * s ** 2 - 4 * s + 1) * v[:-1]
+            + (3 * s ** 2 - 2 * s) * v[1:])
+    return np.abs(rate).max(axis=0)
+
+
+def drive_rate_warnings(sc) -> list[str]:
+    """One warning per joint drive's or slewing motor's angle table (per user field) whose
+    curve turns faster than DRIVE_RATE_LIMIT inside the run: the field, the largest rate of
+    the cubic Hermite the drive follows and the rows around it; [] without dynamics."""
+    from ..model.supports import drive_slopes
+    dyn = sc.analysis.dynamics
+    if not (dyn.enabled and dyn.duration > 0.0):
+        return []
+    duration = float(dyn.duration)
+    out, seen = [], set()
+    for name, line in (sc.lines or {}).items():
+        for end in ("end_a", "end_b"):
+            spec = getattr(line, end)
+            tables = [(f"lines.{name}.{end}.drives.{i}.angle", d.name, d.angle) for i, d in enumerate(spec.drives)]
+            if spec.motor is not None:
+                tables.append((f"lines.{name}.{end}.motor.angle", spec.motor.name, spec.motor.angle))
+            for path, drive, rows in tables:
+                if len(rows) < 2:
+                    continue
+                rows = np.asarray(rows, float)
+                inside = rows[:-1, 0] < duration          # segments that start inside the run
+                if not np.any(inside):
+                    continue
+                seg = _hermite_peak_rates(rows[:, 0], rows[:, 1], drive_slopes(rows[:, 0], rows[:, 1]))
+                seg[~inside] = 0.0
+                k = int(np.argmax(seg))
+                rate = float(seg[k])
+                if rate <= DRIVE_RATE_LIMIT:
+                    continue
+                field, what, _ = _crane_field(sc, path, drive)
+                if field.endswith("tilt_deg"):
+                    drive = "tilt"             # an A-frame's legs, driven as a luffing joint
+                if field in seen:
+                    continue
+                seen.add(field)
+                out.append(f"{field}: the {what} table turns the {drive} angle at up to {rate:.3g} deg/s "
+                           f"({rate / 6.0:.3g} rpm) between t = {rows[k, 0]:.6g} s and {rows[k + 1, 0]:.6g} s, "
+                           f"faster than an offshore crane's drives turn (slewing about 1-3 rpm, luffing and "
+                           f"A-frame tilt a few deg/s; more than {DRIVE_RATE_LIMIT:.3g} deg/s is named): it whips "
+                           f"the structure and what hangs from it; check the table's times (s) and angles (deg)")
+    return out
+
+
 SPECTRA = ("jonswap", "pierson-moskowitz")
 DOFS = ("surge", "sway", "heave", "roll", "pitch", "yaw")
 # a vessel table's speed at t = 0 below this (m/s or deg/s) is rest
@@ -306,8 +366,9 @@ def _record_start_warning(sc, waves, rest: str) -> list[str]:
 def input_motion_warnings(sc) -> list[str]:
     """The motion warnings a scenario's input gives before it runs: waves and harmonic vessel
     motions with no ramp (:func:`startup_warnings`), the vessels' motion tables that do not
-    cover the run (rfesim.scenario.schema.motion_table_warnings) and the tables that stop
-    dead inside it (:func:`table_end_warnings`); what ``rfesim check`` and the service's
+    cover the run (rfesim.scenario.schema.motion_table_warnings), the tables that stop
+    dead inside it (:func:`table_end_warnings`) and the drives faster than a crane's
+    (:func:`drive_rate_warnings`); what ``rfesim check`` and the service's
     submit show, and a run's message repeats."""
     from .schema import motion_table_warnings
-    return startup_warnings(sc) + motion_table_warnings(sc) + table_end_warnings(sc)
+    return startup_warnings(sc) + motion_table_warnings(sc) + table_end_warnings(sc) + drive_rate_warnings(sc)

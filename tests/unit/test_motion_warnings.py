@@ -288,3 +288,75 @@ def test_a_wave_record_replayed_without_a_ramp_is_named_unless_it_starts_calm():
     data["environment"]["water"]["waves"]["rows"] = np.c_[t, np.roll(group, -280)].tolist()
     (w,) = startup_warnings(rfesim.load_scenario(data, base_dir=SCENARIOS))
     assert "the recorded waves (time-series)" in w
+
+
+# ---------------------------------------------------------------- drives faster than a crane's
+def rate_warnings(data: dict) -> list[str]:
+    from rfesim.scenario.motion_warnings import drive_rate_warnings
+    return drive_rate_warnings(rfesim.load_scenario(copy.deepcopy(data), base_dir=SCENARIOS))
+
+
+@pytest.mark.parametrize("name", sorted(p.name for p in SCENARIOS.glob("*.json")))
+def test_the_shipped_scenarios_drive_at_crane_rates(name):
+    assert rate_warnings(scenario(name)) == []
+
+
+def test_a_slewing_table_faster_than_a_crane_is_named_with_its_peak_rate():
+    """Two rows, 360 deg in 2 s: the drive's cubic starts and stops at rest (zero end slopes),
+    so it peaks in the middle at 1.5 times the mean 180 deg/s."""
+    data = scenario("column_crane.json", duration=20.0)
+    data["cranes"]["crane"]["slewing_deg"] = [[0.0, 80.0], [2.0, 440.0]]
+    (w,) = rate_warnings(data)
+    assert w.startswith("cranes.crane.slewing_deg: the angle table turns the slewing angle at up to 270 deg/s "
+                        "(45 rpm) between t = 0 s and 2 s"), w
+    assert "check the table's times (s) and angles (deg)" in w
+    # a realistic slew, 180 deg in 90 s (peak 3 deg/s), and a fast one after the run's end: none
+    data["cranes"]["crane"]["slewing_deg"] = [[0.0, 80.0], [90.0, 260.0]]
+    assert rate_warnings(data) == []
+    data["cranes"]["crane"]["slewing_deg"] = [[0.0, 80.0], [30.0, 80.0], [31.0, 440.0]]
+    assert rate_warnings(data) == []
+    data["analysis"]["dynamics"]["duration"] = 40.0
+    assert len(rate_warnings(data)) == 1
+
+
+def test_the_rate_is_the_largest_the_drive_kernel_gives():
+    """Against the drive kernel (rfesim.loads.drives.drive_table) sampled finely through a
+    table of five rows, with the compile step's slopes."""
+    from rfesim.loads.drives import drive_table
+    from rfesim.model.supports import drive_slopes
+    rows = np.array([[0.0, 80.0], [3.0, 95.0], [4.0, 160.0], [4.5, 170.0], [10.0, 100.0]])
+    data = scenario("column_crane.json", duration=20.0)
+    data["cranes"]["crane"]["slewing_deg"] = rows.tolist()
+    (w,) = rate_warnings(data)
+    slopes = drive_slopes(rows[:, 0], rows[:, 1])
+    ts = np.linspace(0.0, 10.0, 200001)
+    rates = np.array([abs(drive_table(rows[:, 0], rows[:, 1], slopes, t)[1]) for t in ts])
+    peak = float(rates.max())
+    assert peak > 30.0
+    named = float(w.split("at up to ")[1].split(" deg/s")[0])
+    assert named == pytest.approx(peak, rel=2e-3), (named, peak)
+    k = int(np.searchsorted(rows[:, 0], ts[int(rates.argmax())])) - 1
+    assert f"between t = {rows[k, 0]:.6g} s and {rows[k + 1, 0]:.6g} s" in w
+
+
+def test_an_a_frame_tilt_and_a_slewing_motor_are_named_in_their_fields():
+    data = scenario("a_frame.json", duration=20.0)
+    data["cranes"]["aframe"]["tilt_deg"] = [[0.0, -25.0], [1.0, 35.0]]
+    (w,) = rate_warnings(data)
+    assert w.startswith("cranes.aframe.tilt_deg: the angle table turns the tilt angle at up to 90 deg/s"), w
+    data = scenario("column_crane_slewing_motor.json", duration=20.0)
+    data["cranes"]["crane"]["slewing_deg"] = [[0.0, 80.0], [1.0, 20.0]]
+    (w,) = rate_warnings(data)
+    assert w.startswith("cranes.crane.slewing_deg: the angle table turns the slewing angle at up to 90 deg/s"), w
+
+
+def test_check_shows_a_fast_drive_before_the_run(tmp_path, capsys):
+    from rfesim.cli import main
+    data = scenario("column_crane.json", duration=20.0)
+    data["cranes"]["crane"]["slewing_deg"] = [[0.0, 80.0], [2.0, 440.0]]
+    (tmp_path / "data").symlink_to(SCENARIOS / "data")
+    path = tmp_path / "fast.json"
+    path.write_text(json.dumps(data))
+    main(["check", str(path)])
+    out = capsys.readouterr()
+    assert "cranes.crane.slewing_deg: the angle table turns the slewing angle at up to 270 deg/s" in out.out + out.err
