@@ -230,6 +230,52 @@ def drive_rate_warnings(sc) -> list[str]:
     return out
 
 
+# a harmonic vessel motion beyond these is a units slip more often than a vessel: the motions
+# of a vessel in waves stay below about 0.5 g (translations) at periods above about 3 s, and a
+# 30 deg roll at 10 s turns at 0.2 rad/s^2
+VESSEL_ACCELERATION_LIMIT = 9.81      # m/s^2 (1 g)
+VESSEL_ANGULAR_LIMIT = 1.0            # rad/s^2
+
+
+def harmonic_vessel_warnings(sc) -> list[str]:
+    """One warning per degree of freedom of a harmonic vessel motion whose peak acceleration,
+    amplitude (2 pi / period)^2, exceeds VESSEL_ACCELERATION_LIMIT (surge, sway, heave) or
+    VESSEL_ANGULAR_LIMIT (roll, pitch, yaw): the field, the peak speed and acceleration;
+    [] without dynamics."""
+    from .pipelay import user_field
+    dyn = sc.analysis.dynamics
+    if not (dyn.enabled and dyn.duration > 0.0):
+        return []
+    out = []
+    for name, vessel in (sc.vessels or {}).items():
+        motion = vessel.motion
+        if motion.kind != "harmonic":
+            continue
+        for dof in DOFS:
+            spec = getattr(motion, dof)
+            if spec is None or spec.amplitude <= 0.0:
+                continue
+            omega = 2.0 * math.pi / float(spec.period)
+            field = user_field(sc, f"vessels.{name}.motion.{dof}")
+            if dof in ("surge", "sway", "heave"):
+                acc = spec.amplitude * omega ** 2
+                if acc <= VESSEL_ACCELERATION_LIMIT:
+                    continue
+                what = (f"{spec.amplitude:.4g} m at a period of {spec.period:.4g} s moves vessel '{name}' at up to "
+                        f"{spec.amplitude * omega:.4g} m/s with {acc:.4g} m/s^2 ({acc / 9.81:.3g} g)")
+                units = "the amplitude (m) and the period (s)"
+            else:
+                acc = math.radians(spec.amplitude) * omega ** 2
+                if acc <= VESSEL_ANGULAR_LIMIT:
+                    continue
+                what = (f"{spec.amplitude:.4g} deg at a period of {spec.period:.4g} s turns vessel '{name}' at up to "
+                        f"{math.degrees(math.radians(spec.amplitude) * omega):.4g} deg/s with {acc:.3g} rad/s^2")
+                units = "the amplitude (deg, not rad) and the period (s)"
+            out.append(f"{field}: {what}: no vessel moves so in waves (its motions stay below about 0.5 g, "
+                       f"at periods above about 3 s); check {units}")
+    return out
+
+
 SPECTRA = ("jonswap", "pierson-moskowitz")
 DOFS = ("surge", "sway", "heave", "roll", "pitch", "yaw")
 # a vessel table's speed at t = 0 below this (m/s or deg/s) is rest
@@ -367,8 +413,10 @@ def input_motion_warnings(sc) -> list[str]:
     """The motion warnings a scenario's input gives before it runs: waves and harmonic vessel
     motions with no ramp (:func:`startup_warnings`), the vessels' motion tables that do not
     cover the run (rfesim.scenario.schema.motion_table_warnings), the tables that stop
-    dead inside it (:func:`table_end_warnings`) and the drives faster than a crane's
-    (:func:`drive_rate_warnings`); what ``rfesim check`` and the service's
+    dead inside it (:func:`table_end_warnings`), the drives faster than a crane's
+    (:func:`drive_rate_warnings`) and harmonic vessel motions no vessel makes
+    (:func:`harmonic_vessel_warnings`); what ``rfesim check`` and the service's
     submit show, and a run's message repeats."""
     from .schema import motion_table_warnings
-    return startup_warnings(sc) + motion_table_warnings(sc) + table_end_warnings(sc) + drive_rate_warnings(sc)
+    return (startup_warnings(sc) + motion_table_warnings(sc) + table_end_warnings(sc) + drive_rate_warnings(sc)
+            + harmonic_vessel_warnings(sc))

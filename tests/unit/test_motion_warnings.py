@@ -6,6 +6,7 @@ time and the rate at the last row, and the row that would hold it. The rate is t
 from __future__ import annotations
 
 import copy
+import math
 import json
 from pathlib import Path
 
@@ -360,3 +361,43 @@ def test_check_shows_a_fast_drive_before_the_run(tmp_path, capsys):
     main(["check", str(path)])
     out = capsys.readouterr()
     assert "cranes.crane.slewing_deg: the angle table turns the slewing angle at up to 270 deg/s" in out.out + out.err
+
+
+# ---------------------------------------------------------------- harmonic motions no vessel makes
+def vessel_warnings(data: dict) -> list[str]:
+    from rfesim.scenario.motion_warnings import harmonic_vessel_warnings
+    return harmonic_vessel_warnings(rfesim.load_scenario(copy.deepcopy(data), base_dir=SCENARIOS))
+
+
+@pytest.mark.parametrize("name", sorted(p.name for p in SCENARIOS.glob("*.json")))
+def test_the_shipped_vessels_move_as_vessels(name):
+    assert vessel_warnings(scenario(name)) == []
+
+
+def test_a_harmonic_motion_beyond_one_g_is_named_with_its_speed_and_acceleration():
+    """20 m of sway at 0.5 s (a harness variant; the riser then ran at 235 m/s): 20 (4 pi)^2
+    = 3158 m/s^2, speed 20 x 4 pi = 251.3 m/s."""
+    data = scenario("catenary_riser.json")
+    data["vessels"]["fpso"]["motion"] = {"kind": "harmonic", "sway": {"amplitude": 20.0, "period": 0.5},
+                                         "heave": {"amplitude": 2.0, "period": 10.0}, "ramp_duration": 10.0}
+    (w,) = vessel_warnings(data)
+    assert w.startswith("vessels.fpso.motion.sway: 20 m at a period of 0.5 s moves vessel 'fpso' at up to 251.3 m/s "
+                        "with 3158 m/s^2 (322 g)"), w
+    # 1 g is the limit: at pi s (omega 2 rad/s) 2.45 m gives 9.80 m/s^2, 2.46 m 9.84
+    data["vessels"]["fpso"]["motion"]["sway"] = {"amplitude": 2.45, "period": math.pi}
+    assert vessel_warnings(data) == []
+    data["vessels"]["fpso"]["motion"]["sway"] = {"amplitude": 2.46, "period": math.pi}
+    assert len(vessel_warnings(data)) == 1
+
+
+def test_a_roll_given_in_radians_at_a_short_period_is_named():
+    data = scenario("catenary_riser.json")
+    data["vessels"]["fpso"]["motion"] = {"kind": "harmonic", "roll": {"amplitude": 30.0, "period": 2.0},
+                                         "ramp_duration": 10.0}
+    (w,) = vessel_warnings(data)
+    # 30 deg = 0.5236 rad; (pi)^2 x 0.5236 = 5.17 rad/s^2; 30 x pi = 94.25 deg/s
+    assert w.startswith("vessels.fpso.motion.roll: 30 deg at a period of 2 s turns vessel 'fpso' at up to 94.25 deg/s "
+                        "with 5.17 rad/s^2"), w
+    assert "check the amplitude (deg, not rad)" in w
+    data["vessels"]["fpso"]["motion"]["roll"] = {"amplitude": 30.0, "period": 10.0}    # 0.21 rad/s^2
+    assert vessel_warnings(data) == []
