@@ -195,6 +195,7 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
             need_new = flags[0] == 0 or (not reuse) or attempt > 0 or flags[1] > SLOW_STEP
             rn_prev = np.inf
             nfresh = 0
+            full = False
             for it in range(maxit):
                 if analytic:
                     # the SDE forces alone are kept in Fsde, Msde for a Jacobian at this iterate
@@ -230,6 +231,16 @@ def ga_advance(km, vs, att, ws, q, qd, qdd, aux, ref, t0, h, nsteps, alpha_m, al
                     # and Newton')
                     if nfresh >= MAX_FRESH and rn > PROGRESS * rn_prev:
                         break
+                    need_new = True
+                    # elasto-plastic SDEs (section 8.4.2) at their yield surface switch between
+                    # the elastic and the plastic tangent as the iterates move: a Jacobian kept
+                    # from one iterate is of the wrong branch at the next, and modified Newton
+                    # cycles where full Newton converges in a few iterations; so once in trouble
+                    # the attempt forms one at every iterate (docs/theory.md, 'Plastic SDEs and
+                    # Newton')
+                    if km.has_plastic:
+                        full = True
+                if full:
                     need_new = True
                 if need_new:
                     if analytic:
