@@ -888,9 +888,9 @@ def _breaking_load_message(sc: Scenario, results, model=None) -> str:
     """The breaking-load and tugger-pretension warnings of a statics result, and with the
     compiled ``model`` the lines sunk into the seabed (rfesim.seabed_check), logged and as
     text for its message."""
-    from .seabed_check import seabed_penetration_warnings
+    from .seabed_check import below_bottom_warnings, seabed_penetration_warnings
     warnings = (breaking_load_warnings(sc, results) + tugger_pretension_warnings(sc, results)
-                + seabed_penetration_warnings(model, sc, results))
+                + seabed_penetration_warnings(model, sc, results) + below_bottom_warnings(sc, results))
     for w in warnings:
         log.warning("statics: %s", w)
     return "".join(f"{STATICS_WARNING}{w}" for w in warnings)
@@ -911,8 +911,9 @@ def _dynamic_warnings(model, results, sc=None, recorder=None) -> str:
     from .scenario.motion_warnings import input_motion_warnings
     from .sea.rao import rao_range_warnings
     from .solvers.dynamics import halving_warning, output_interval_warning
-    from .seabed_check import seabed_penetration_warnings
-    warnings = (input_motion_warnings(sc) + rao_range_warnings(sc) if sc is not None else []) + (
+    from .seabed_check import below_bottom_warnings, seabed_penetration_warnings
+    warnings = (input_motion_warnings(sc) + rao_range_warnings(sc) + below_bottom_warnings(sc, results)
+                if sc is not None else []) + (
         dynamic_shear_warnings(model, results) + dynamic_crammed_warnings(model, results)
         + seabed_penetration_warnings(model, sc, results) if model is not None else []) + (
         breaking_load_warnings(sc, results) + tugger_pretension_warnings(sc, results) if sc is not None else [])

@@ -100,3 +100,48 @@ def _lines_on_seabed(model, sc):
     return float(seabed.normal_stiffness), [
         (li, float(model.km.rfe_contact_radius[li.rfe_start]),
          (li.section.mass_per_length - rho * li.section.displaced_area) * g) for li in model.lines]
+
+
+def below_bottom_warnings(sc, results) -> list[str]:
+    """One message per line and body that goes below the sea floor, z = surface_level -
+    depth, in a scene with water of a given depth and no seabed (nothing there stops it): how
+    deep, where and when. The water's kinematics there are no water's (an Airy wave's cosh
+    grows again below the bottom) and a real payload or line would rest on the floor. A line
+    counts from its axis less its radius, a body from its centre."""
+    env = getattr(sc, "environment", None)
+    water = getattr(env, "water", None) if env is not None else None
+    if water is None or getattr(water, "depth", None) is None or getattr(env, "seabed", None) is not None:
+        return []
+    bottom = float(water.surface_level) - float(water.depth)
+    time = np.asarray(getattr(results, "time", []), float)
+    out = []
+    for name in (getattr(results, "lines", None) or {}):
+        pos = np.asarray(results.line(name).position, float)
+        if pos.ndim != 3 or pos.size == 0 or not np.isfinite(pos).all():
+            continue
+        line = (sc.lines or {}).get(name)
+        lt = (sc.line_types or {}).get(line.type) if line is not None else None
+        radius = 0.5 * float(getattr(lt, "outer_diameter", None) or 0.0) if lt is not None else 0.0
+        z = pos[..., 2] - radius
+        t, j = np.unravel_index(int(np.argmin(z)), z.shape)
+        if z[t, j] < bottom - MIN_DEPTH:
+            arc = np.asarray(results.line(name).arc_length, float)
+            where = f" at arc length {float(arc[j]):.4g} m" if arc.size == z.shape[1] else ""
+            when = f" at t = {float(time[t]):.6g} s" if time.size == z.shape[0] and time.size > 1 else ""
+            out.append(_below(f"line '{name}'", bottom - float(z[t, j]), where + when, water.depth, bottom))
+    for name in (getattr(results, "bodies", None) or {}):
+        pos = np.asarray(results.bodies[name].position, float)
+        if pos.ndim != 2 or pos.size == 0 or not np.isfinite(pos).all():
+            continue
+        t = int(np.argmin(pos[:, 2]))
+        if pos[t, 2] < bottom - MIN_DEPTH:
+            when = f" at t = {float(time[t]):.6g} s" if time.size == pos.shape[0] and time.size > 1 else ""
+            out.append(_below(f"body '{name}'", bottom - float(pos[t, 2]), when, water.depth, bottom))
+    return out
+
+
+def _below(what: str, depth: float, where: str, water_depth: float, bottom: float) -> str:
+    return (f"{what} goes {depth:.4g} m below the sea floor{where} (environment.water.depth {water_depth:.6g} m, "
+            f"the floor at z = {bottom:.6g} m; the scene has no seabed, so nothing stops it there): below the "
+            f"floor the waves' kinematics are no water's and a real line or payload would rest on it; give "
+            f"environment.seabed for contact, the real water depth, or a shorter line or rope")

@@ -84,3 +84,44 @@ def test_seabed_height_matches_the_contact_kernel():
         seabed_height(Km.bed_s, Km.bed_z, Km.bed_dir, x[i], y[i], out)
         assert z[i] == pytest.approx(out[0], rel=1e-12, abs=1e-9)
         assert g[i] * Km.bed_dir[0] == pytest.approx(out[1], rel=1e-12, abs=1e-12)
+
+
+# ---------------------------------------------------------------- below the floor of a scene without seabed
+def crane(rope_length: float, seabed: bool = False, duration: float = 0.0) -> dict:
+    """The column crane (tip about 35 m above the water, 100 m deep, no seabed) with its
+    payload on a rope of the given length."""
+    d = json.loads((SCENARIOS / "column_crane.json").read_text())
+    d["cranes"]["crane"]["rope"]["length"] = rope_length
+    if seabed:
+        d["environment"]["seabed"] = {"normal_stiffness": 1e6, "friction": 0.5}
+    if duration:
+        d["analysis"]["dynamics"].update(duration=duration, output_interval=0.5)
+    else:
+        d["analysis"] = {"statics": {"enabled": True}, "dynamics": {"enabled": False}}
+    return rfesim.load_scenario(d, base_dir=SCENARIOS)
+
+
+def test_a_payload_hung_below_the_sea_floor_is_named():
+    """A 200 m rope from the tip: the module hangs about 64 m below the 100 m floor, which a
+    scene without seabed did not mention."""
+    from rfesim.seabed_check import below_bottom_warnings
+    sc = crane(200.0)
+    st = rfesim.statics(sc)
+    z = float(np.asarray(st.bodies["crane_payload"].position)[0, 2])
+    assert z < -150.0
+    message = st.message
+    assert (f"body 'crane_payload' goes {-100.0 - z:.4g} m below the sea floor (environment.water.depth 100 m, the "
+            f"floor at z = -100 m; the scene has no seabed") in message, message
+    assert "line 'crane_rope' goes " in message
+    assert below_bottom_warnings(crane(32.0), rfesim.statics(crane(32.0))) == []
+
+
+def test_a_scene_with_a_seabed_is_left_to_the_contact():
+    from rfesim.seabed_check import below_bottom_warnings
+    sc = crane(200.0, seabed=True)
+    assert below_bottom_warnings(sc, rfesim.statics(crane(200.0))) == []
+
+
+def test_the_dynamics_name_the_time():
+    res = rfesim.simulate(crane(200.0, duration=1.0))
+    assert "body 'crane_payload' goes " in res.message and " below the sea floor at t = " in res.message
