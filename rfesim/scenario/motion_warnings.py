@@ -97,6 +97,18 @@ def _hold_row(row) -> str:
     return f"[{float(row[0]) + 5.0:.6g}, {float(row[1]):.6g}]"
 
 
+def _drive_tables(sc):
+    """(path, drive name, rows) of every joint drive's and slewing motor's angle table of the
+    scenario's lines (paths of the expanded scenario)."""
+    for name, line in (sc.lines or {}).items():
+        for end in ("end_a", "end_b"):
+            spec = getattr(line, end)
+            for i, d in enumerate(spec.drives):
+                yield f"lines.{name}.{end}.drives.{i}.angle", d.name, d.angle
+            if spec.motor is not None:
+                yield f"lines.{name}.{end}.motor.angle", spec.motor.name, spec.motor.angle
+
+
 def table_end_warnings(sc) -> list[str]:
     """One warning per table (per user field: the portal A-frame's two legs share theirs) whose
     motion stops dead inside the run, naming the field, the time of the last row and the rate
@@ -113,29 +125,23 @@ def table_end_warnings(sc) -> list[str]:
             seen.add(field)
             out.append(f"{field}: {text}")
 
-    for name, line in (sc.lines or {}).items():
-        for end in ("end_a", "end_b"):
-            spec = getattr(line, end)
-            tables = [(f"lines.{name}.{end}.drives.{i}.angle", d.name, d.angle) for i, d in enumerate(spec.drives)]
-            if spec.motor is not None:
-                tables.append((f"lines.{name}.{end}.motor.angle", spec.motor.name, spec.motor.angle))
-            for path, drive, rows in tables:
-                if len(rows) < 3 or rows[-1][1] == rows[-2][1] or not 0.0 < rows[-1][0] < duration:
-                    continue        # two rows start and stop at rest; a flat last segment ends at rest
-                rows = np.asarray(rows, float)
-                rate = float(drive_slopes(rows[:, 0], rows[:, 1])[-1])
-                if not _ends_moving(rows[:, 0], rows[:, 1], rate):
-                    continue
-                motor = path.endswith("motor.angle")
-                field, what, user_rows = _crane_field(sc, path, drive)
-                stop = ("the motor's set angle stops dead there and the motor brakes the structure with up to its "
-                        "max_torque" if motor else f"the {drive} drive stops dead there (a jolt in the structure "
-                                                   "and the lines it carries)")
-                add(field, f"the {what} table ends at t = {rows[-1, 0]:.6g} s with the {drive} angle still turning "
-                           f"at {rate:.3g} deg/s (the slope of the drive's monotone cubic at the last row, from the "
-                           f"last two segments), and holds its last {what} after it: {stop}; add a row that holds "
-                           f"the last {what}, e.g. {_hold_row(user_rows[-1] if user_rows else rows[-1])}, for a "
-                           f"smooth stop")
+    for path, drive, rows in _drive_tables(sc):
+        if len(rows) < 3 or rows[-1][1] == rows[-2][1] or not 0.0 < rows[-1][0] < duration:
+            continue        # two rows start and stop at rest; a flat last segment ends at rest
+        rows = np.asarray(rows, float)
+        rate = float(drive_slopes(rows[:, 0], rows[:, 1])[-1])
+        if not _ends_moving(rows[:, 0], rows[:, 1], rate):
+            continue
+        motor = path.endswith("motor.angle")
+        field, what, user_rows = _crane_field(sc, path, drive)
+        stop = ("the motor's set angle stops dead there and the motor brakes the structure with up to its "
+                "max_torque" if motor else f"the {drive} drive stops dead there (a jolt in the structure "
+                                           "and the lines it carries)")
+        add(field, f"the {what} table ends at t = {rows[-1, 0]:.6g} s with the {drive} angle still turning "
+                   f"at {rate:.3g} deg/s (the slope of the drive's monotone cubic at the last row, from the "
+                   f"last two segments), and holds its last {what} after it: {stop}; add a row that holds "
+                   f"the last {what}, e.g. {_hold_row(user_rows[-1] if user_rows else rows[-1])}, for a "
+                   f"smooth stop")
     for name, rows in _payout_tables(sc):
         if rows[-1][1] == rows[-2][1] or not 0.0 < rows[-1][0] < duration:
             continue
@@ -197,36 +203,30 @@ def drive_rate_warnings(sc) -> list[str]:
         return []
     duration = float(dyn.duration)
     out, seen = [], set()
-    for name, line in (sc.lines or {}).items():
-        for end in ("end_a", "end_b"):
-            spec = getattr(line, end)
-            tables = [(f"lines.{name}.{end}.drives.{i}.angle", d.name, d.angle) for i, d in enumerate(spec.drives)]
-            if spec.motor is not None:
-                tables.append((f"lines.{name}.{end}.motor.angle", spec.motor.name, spec.motor.angle))
-            for path, drive, rows in tables:
-                if len(rows) < 2:
-                    continue
-                rows = np.asarray(rows, float)
-                inside = rows[:-1, 0] < duration          # segments that start inside the run
-                if not np.any(inside):
-                    continue
-                seg = _hermite_peak_rates(rows[:, 0], rows[:, 1], drive_slopes(rows[:, 0], rows[:, 1]))
-                seg[~inside] = 0.0
-                k = int(np.argmax(seg))
-                rate = float(seg[k])
-                if rate <= DRIVE_RATE_LIMIT:
-                    continue
-                field, what, _ = _crane_field(sc, path, drive)
-                if field.endswith("tilt_deg"):
-                    drive = "tilt"             # an A-frame's legs, driven as a luffing joint
-                if field in seen:
-                    continue
-                seen.add(field)
-                out.append(f"{field}: the {what} table turns the {drive} angle at up to {rate:.3g} deg/s "
-                           f"({rate / 6.0:.3g} rpm) between t = {rows[k, 0]:.6g} s and {rows[k + 1, 0]:.6g} s, "
-                           f"faster than an offshore crane's drives turn (slewing about 1-3 rpm, luffing and "
-                           f"A-frame tilt a few deg/s; more than {DRIVE_RATE_LIMIT:.3g} deg/s is named): it whips "
-                           f"the structure and what hangs from it; check the table's times (s) and angles (deg)")
+    for path, drive, rows in _drive_tables(sc):
+        if len(rows) < 2:
+            continue
+        rows = np.asarray(rows, float)
+        inside = rows[:-1, 0] < duration          # segments that start inside the run
+        if not np.any(inside):
+            continue
+        seg = _hermite_peak_rates(rows[:, 0], rows[:, 1], drive_slopes(rows[:, 0], rows[:, 1]))
+        seg[~inside] = 0.0
+        k = int(np.argmax(seg))
+        rate = float(seg[k])
+        if rate <= DRIVE_RATE_LIMIT:
+            continue
+        field, what, _ = _crane_field(sc, path, drive)
+        if field.endswith("tilt_deg"):
+            drive = "tilt"             # an A-frame's legs, driven as a luffing joint
+        if field in seen:
+            continue
+        seen.add(field)
+        out.append(f"{field}: the {what} table turns the {drive} angle at up to {rate:.3g} deg/s "
+                   f"({rate / 6.0:.3g} rpm) between t = {rows[k, 0]:.6g} s and {rows[k + 1, 0]:.6g} s, "
+                   f"faster than an offshore crane's drives turn (slewing about 1-3 rpm, luffing and "
+                   f"A-frame tilt a few deg/s; more than {DRIVE_RATE_LIMIT:.3g} deg/s is named): it whips "
+                   f"the structure and what hangs from it; check the table's times (s) and angles (deg)")
     return out
 
 
