@@ -107,7 +107,8 @@ def below_bottom_warnings(sc, results) -> list[str]:
     depth, in a scene with water of a given depth and no seabed (nothing there stops it): how
     deep, where and when. The water's kinematics there are no water's (an Airy wave's cosh
     grows again below the bottom) and a real payload or line would rest on the floor. A line
-    counts from its axis less its radius, a body from its centre."""
+    counts from its underside (axis less radius) beyond MIN_DEPTH, so an end anchored with its
+    axis on the floor is not named; a body from its centre."""
     env = getattr(sc, "environment", None)
     water = getattr(env, "water", None) if env is not None else None
     if water is None or getattr(water, "depth", None) is None or getattr(env, "seabed", None) is not None:
@@ -122,13 +123,13 @@ def below_bottom_warnings(sc, results) -> list[str]:
         line = (sc.lines or {}).get(name)
         lt = (sc.line_types or {}).get(line.type) if line is not None else None
         radius = 0.5 * float(getattr(lt, "outer_diameter", None) or 0.0) if lt is not None else 0.0
-        z = pos[..., 2] - radius
+        z = pos[..., 2]
         t, j = np.unravel_index(int(np.argmin(z)), z.shape)
-        if z[t, j] < bottom - MIN_DEPTH:
+        if z[t, j] < bottom - radius - MIN_DEPTH:       # (an end anchored on the floor is not below it)
             arc = np.asarray(results.line(name).arc_length, float)
             where = f" at arc length {float(arc[j]):.4g} m" if arc.size == z.shape[1] else ""
             when = f" at t = {float(time[t]):.6g} s" if time.size == z.shape[0] and time.size > 1 else ""
-            out.append(_below(f"line '{name}'", bottom - float(z[t, j]), where + when, water.depth, bottom))
+            out.append(_below(f"line '{name}'", bottom - float(z[t, j]) - radius, where + when, water.depth, bottom))
     for name in (getattr(results, "bodies", None) or {}):
         pos = np.asarray(results.bodies[name].position, float)
         if pos.ndim != 2 or pos.size == 0 or not np.isfinite(pos).all():

@@ -125,3 +125,27 @@ def test_a_scene_with_a_seabed_is_left_to_the_contact():
 def test_the_dynamics_name_the_time():
     res = rfesim.simulate(crane(200.0, duration=1.0))
     assert "body 'crane_payload' goes " in res.message and " below the sea floor at t = " in res.message
+
+
+def test_a_line_anchored_with_its_axis_on_the_floor_is_not_below_it():
+    """Results of a 0.3 m line whose lowest point is its anchor at the floor (z = -100 m), and
+    the same 0.5 m lower: only the second is named, 0.35 m below the floor (0.5 less the
+    radius 0.15)."""
+    from types import SimpleNamespace
+
+    from rfesim.seabed_check import below_bottom_warnings
+    sc = rfesim.load_scenario(json.loads((SCENARIOS / "catenary_riser.json").read_text()), base_dir=SCENARIOS)
+    sc.environment.seabed = None
+    sc.environment.water.depth = 100.0
+    name = next(iter(sc.lines))
+    sc.line_types[sc.lines[name].type].outer_diameter = 0.3
+
+    def results(z0):
+        pos = np.zeros((2, 3, 3))
+        pos[:, :, 2] = [z0, z0 + 10.0, z0 + 20.0]
+        line = SimpleNamespace(position=pos, arc_length=np.array([0.0, 10.0, 20.0]))
+        return SimpleNamespace(time=np.array([0.0, 1.0]), lines={name: line}, line=lambda n: line, bodies={})
+
+    assert below_bottom_warnings(sc, results(-100.0)) == []
+    (w,) = below_bottom_warnings(sc, results(-100.5))
+    assert w.startswith(f"line '{name}' goes 0.35 m below the sea floor at arc length 0 m at t = 0 s"), w
