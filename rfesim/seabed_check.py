@@ -107,8 +107,9 @@ def below_bottom_warnings(sc, results) -> list[str]:
     depth, in a scene with water of a given depth and no seabed (nothing there stops it): how
     deep, where and when. The water's kinematics there are no water's (an Airy wave's cosh
     grows again below the bottom) and a real payload or line would rest on the floor. A line
-    counts from its underside (axis less radius) beyond MIN_DEPTH, so an end anchored with its
-    axis on the floor is not named; a body from its centre."""
+    counts once its whole section (its axis plus its radius) is more than MIN_DEPTH below the
+    floor, so an end anchored with its axis on the floor is not named; a body counts from its
+    centre."""
     env = getattr(sc, "environment", None)
     water = getattr(env, "water", None) if env is not None else None
     if water is None or getattr(water, "depth", None) is None or getattr(env, "seabed", None) is not None:
